@@ -1,0 +1,32 @@
+#pragma once
+/// Small file helpers: whole-file reads, atomic writes, exact number formatting.
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace barn::core {
+
+/// Reads a whole file; throws InputError "<path>: cannot read" if it cannot.
+std::string readTextFile(const std::filesystem::path& path);
+
+/// Writes `content` to `path` through a temporary file and a rename, so a reader never sees
+/// a half-written file. Throws InputError naming the path on failure.
+void writeFileAtomic(const std::filesystem::path& path, std::string_view content);
+
+/// Writes several files into `dir` (created if missing) all or nothing: every file is first
+/// written into a staging folder inside `dir`, and only moved into place once all succeeded.
+struct FileContent {
+  std::string name;     // file name inside the folder
+  std::string content;
+};
+void writeFilesAtomic(const std::filesystem::path& dir, const std::vector<FileContent>& files);
+
+/// Shortest decimal text that reads back as exactly `value` (std::to_chars round trip).
+std::string formatDouble(double value);
+
+/// Parses a whole string as a double (std::from_chars); false if it is not one.
+bool parseDouble(std::string_view text, double& value);
+
+}  // namespace barn::core

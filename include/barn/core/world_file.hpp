@@ -1,0 +1,38 @@
+#pragma once
+/// The world file: one human-readable YAML file per world (format "barnbench-world/1"), plus
+/// the index.csv of a set. See worlds/README.md for the format.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "barn/core/world.hpp"
+
+namespace barn::core {
+
+inline constexpr const char* kWorldFormat = "barnbench-world/1";
+
+/// The file name of world `id` inside a set folder: world_007.yaml.
+std::string worldFileName(int id);
+
+/// The world file text. Byte-stable: the same WorldSpec always gives the same text.
+std::string formatWorldFile(const WorldSpec& world);
+
+/// Parses and validates a world file's text; every problem becomes one line of the InputError,
+/// prefixed by `source_name` and the field ("world_003.yaml: grid[4]: ...").
+WorldSpec parseWorldFile(const std::string& text, const std::string& source_name);
+
+/// Reads and validates a world file.
+WorldSpec readWorldFile(const std::filesystem::path& path);
+
+/// All world_*.yaml files of a folder, sorted by id; InputError if there are none, if a file
+/// is invalid, or if two files share an id.
+std::vector<WorldSpec> readWorldSet(const std::filesystem::path& dir);
+
+/// index.csv of a set: one line per world with the fields a table or a plot needs.
+std::string formatWorldIndex(const std::vector<WorldSpec>& worlds);
+
+/// Writes every world file and index.csv into `dir`, all or nothing.
+void writeWorldSet(const std::filesystem::path& dir, const std::vector<WorldSpec>& worlds);
+
+}  // namespace barn::core
