@@ -1,6 +1,8 @@
 #include "generator/world_generator.hpp"
 
+#include "barn/core/errors.hpp"
 #include "barn/core/rng.hpp"
+#include "barn/core/text_io.hpp"
 #include "generator/barn_astar.hpp"
 #include "generator/cellular_automaton.hpp"
 #include "generator/cspace.hpp"
@@ -55,6 +57,10 @@ std::vector<core::WorldSpec> generateSweep(const SweepConfig& config) {
     for (int smooth : config.smooth_iters) {
       int accepted = 0;
       for (int attempt = 0; accepted < config.worlds_per_set; ++attempt) {
+        if (attempt >= config.max_attempts_per_set)
+          throw core::InputError("generator: fill " + core::formatDouble(fill) + ", smoothing " +
+                                 std::to_string(smooth) + ": only " + std::to_string(accepted) + " of " +
+                                 std::to_string(attempt) + " attempts were usable worlds");
         const std::uint64_t seed = sweepAttemptSeed(config.base_seed, set_index, attempt);
         auto world = generateWorld({fill, smooth}, seed, static_cast<int>(worlds.size()));
         if (!world) continue;  // BARN retries rejected worlds without counting them

@@ -36,6 +36,7 @@ struct SweepConfig {
   int worlds_per_set = 25;                           // accepted worlds per parameter set
   std::vector<double> fill_pcts = {0.15, 0.20, 0.25, 0.30};
   std::vector<int> smooth_iters = {2, 3, 4};
+  int max_attempts_per_set = 1000000;                // give up (InputError) past this many
 };
 
 /// Seed of attempt `attempt` of parameter set `set_index` in the sweep.

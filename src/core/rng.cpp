@@ -1,5 +1,6 @@
 #include "barn/core/rng.hpp"
 
+#include <cassert>
 #include <cmath>
 #include <numbers>
 
@@ -22,6 +23,7 @@ double Rng::uniform01() {
 }
 
 std::uint64_t Rng::below(std::uint64_t n) {
+  assert(n > 0);
   // Reject the incomplete last block of 2^64 so every residue is equally likely.
   const std::uint64_t limit = UINT64_MAX - (UINT64_MAX % n + 1) % n;
   std::uint64_t x = engine_();

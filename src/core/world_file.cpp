@@ -96,10 +96,15 @@ class FieldReader {
     return &nodes_[key];
   }
 
+  void markSeen(const std::string& key) { seen_.insert(key); }
+
+  // yaml-cpp keeps the first of two equal keys and drops the second silently; both are errors.
   void rejectUnknownKeys(const std::string& prefix = {}) {
+    std::set<std::string> listed;
     for (const auto& item : map_) {
       const std::string key = item.first.as<std::string>();
-      if (!seen_.count(key)) errors_.add(prefix + key, "unknown key");
+      if (!listed.insert(key).second) errors_.add(prefix + key, "duplicate key");
+      else if (!seen_.count(key)) errors_.add(prefix + key, "unknown key");
     }
   }
 
@@ -146,6 +151,7 @@ bool readMetrics(const YAML::Node& node, const std::string& field, Errors& error
   bool ok = true;
   FieldReader reader(node, errors);
   for (std::size_t k = 0; k < values.size(); ++k) {
+    reader.markSeen(std::string(DifficultyMetrics::kNames[k]));
     const std::string key(DifficultyMetrics::kNames[k]);
     const YAML::Node value = node[key];
     if (!value) {
@@ -155,14 +161,9 @@ bool readMetrics(const YAML::Node& node, const std::string& field, Errors& error
     }
     ok = readDouble(value, field + "." + key, errors, values[k]) && ok;
   }
-  for (const auto& item : node) {
-    const std::string key = item.first.as<std::string>();
-    if (std::find(DifficultyMetrics::kNames.begin(), DifficultyMetrics::kNames.end(), key) ==
-        DifficultyMetrics::kNames.end()) {
-      errors.add(field + "." + key, "unknown key");
-      ok = false;
-    }
-  }
+  const std::size_t before = errors.messages().size();
+  reader.rejectUnknownKeys(field + ".");
+  ok = ok && errors.messages().size() == before;
   metrics = DifficultyMetrics::fromArray(values);
   return ok;
 }
@@ -298,8 +299,8 @@ WorldSpec parseWorldFile(const std::string& text, const std::string& source_name
       } else if (!s) {
         errors.add("generator.smooth_iter", "missing");
       }
-      generator.get("fill_pct");
-      generator.get("smooth_iter");
+      generator.markSeen("fill_pct");
+      generator.markSeen("smooth_iter");
       generator.rejectUnknownKeys("generator.");
     }
   }

@@ -1,0 +1,140 @@
+#include "barn/core/world_file.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "barn/core/errors.hpp"
+#include "barn/core/protocol.hpp"
+
+namespace barn::core {
+namespace {
+
+using ::testing::HasSubstr;
+
+// A valid world: an empty field (wall rows only) and the straight path along row 15.
+WorldSpec straightWorld() {
+  WorldSpec w;
+  w.id = 7;
+  w.seed = 123;
+  w.fill_pct = 0.15;
+  w.smooth_iter = 2;
+  w.grid = Grid(kBarnGridSize, kBarnGridSize);
+  for (int c = 0; c < kBarnGridSize; ++c) w.grid.at(0, c) = w.grid.at(29, c) = 1;
+  w.start_cell = {15, 0};
+  w.goal_cell = {15, 29};
+  w.path.push_back(w.start_cell);
+  for (int c = 0; c < kBarnGridSize; ++c) w.path.push_back({15, c});
+  w.metrics = {12.0, 8.0, 0.0, 23.0, 1.0};
+  w.norm_metrics = {0.5, -0.25, 0.0, 1.5, -1.0};
+  return w;
+}
+
+std::string errorOf(const std::string& text) {
+  try {
+    parseWorldFile(text, "test.yaml");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return text.replace(at, from.size(), to);
+}
+
+TEST(WorldFile, RoundTripsByteForByte) {
+  const WorldSpec w = straightWorld();
+  const std::string text = formatWorldFile(w);
+  const WorldSpec back = parseWorldFile(text, "test.yaml");
+  EXPECT_EQ(formatWorldFile(back), text);
+  EXPECT_EQ(back.seed, w.seed);
+  EXPECT_EQ(back.path, w.path);
+  EXPECT_EQ(back.grid, w.grid);
+  EXPECT_EQ(back.metrics.characteristic_dimension, 23.0);
+  EXPECT_EQ(back.norm_metrics.avg_visibility, -0.25);
+}
+
+TEST(WorldFile, StoresTheBarn2023OptimalTime) {
+  const std::string text = formatWorldFile(straightWorld());
+  // Path cells along row 15 sit at x = -4.575 + 2.25 = -2.325, y = 5.075 ... 9.425.
+  // start (-2, 3) -> (-2.325, 5.075): sqrt(0.325^2 + 2.075^2) = 2.10030
+  // along the row: 29 * 0.15 = 4.35; (-2.325, 9.425) -> goal (-2, 13): sqrt(0.325^2 + 3.575^2) = 3.58974
+  const double length = std::hypot(0.325, 2.075) + 4.35 + std::hypot(0.325, 3.575);
+  EXPECT_NEAR(referencePathLength(straightWorld().path, protocolPreset("barn2023")), length, 1e-12);
+  EXPECT_THAT(text, HasSubstr("optimal_time_s: "));
+}
+
+TEST(WorldFile, ImportedWorldsHaveNoSeed) {
+  WorldSpec w = straightWorld();
+  w.source = WorldSource::BarnDataset;
+  w.seed.reset();
+  const std::string text = formatWorldFile(w);
+  EXPECT_THAT(text, HasSubstr("seed: null"));
+  EXPECT_FALSE(parseWorldFile(text, "test.yaml").seed.has_value());
+}
+
+TEST(WorldFile, RejectsUnknownKeysNamingThem) {
+  const std::string text = formatWorldFile(straightWorld()) + "colour: red\n";
+  EXPECT_THAT(errorOf(text), HasSubstr("test.yaml: colour: unknown key"));
+  const std::string nested = replaced(formatWorldFile(straightWorld()), "smooth_iter: 2}", "smooth_iter: 2, iters: 3}");
+  EXPECT_THAT(errorOf(nested), HasSubstr("generator.iters: unknown key"));
+}
+
+TEST(WorldFile, RejectsDuplicateKeys) {
+  const std::string text = formatWorldFile(straightWorld()) + "id: 5\n";
+  EXPECT_THAT(errorOf(text), HasSubstr("test.yaml: id: duplicate key"));
+  const std::string nested = replaced(formatWorldFile(straightWorld()), "tortuosity: 1}", "tortuosity: 1, tortuosity: 2}");
+  EXPECT_THAT(errorOf(nested), HasSubstr("metrics.tortuosity: duplicate key"));
+}
+
+TEST(WorldFile, NamesAMissingNestedFieldOnce) {
+  const std::string text = replaced(formatWorldFile(straightWorld()), "fill_pct: 0.15, ", "");
+  const std::string message = errorOf(text);
+  EXPECT_THAT(message, HasSubstr("generator.fill_pct: missing"));
+  EXPECT_EQ(message.find("\ntest.yaml: fill_pct"), std::string::npos) << message;
+}
+
+TEST(WorldFile, RejectsWrongTypesNamingTheField) {
+  EXPECT_THAT(errorOf(replaced(formatWorldFile(straightWorld()), "id: 7", "id: abc")), HasSubstr("id: expected an integer"));
+  EXPECT_THAT(errorOf(replaced(formatWorldFile(straightWorld()), "closest_wall: 12", "closest_wall: far")),
+              HasSubstr("metrics.closest_wall: expected a finite number"));
+}
+
+TEST(WorldFile, RejectsAGridOfTheWrongSize) {
+  const std::string text = formatWorldFile(straightWorld());
+  const std::string row = "  - \"000000000000000000000000000000\"\n";
+  EXPECT_THAT(errorOf(replaced(text, row, "")), HasSubstr("grid: expected 30 rows, got 29"));
+  EXPECT_THAT(errorOf(replaced(text, row, "  - \"00000\"\n")), HasSubstr("expected 30 characters, got 5"));
+}
+
+TEST(WorldFile, RejectsAStartCellInsideAnObstacle) {
+  WorldSpec w = straightWorld();
+  w.grid.at(15, 0) = 1;
+  EXPECT_THAT(errorOf(formatWorldFile(w)), HasSubstr("start_cell: lies inside an obstacle cell"));
+}
+
+TEST(WorldFile, RejectsAPathThatDisagreesWithItsStoredLength) {
+  const std::string text = formatWorldFile(straightWorld());
+  const auto at = text.find("path_length_m: ");
+  std::string edited = text;
+  edited.replace(at, text.find('\n', at) - at, "path_length_m: 9.5");
+  EXPECT_THAT(errorOf(edited), HasSubstr("path_length_m: is 9.5 but the path gives"));
+}
+
+TEST(WorldFile, ReportsEveryProblemAtOnce) {
+  std::string text = replaced(formatWorldFile(straightWorld()), "id: 7", "id: -3");
+  text = replaced(text, "format: barnbench-world/1\n", "");
+  const std::string message = errorOf(text);
+  EXPECT_THAT(message, HasSubstr("id: must be in"));
+  EXPECT_THAT(message, HasSubstr("format: missing"));
+}
+
+TEST(WorldFile, RejectsTextThatIsNotAWorld) {
+  EXPECT_THAT(errorOf("just a string"), HasSubstr("expected a YAML map"));
+  EXPECT_THAT(errorOf("a: [unclosed"), HasSubstr("not valid YAML"));
+}
+
+}  // namespace
+}  // namespace barn::core
