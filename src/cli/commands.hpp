@@ -14,5 +14,6 @@ struct CommandContext {
 void addGenerateCommand(CLI::App& app, CommandContext& context);
 void addImportCommand(CLI::App& app, CommandContext& context);
 void addWorldCommand(CLI::App& app, CommandContext& context);
+void addRunCommand(CLI::App& app, CommandContext& context);
 
 }  // namespace barn::cli

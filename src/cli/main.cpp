@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   barn::cli::addGenerateCommand(app, context);
   barn::cli::addImportCommand(app, context);
   barn::cli::addWorldCommand(app, context);
+  barn::cli::addRunCommand(app, context);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,84 @@
+#pragma once
+/// One BARN episode as the official run.py runs it: spawn at the protocol's start, drive
+/// until success, collision or timeout, and score.
+///
+/// Protocol (run.py, barn_facts.md 3.2): the timer starts when the robot is first 0.1 m from
+/// the start; the status is checked every 0.1 s of simulated time after that; success when the
+/// robot centre is within 1 m of the goal; timeout at 100 s; any contact is a collision (here
+/// detected at physics rate and ending the episode at once). AT is the elapsed time at the
+/// check that ends the episode. A robot that never moves 0.1 m times out after `timeout` s.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "barn/controllers/controller.hpp"
+#include "barn/core/protocol.hpp"
+#include "barn/core/world.hpp"
+#include "barn/sim/lidar.hpp"
+#include "barn/sim/obstacle_field.hpp"
+#include "barn/sim/robot_config.hpp"
+#include "barn/sim/simulator.hpp"
+
+namespace barn::bench {
+
+/// Everything about an episode except the world and the controller.
+struct EpisodeConfig {
+  std::string protocol = "barn2023";  // protocol preset (barn2023, barn2024)
+  sim::PhysicsConfig physics;
+  sim::RobotConfig robot;
+  sim::LidarConfig lidar;
+
+  template <class V> void visit(V& v) {
+    v("protocol", protocol); v("physics", physics); v("robot", robot); v("lidar", lidar);
+  }
+};
+
+/// Checks every field and the cross-field rule that scans fall on physics steps.
+void validate(const EpisodeConfig& config, core::Errors& errors);
+
+enum class Outcome {
+  Success,    ///< reached the goal radius before the timeout, without contact
+  Collision,  ///< a robot fixture touched a cylinder
+  Timeout,    ///< 100 s elapsed (or the robot never left the start)
+  Error,      ///< the controller threw or returned a non-finite command
+};
+std::string_view toString(Outcome outcome);
+
+/// One control tick of the trajectory record (world frame).
+struct TrajectorySample {
+  double time = 0.0;    // [s]
+  core::Pose2 pose;     // world frame
+  core::Twist command;  // what the controller returned
+  std::string state;    // controller state label
+};
+
+struct EpisodeResult {
+  int world_id = 0;
+  int trial = 0;
+  std::uint64_t seed = 0;
+  Outcome outcome = Outcome::Error;
+  double actual_time = 0.0;    // [s] AT (elapsed at the final check; time of contact for collisions)
+  double optimal_time = 0.0;   // [s] OT for the protocol
+  double score = 0.0;          // BARN score
+  double path_length = 0.0;    // [m] distance driven
+  double mean_speed = 0.0;     // [m/s] path_length / simulated time
+  double sim_time = 0.0;       // [s] simulated time in total
+  std::optional<sim::CollisionInfo> collision;
+  std::string error;           // what went wrong, for Outcome::Error
+  std::vector<TrajectorySample> trajectory;  // filled when recording
+};
+
+/// Runs one episode. `seed` drives the LiDAR noise and the controller's declared randomness,
+/// so the same seed gives the same trajectory bit for bit. Never throws for controller
+/// failures (they become Outcome::Error).
+EpisodeResult runEpisode(const core::WorldSpec& world, const sim::ObstacleField& field,
+                         controllers::Controller& controller, const EpisodeConfig& config,
+                         std::uint64_t seed, bool record_trajectory = false);
+
+/// The world's A* path cells (at their centres) in the odom frame of `protocol`.
+std::vector<Eigen::Vector2d> referencePathInOdom(const core::WorldSpec& world, const core::Protocol& protocol);
+
+}  // namespace barn::bench

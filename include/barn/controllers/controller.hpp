@@ -1,0 +1,59 @@
+#pragma once
+/// The controller interface: what a navigation stack sees and what it returns.
+///
+/// A controller sees only what the real robot would: the latest LiDAR scan, odometry in the
+/// odom frame, the goal and the time. It never sees Box2D or the world file's grid. It returns
+/// a cmd_vel. Everything a controller remembers lives in its members (no statics), and reset()
+/// starts it afresh, so one object can run many episodes one after another.
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "barn/core/types.hpp"
+#include "barn/sim/lidar.hpp"
+#include "barn/sim/robot_config.hpp"
+
+namespace barn::controllers {
+
+/// What a controller is told once per episode.
+struct EpisodeInfo {
+  core::Pose2 start;                   // odom frame: the origin, heading as the protocol says
+  Eigen::Vector2d goal = Eigen::Vector2d::Zero();  // [m] odom frame
+  double goal_tolerance = 1.0;         // [m] success radius
+  std::uint64_t seed = 0;              // for any randomness the controller declares
+  sim::LidarConfig lidar;              // sensor geometry: mount offset, beam layout, range
+  sim::RobotConfig robot;              // speed limits and the planning footprint
+  /// The world's A* path in the odom frame. Only for test fixtures such as pure_pursuit that
+  /// exercise the pipeline before a real planner exists; real controllers must ignore it.
+  std::vector<Eigen::Vector2d> reference_path;
+};
+
+/// One control tick's input.
+struct Observation {
+  double time = 0.0;                 // [s] simulated time since the episode began
+  const core::LaserScan* scan = nullptr;  // the latest scan (never null during an episode)
+  core::Pose2 odom_pose;             // odom frame
+  core::Twist odom_twist;            // robot frame: forward speed, yaw rate
+  Eigen::Vector2d goal = Eigen::Vector2d::Zero();  // [m] odom frame
+};
+
+class Controller {
+ public:
+  virtual ~Controller() = default;
+  /// Forget everything: a new episode starts.
+  virtual void reset(const EpisodeInfo& info) = 0;
+  /// One control tick. No I/O, no globals. Throwing or returning NaN ends the episode with an
+  /// error outcome.
+  virtual core::Twist act(const Observation& observation) = 0;
+  /// Control period [s]; act() is called every period of simulated time.
+  virtual double period() const = 0;
+  /// Current state label for the trajectory record ("" if the controller has no states).
+  virtual std::string_view stateLabel() const { return {}; }
+};
+
+}  // namespace barn::controllers

@@ -1,0 +1,34 @@
+#pragma once
+/// `pure_pursuit`: follows the world's A* reference path (EpisodeInfo::reference_path) with
+/// the pure-pursuit law. A TEST FIXTURE: it is the one controller that is handed the world's
+/// path, so the pipeline can be exercised end to end before real planners exist. Its scores
+/// say how the simulator treats a robot on BARN's own path, not how good a method is.
+
+#include "barn/controllers/controller.hpp"
+#include "barn/core/errors.hpp"
+
+namespace barn::controllers {
+
+struct PurePursuitConfig {
+  double speed = 0.5;      // [m/s] forward speed
+  double lookahead = 0.5;  // [m] distance of the pursued point along the path
+  double rate = 20.0;      // [Hz] control rate
+  template <class V> void visit(V& v) { v("speed", speed); v("lookahead", lookahead); v("rate", rate); }
+};
+void validate(const PurePursuitConfig& config, core::Errors& errors, const std::string& prefix);
+
+class PurePursuitController : public Controller {
+ public:
+  explicit PurePursuitController(const PurePursuitConfig& config) : config_(config) {}
+  void reset(const EpisodeInfo& info) override;
+  core::Twist act(const Observation& observation) override;
+  double period() const override { return 1.0 / config_.rate; }
+
+ private:
+  PurePursuitConfig config_;
+  std::vector<Eigen::Vector2d> path_;  // reference path then the goal, odom frame
+  std::size_t progress_ = 0;           // index of the closest path point so far (never decreases)
+  double max_angular_ = 4.0;           // [rad/s]
+};
+
+}  // namespace barn::controllers

@@ -1,0 +1,171 @@
+#pragma once
+/// Config files: YAML read into plain structs through one field list per struct.
+///
+/// Every config struct has a `visit(V& v)` member listing its fields once:
+///
+///     struct LidarConfig {
+///       int beams = 720;            // [-]
+///       double range_max = 30.0;    // [m]
+///       template <class V> void visit(V& v) { v("beams", beams); v("range_max", range_max); }
+///     };
+///
+/// The same list drives reading (ConfigReader: strict, unknown keys are errors naming the full
+/// key path, missing keys keep the struct default) and writing back (ConfigWriter, for the
+/// effective config in a run's manifest). yaml-cpp stays inside config.cpp: ConfigNode is an
+/// opaque handle.
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <type_traits>
+#include <vector>
+
+#include "barn/core/errors.hpp"
+
+namespace barn::core {
+
+/// A node of a parsed YAML document, remembering its key path ("controller.fi.offset") and
+/// the file it came from.
+class ConfigNode {
+ public:
+  ConfigNode();
+  ~ConfigNode();
+  ConfigNode(const ConfigNode&);
+  ConfigNode& operator=(const ConfigNode&);
+
+  /// Parses a YAML file; InputError naming the file if it is unreadable or not YAML.
+  static ConfigNode parseFile(const std::filesystem::path& path);
+  /// Parses YAML text; `source_name` prefixes every error message.
+  static ConfigNode parseString(const std::string& text, const std::string& source_name);
+
+  bool isNull() const;  // absent or empty document
+  bool isMap() const;
+  bool has(std::string_view key) const;
+  ConfigNode child(std::string_view key) const;
+  std::vector<std::string> keys() const;  // in file order, duplicates included
+
+  /// Scalar reads; false if the node is not a scalar of that type.
+  bool read(double& value) const;
+  bool read(int& value) const;
+  bool read(std::uint64_t& value) const;
+  bool read(bool& value) const;
+  bool read(std::string& value) const;
+  bool read(std::vector<double>& value) const;
+
+  /// Sets `dotted_key` ("safety.fi.offset") to the YAML scalar `value_text`, creating maps as
+  /// needed: command-line overrides for runs and sweeps.
+  void set(const std::string& dotted_key, const std::string& value_text);
+
+  const std::string& path() const { return path_; }      // "" for the root
+  const std::string& source() const { return source_; }  // file name or label
+  /// "file: key.path" for error messages.
+  std::string where(std::string_view key = {}) const;
+
+ private:
+  struct Impl;
+  std::shared_ptr<Impl> impl_;
+  std::string path_;
+  std::string source_;
+};
+
+/// Reads a struct's fields from a map node (see the header comment). Errors are collected.
+class ConfigReader {
+ public:
+  ConfigReader(const ConfigNode& node, Errors& errors);
+
+  template <class T>
+  void operator()(const char* key, T& value) {
+    seen_.emplace_back(key);
+    if (!node_.has(key)) return;  // missing keys keep the default
+    const ConfigNode child = node_.child(key);
+    if constexpr (requires { value.visit(*this); }) {
+      if (!child.isMap()) {
+        errors_.add(child.where(), "expected a map");
+        return;
+      }
+      ConfigReader nested(child, errors_);
+      value.visit(nested);
+      nested.finish();
+    } else {
+      if (!child.read(value)) errors_.add(child.where(), std::string("expected ") + typeName(value));
+    }
+  }
+
+  /// Records "unknown key" and "duplicate key" errors for the keys no field claimed.
+  void finish();
+
+ private:
+  static const char* typeName(const double&) { return "a number"; }
+  static const char* typeName(const int&) { return "an integer"; }
+  static const char* typeName(const std::uint64_t&) { return "an unsigned integer"; }
+  static const char* typeName(const bool&) { return "true or false"; }
+  static const char* typeName(const std::string&) { return "a string"; }
+  static const char* typeName(const std::vector<double>&) { return "a list of numbers"; }
+
+  ConfigNode node_;
+  Errors& errors_;
+  std::vector<std::string> seen_;
+};
+
+/// Writes a struct's fields as YAML text (block style, two-space indent).
+class ConfigWriter {
+ public:
+  explicit ConfigWriter(int indent = 0) : indent_(indent) {}
+
+  template <class T>
+  void operator()(const char* key, const T& value) {
+    if constexpr (requires(ConfigWriter& w) { const_cast<T&>(value).visit(w); }) {
+      line(key, "");
+      ConfigWriter nested(indent_ + 2);
+      const_cast<T&>(value).visit(nested);
+      text_ += nested.text_;
+    } else {
+      line(key, scalar(value));
+    }
+  }
+
+  const std::string& text() const { return text_; }
+
+ private:
+  void line(const char* key, const std::string& value);
+  static std::string scalar(double value);
+  static std::string scalar(int value);
+  static std::string scalar(std::uint64_t value);
+  static std::string scalar(bool value);
+  static std::string scalar(const std::string& value);
+  static std::string scalar(const std::vector<double>& value);
+
+  int indent_;
+  std::string text_;
+};
+
+/// Reads `T` from `node` (defaults for missing keys) and throws one InputError listing every
+/// problem, each with its key path.
+template <class T>
+T readConfig(const ConfigNode& node) {
+  T config;
+  Errors errors;
+  if (!node.isNull()) {
+    if (!node.isMap()) {
+      errors.add(node.where(), "expected a map");
+    } else {
+      ConfigReader reader(node, errors);
+      config.visit(reader);
+      reader.finish();
+    }
+  }
+  errors.throwIfAny();
+  return config;
+}
+
+/// The YAML text of a config struct (for manifests and `--print-config`).
+template <class T>
+std::string writeConfig(const T& config) {
+  ConfigWriter writer;
+  const_cast<T&>(config).visit(writer);
+  return writer.text();
+}
+
+}  // namespace barn::core

@@ -1,0 +1,70 @@
+#pragma once
+/// The simulated Clearpath Jackal: collision shape, drive limits and traction.
+
+#include <vector>
+
+#include "barn/core/errors.hpp"
+
+namespace barn::sim {
+
+/// An axis-aligned rectangle in the robot frame (x forward, y left).
+struct RobotRect {
+  double centre_x = 0.0;     // [m]
+  double centre_y = 0.0;     // [m]
+  double half_length = 0.0;  // [m] along x
+  double half_width = 0.0;   // [m] along y
+  template <class V> void visit(V& v) {
+    v("centre_x", centre_x); v("centre_y", centre_y); v("half_length", half_length); v("half_width", half_width);
+  }
+};
+
+/// Defaults are the Jackal in Gazebo (jackal_description, jackal_control).
+struct RobotConfig {
+  // Collision shape: the Gazebo collision geometry, projected to 2D.
+  double chassis_length = 0.420;      // [m] chassis collision box, x
+  double chassis_width = 0.310;       // [m] chassis collision box, y
+  double wheel_length = 0.196;        // [m] wheel cylinder seen from above (2 x radius 0.098)
+  double wheel_width = 0.040;         // [m]
+  double wheel_offset_x = 0.131;      // [m] half the wheelbase
+  double wheel_offset_y = 0.187795;   // [m] half the track
+  double mass = 18.431;               // [kg] chassis 16.523 + 4 wheels x 0.477
+
+  // Spec-sheet size: what controllers plan with. Larger than the collision shape.
+  double footprint_length = 0.508;    // [m]
+  double footprint_width = 0.430;     // [m]
+
+  // diff_drive_controller limits (jackal_control/config/control.yaml).
+  double max_linear_speed = 2.0;      // [m/s]
+  double max_linear_accel = 20.0;     // [m/s^2]
+  double max_angular_speed = 4.0;     // [rad/s]
+  double max_angular_accel = 25.0;    // [rad/s^2]
+  double cmd_timeout = 0.25;          // [s] the robot stops without a fresh command
+
+  // Traction: wheel-ground friction bounds the body's acceleration. Gazebo combines the
+  // wheels' mu 0.5 with the ground's by the minimum, so about 0.5 g: braking from 2 m/s slides.
+  double traction_coefficient = 0.5;  // [-] friction coefficient mu
+  double gravity = 9.81;              // [m/s^2]
+  double max_angular_traction_accel = 40.0;  // [rad/s^2] yaw acceleration friction allows
+                                             // (mu g m (track/2) / I_zz, about 40 for the Jackal)
+
+  template <class V> void visit(V& v) {
+    v("chassis_length", chassis_length); v("chassis_width", chassis_width);
+    v("wheel_length", wheel_length); v("wheel_width", wheel_width);
+    v("wheel_offset_x", wheel_offset_x); v("wheel_offset_y", wheel_offset_y); v("mass", mass);
+    v("footprint_length", footprint_length); v("footprint_width", footprint_width);
+    v("max_linear_speed", max_linear_speed); v("max_linear_accel", max_linear_accel);
+    v("max_angular_speed", max_angular_speed); v("max_angular_accel", max_angular_accel);
+    v("cmd_timeout", cmd_timeout); v("traction_coefficient", traction_coefficient); v("gravity", gravity);
+    v("max_angular_traction_accel", max_angular_traction_accel);
+  }
+
+  /// The five collision rectangles: chassis and four wheels.
+  std::vector<RobotRect> collisionRects() const;
+  /// Largest distance from the robot centre to any point of the collision shape. [m]
+  double collisionRadius() const;
+};
+
+/// Records every out-of-range field of `config` (prefix: the config's key path).
+void validate(const RobotConfig& config, core::Errors& errors, const std::string& prefix = "robot");
+
+}  // namespace barn::sim

@@ -1,0 +1,174 @@
+#include "barn/bench/episode.hpp"
+
+#include <cmath>
+#include <exception>
+
+#include "barn/core/world_geometry.hpp"
+
+namespace barn::bench {
+
+std::string_view toString(Outcome outcome) {
+  switch (outcome) {
+    case Outcome::Success: return "success";
+    case Outcome::Collision: return "collision";
+    case Outcome::Timeout: return "timeout";
+    case Outcome::Error: return "error";
+  }
+  return "unknown";
+}
+
+namespace {
+
+// Number of physics steps in `period`, if it is a whole number of steps.
+std::optional<long> stepsIn(double period, double dt) {
+  const double steps = period / dt;
+  const long rounded = std::lround(steps);
+  if (rounded < 1 || std::abs(steps - static_cast<double>(rounded)) > 1e-6) return std::nullopt;
+  return rounded;
+}
+
+}  // namespace
+
+void validate(const EpisodeConfig& config, core::Errors& errors) {
+  try {
+    core::protocolPreset(config.protocol);
+  } catch (const core::InputError& e) {
+    errors.add("protocol", e.what());
+  }
+  sim::validate(config.physics, errors);
+  sim::validate(config.robot, errors);
+  sim::validate(config.lidar, errors);
+  if (config.physics.rate > 0 && config.lidar.rate > 0) {
+    errors.check(stepsIn(1.0 / config.lidar.rate, config.physics.dt()).has_value(), "lidar.rate",
+                 "the scan period must be a whole number of physics steps (physics.rate / lidar.rate integer)");
+    errors.check(stepsIn(0.1, config.physics.dt()).has_value(), "physics.rate",
+                 "the 0.1 s status check must be a whole number of physics steps");
+  }
+}
+
+std::vector<Eigen::Vector2d> referencePathInOdom(const core::WorldSpec& world, const core::Protocol& protocol) {
+  std::vector<Eigen::Vector2d> path;
+  for (const core::Cell& cell : world.path) {
+    const Eigen::Vector2d p = core::cellCentre(cell) - protocol.start();
+    if (path.empty() || (path.back() - p).norm() > 1e-12) path.push_back(p);
+  }
+  return path;
+}
+
+EpisodeResult runEpisode(const core::WorldSpec& world, const sim::ObstacleField& field,
+                         controllers::Controller& controller, const EpisodeConfig& config, std::uint64_t seed,
+                         bool record_trajectory) {
+  const core::Protocol protocol = core::protocolPreset(config.protocol);
+  EpisodeResult result;
+  result.world_id = world.id;
+  result.seed = seed;
+  result.optimal_time = core::optimalTime(world.path, protocol);
+
+  const core::Pose2 start{protocol.start_x, protocol.start_y, protocol.start_yaw};
+  const Eigen::Vector2d odom_origin = protocol.start();  // odom = world shifted to the start
+  const Eigen::Vector2d goal_world = protocol.goal();
+  sim::Simulator simulator(field, config.robot, config.physics, start);
+  const sim::LidarCaster lidar(config.lidar, field);
+  core::Rng noise(core::mixSeed(seed, 1));
+
+  controllers::EpisodeInfo info;
+  info.start = {0.0, 0.0, protocol.start_yaw};
+  info.goal = goal_world - odom_origin;
+  info.goal_tolerance = protocol.success_radius;
+  info.seed = core::mixSeed(seed, 2);
+  info.lidar = config.lidar;
+  info.robot = config.robot;
+  info.reference_path = referencePathInOdom(world, protocol);
+
+  const double dt = simulator.dt();
+  const long scan_steps = *stepsIn(1.0 / config.lidar.rate, dt);
+  const long check_steps = *stepsIn(protocol.check_period, dt);
+  const long control_steps = std::max(1L, std::lround(controller.period() / dt));
+  const long max_steps = std::lround((protocol.timeout + 1.0) / dt);
+
+  try {
+    controller.reset(info);
+  } catch (const std::exception& e) {
+    result.outcome = Outcome::Error;
+    result.error = std::string("controller reset threw: ") + e.what();
+    return result;
+  }
+
+  core::LaserScan scan;
+  std::optional<long> timer_start_step;
+  Eigen::Vector2d previous = start.position();
+  bool finished = false;
+  for (long step = 0; !finished; ++step) {
+    const double now = simulator.time();
+    if (step % scan_steps == 0) scan = lidar.scan(simulator.pose(), now, &noise);
+    if (step % control_steps == 0) {
+      const core::Pose2 pose = simulator.pose();
+      controllers::Observation obs;
+      obs.time = now;
+      obs.scan = &scan;
+      obs.odom_pose = {pose.x - odom_origin.x(), pose.y - odom_origin.y(), pose.yaw};
+      obs.odom_twist = {simulator.forwardSpeed(), simulator.yawRate()};
+      obs.goal = info.goal;
+      core::Twist cmd;
+      try {
+        cmd = controller.act(obs);
+      } catch (const std::exception& e) {
+        result.outcome = Outcome::Error;
+        result.error = std::string("controller threw: ") + e.what();
+        break;
+      }
+      if (!std::isfinite(cmd.linear) || !std::isfinite(cmd.angular)) {
+        result.outcome = Outcome::Error;
+        result.error = "controller returned a non-finite command";
+        break;
+      }
+      simulator.command(cmd);
+      if (record_trajectory) result.trajectory.push_back({now, pose, cmd, std::string(controller.stateLabel())});
+    }
+
+    simulator.step();
+    const core::Pose2 pose = simulator.pose();
+    result.path_length += (pose.position() - previous).norm();
+    previous = pose.position();
+
+    if (simulator.collision()) {
+      result.outcome = Outcome::Collision;
+      result.collision = simulator.collision();
+      result.actual_time = timer_start_step ? simulator.time() - static_cast<double>(*timer_start_step) * dt : 0.0;
+      break;
+    }
+    if (!timer_start_step) {
+      if ((pose.position() - start.position()).norm() >= protocol.start_distance) timer_start_step = step + 1;
+      else if (simulator.time() >= protocol.timeout) {
+        result.outcome = Outcome::Timeout;  // never left the start
+        result.actual_time = protocol.timeout;
+        break;
+      }
+      continue;
+    }
+    const long since_start = step + 1 - *timer_start_step;
+    if (since_start % check_steps != 0) continue;
+    // Whole checks since the timer started, so AT is an exact multiple of the check period.
+    const double elapsed = static_cast<double>(since_start / check_steps) * protocol.check_period;
+    if (elapsed >= protocol.timeout - 1e-9) {
+      result.outcome = Outcome::Timeout;
+      result.actual_time = elapsed;
+      finished = true;
+    } else if ((pose.position() - goal_world).norm() <= protocol.success_radius) {
+      result.outcome = Outcome::Success;
+      result.actual_time = elapsed;
+      finished = true;
+    }
+    if (step > max_steps) {  // cannot happen with the rules above; a guard against a hang
+      result.outcome = Outcome::Timeout;
+      result.actual_time = elapsed;
+      finished = true;
+    }
+  }
+  result.sim_time = simulator.time();
+  result.mean_speed = result.sim_time > 0 ? result.path_length / result.sim_time : 0.0;
+  result.score = core::barnScore(result.outcome == Outcome::Success, result.actual_time, result.optimal_time, protocol);
+  return result;
+}
+
+}  // namespace barn::bench

@@ -1,0 +1,76 @@
+#include "barn/controllers/registry.hpp"
+
+#include "barn/controllers/pure_pursuit.hpp"
+#include "barn/controllers/straight.hpp"
+
+namespace barn::controllers {
+
+namespace {
+
+// One entry per controller type: reads and validates its block, returns a factory and the
+// effective config text.
+struct Entry {
+  const char* type;
+  std::function<ControllerFactory(const core::ConfigNode&, std::string&)> make;
+};
+
+template <class Config, class ControllerType>
+Entry entry(const char* type) {
+  return {type, [type](const core::ConfigNode& block, std::string& effective) -> ControllerFactory {
+            Config config = core::readConfig<Config>(block);
+            core::Errors errors;
+            validate(config, errors, block.where());
+            errors.throwIfAny();
+            core::ConfigWriter writer(2);
+            config.visit(writer);
+            effective = std::string("type: ") + type + "\n" + type + ":\n" + writer.text();
+            return [config] { return std::make_unique<ControllerType>(config); };
+          }};
+}
+
+const std::vector<Entry>& entries() {
+  static const std::vector<Entry> kEntries = {
+      entry<StraightConfig, StraightController>("straight"),
+      entry<PurePursuitConfig, PurePursuitController>("pure_pursuit"),
+  };
+  return kEntries;
+}
+
+const Entry& findEntry(const core::ConfigNode& config, std::string& type) {
+  if (!config.isMap() || !config.has("type")) throw core::InputError(config.where("type") + ": missing (the controller type)");
+  if (!config.child("type").read(type)) throw core::InputError(config.where("type") + ": expected a string");
+  for (const Entry& e : entries())
+    if (type == e.type) {
+      core::Errors errors;
+      for (const std::string& key : config.keys())
+        if (key != "type" && key != type) errors.add(config.where(key), "unknown key (expected 'type' and '" + type + "')");
+      errors.throwIfAny();
+      return e;
+    }
+  std::string known;
+  for (const auto& name : controllerTypes()) known += (known.empty() ? "" : ", ") + name;
+  throw core::InputError(config.where("type") + ": unknown controller '" + type + "' (known: " + known + ")");
+}
+
+}  // namespace
+
+std::vector<std::string> controllerTypes() {
+  std::vector<std::string> names;
+  for (const Entry& e : entries()) names.emplace_back(e.type);
+  return names;
+}
+
+ControllerFactory makeControllerFactory(const core::ConfigNode& config) {
+  std::string type;
+  std::string effective;
+  return findEntry(config, type).make(config.child(type), effective);
+}
+
+std::string effectiveControllerConfig(const core::ConfigNode& config) {
+  std::string type;
+  std::string effective;
+  findEntry(config, type).make(config.child(type), effective);
+  return effective;
+}
+
+}  // namespace barn::controllers

@@ -1,0 +1,210 @@
+#include "barn/core/config.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include <yaml-cpp/yaml.h>
+
+#include "barn/core/text_io.hpp"
+
+namespace barn::core {
+
+struct ConfigNode::Impl {
+  YAML::Node node;
+};
+
+ConfigNode::ConfigNode() : impl_(std::make_shared<Impl>()) {}
+ConfigNode::~ConfigNode() = default;
+ConfigNode::ConfigNode(const ConfigNode&) = default;
+ConfigNode& ConfigNode::operator=(const ConfigNode&) = default;
+
+ConfigNode ConfigNode::parseString(const std::string& text, const std::string& source_name) {
+  ConfigNode result;
+  result.source_ = source_name;
+  try {
+    result.impl_->node = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw InputError(source_name + ": not valid YAML: " + e.what());
+  }
+  return result;
+}
+
+ConfigNode ConfigNode::parseFile(const std::filesystem::path& path) {
+  return parseString(readTextFile(path), path.string());
+}
+
+bool ConfigNode::isNull() const { return !impl_->node || impl_->node.IsNull(); }
+bool ConfigNode::isMap() const { return impl_->node && impl_->node.IsMap(); }
+
+bool ConfigNode::has(std::string_view key) const {
+  return isMap() && static_cast<bool>(impl_->node[std::string(key)]);
+}
+
+ConfigNode ConfigNode::child(std::string_view key) const {
+  ConfigNode result;
+  result.source_ = source_;
+  result.path_ = path_.empty() ? std::string(key) : path_ + "." + std::string(key);
+  if (isMap()) result.impl_->node = impl_->node[std::string(key)];
+  return result;
+}
+
+std::vector<std::string> ConfigNode::keys() const {
+  std::vector<std::string> keys;
+  if (!isMap()) return keys;
+  for (const auto& item : impl_->node) keys.push_back(item.first.as<std::string>());
+  return keys;
+}
+
+namespace {
+
+bool scalarText(const YAML::Node& node, std::string& text) {
+  if (!node || !node.IsScalar()) return false;
+  text = node.Scalar();
+  return true;
+}
+
+}  // namespace
+
+bool ConfigNode::read(double& value) const {
+  std::string text;
+  double parsed = 0.0;
+  if (!scalarText(impl_->node, text) || !parseDouble(text, parsed) || !std::isfinite(parsed)) return false;
+  value = parsed;
+  return true;
+}
+
+bool ConfigNode::read(int& value) const {
+  std::string text;
+  if (!scalarText(impl_->node, text) || text.empty()) return false;
+  std::size_t used = 0;
+  long long parsed = 0;
+  try {
+    parsed = std::stoll(text, &used);
+  } catch (...) {
+    return false;
+  }
+  if (used != text.size() || parsed < INT32_MIN || parsed > INT32_MAX) return false;
+  value = static_cast<int>(parsed);
+  return true;
+}
+
+bool ConfigNode::read(std::uint64_t& value) const {
+  std::string text;
+  if (!scalarText(impl_->node, text) || text.empty() || text[0] == '-') return false;
+  std::size_t used = 0;
+  unsigned long long parsed = 0;
+  try {
+    parsed = std::stoull(text, &used);
+  } catch (...) {
+    return false;
+  }
+  if (used != text.size()) return false;
+  value = parsed;
+  return true;
+}
+
+bool ConfigNode::read(bool& value) const {
+  std::string text;
+  if (!scalarText(impl_->node, text)) return false;
+  if (text == "true") value = true;
+  else if (text == "false") value = false;
+  else return false;
+  return true;
+}
+
+bool ConfigNode::read(std::string& value) const {
+  if (!impl_->node || !impl_->node.IsScalar()) return false;
+  value = impl_->node.Scalar();
+  return true;
+}
+
+bool ConfigNode::read(std::vector<double>& value) const {
+  if (!impl_->node || !impl_->node.IsSequence()) return false;
+  std::vector<double> parsed;
+  for (const auto& item : impl_->node) {
+    std::string text;
+    double v = 0.0;
+    if (!scalarText(item, text) || !parseDouble(text, v) || !std::isfinite(v)) return false;
+    parsed.push_back(v);
+  }
+  value = std::move(parsed);
+  return true;
+}
+
+void ConfigNode::set(const std::string& dotted_key, const std::string& value_text) {
+  if (!impl_->node || !impl_->node.IsMap()) impl_->node = YAML::Node(YAML::NodeType::Map);
+  YAML::Node current = impl_->node;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t dot = dotted_key.find('.', start);
+    const std::string key = dotted_key.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
+    if (key.empty()) throw InputError("override '" + dotted_key + "': empty key");
+    if (dot == std::string::npos) {
+      YAML::Node parsed;
+      try {
+        parsed = YAML::Load(value_text);
+      } catch (const YAML::Exception&) {
+        parsed = YAML::Node(value_text);
+      }
+      current[key] = parsed;
+      return;
+    }
+    YAML::Node next = current[key];
+    if (!next || !next.IsMap()) {
+      current[key] = YAML::Node(YAML::NodeType::Map);
+      next = current[key];
+    }
+    current.reset(next);
+    start = dot + 1;
+  }
+}
+
+std::string ConfigNode::where(std::string_view key) const {
+  std::string full = path_;
+  if (!key.empty()) full = full.empty() ? std::string(key) : full + "." + std::string(key);
+  if (source_.empty()) return full;
+  return full.empty() ? source_ : source_ + ": " + full;
+}
+
+// ---------------------------------------------------------------------------------------------
+
+ConfigReader::ConfigReader(const ConfigNode& node, Errors& errors) : node_(node), errors_(errors) {}
+
+void ConfigReader::finish() {
+  std::set<std::string> listed;
+  for (const std::string& key : node_.keys()) {
+    if (!listed.insert(key).second) {
+      errors_.add(node_.where(key), "duplicate key");
+    } else if (std::find(seen_.begin(), seen_.end(), key) == seen_.end()) {
+      std::string known;
+      for (const auto& k : seen_) known += (known.empty() ? "" : ", ") + k;
+      errors_.add(node_.where(key), "unknown key (known: " + known + ")");
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+
+void ConfigWriter::line(const char* key, const std::string& value) {
+  text_ += std::string(static_cast<std::size_t>(indent_), ' ') + key + ":";
+  if (!value.empty()) text_ += " " + value;
+  text_ += "\n";
+}
+
+std::string ConfigWriter::scalar(double value) { return formatDouble(value); }
+std::string ConfigWriter::scalar(int value) { return std::to_string(value); }
+std::string ConfigWriter::scalar(std::uint64_t value) { return std::to_string(value); }
+std::string ConfigWriter::scalar(bool value) { return value ? "true" : "false"; }
+std::string ConfigWriter::scalar(const std::string& value) {
+  YAML::Emitter out;
+  out << value;
+  return out.c_str();
+}
+std::string ConfigWriter::scalar(const std::vector<double>& value) {
+  std::string text = "[";
+  for (std::size_t i = 0; i < value.size(); ++i) text += (i ? ", " : "") + formatDouble(value[i]);
+  return text + "]";
+}
+
+}  // namespace barn::core

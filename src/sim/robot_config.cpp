@@ -1,0 +1,47 @@
+#include "barn/sim/robot_config.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace barn::sim {
+
+std::vector<RobotRect> RobotConfig::collisionRects() const {
+  std::vector<RobotRect> rects;
+  rects.push_back({0.0, 0.0, chassis_length / 2, chassis_width / 2});
+  for (double sx : {1.0, -1.0})
+    for (double sy : {1.0, -1.0})
+      rects.push_back({sx * wheel_offset_x, sy * wheel_offset_y, wheel_length / 2, wheel_width / 2});
+  return rects;
+}
+
+double RobotConfig::collisionRadius() const {
+  double radius = 0.0;
+  for (const RobotRect& r : collisionRects())
+    radius = std::max(radius, std::hypot(std::abs(r.centre_x) + r.half_length, std::abs(r.centre_y) + r.half_width));
+  return radius;
+}
+
+void validate(const RobotConfig& c, core::Errors& errors, const std::string& prefix) {
+  const auto positive = [&](double value, const char* field) {
+    errors.check(value > 0.0, prefix + "." + field, "must be > 0");
+  };
+  positive(c.chassis_length, "chassis_length");
+  positive(c.chassis_width, "chassis_width");
+  positive(c.wheel_length, "wheel_length");
+  positive(c.wheel_width, "wheel_width");
+  positive(c.mass, "mass");
+  positive(c.footprint_length, "footprint_length");
+  positive(c.footprint_width, "footprint_width");
+  positive(c.max_linear_speed, "max_linear_speed");
+  positive(c.max_linear_accel, "max_linear_accel");
+  positive(c.max_angular_speed, "max_angular_speed");
+  positive(c.max_angular_accel, "max_angular_accel");
+  positive(c.cmd_timeout, "cmd_timeout");
+  positive(c.traction_coefficient, "traction_coefficient");
+  positive(c.gravity, "gravity");
+  positive(c.max_angular_traction_accel, "max_angular_traction_accel");
+  errors.check(c.wheel_offset_x >= 0.0, prefix + ".wheel_offset_x", "must be >= 0");
+  errors.check(c.wheel_offset_y >= 0.0, prefix + ".wheel_offset_y", "must be >= 0");
+}
+
+}  // namespace barn::sim

@@ -1,0 +1,207 @@
+#include "barn/sim/simulator.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <box2d/box2d.h>
+
+namespace barn::sim {
+
+namespace {
+
+// Collision filtering: the robot's fixtures make no Box2D contacts (see the header).
+constexpr uint16 kObstacleCategory = 0x0001;
+constexpr uint16 kRobotCategory = 0x0002;
+
+double clampAbs(double value, double limit) { return std::clamp(value, -limit, limit); }
+
+}  // namespace
+
+void validate(const PhysicsConfig& c, core::Errors& errors, const std::string& prefix) {
+  errors.check(c.rate >= 10.0 && c.rate <= 100000.0, prefix + ".rate", "must be in [10, 100000] Hz");
+  errors.check(c.velocity_iterations >= 1, prefix + ".velocity_iterations", "must be >= 1");
+  errors.check(c.position_iterations >= 1, prefix + ".position_iterations", "must be >= 1");
+}
+
+bool rectOverlapsCircle(const core::Pose2& pose, const RobotRect& rect, const Eigen::Vector2d& centre, double radius) {
+  // Circle centre in the rectangle's frame; the closest rectangle point is the clamped centre.
+  const Eigen::Vector2d local = pose.inverseTransform(centre) - Eigen::Vector2d(rect.centre_x, rect.centre_y);
+  const double qx = std::clamp(local.x(), -rect.half_length, rect.half_length);
+  const double qy = std::clamp(local.y(), -rect.half_width, rect.half_width);
+  const double ex = local.x() - qx;
+  const double ey = local.y() - qy;
+  return ex * ex + ey * ey < radius * radius;
+}
+
+struct Simulator::Box2D {
+  b2World world{b2Vec2(0.0f, 0.0f)};
+  b2Body* robot = nullptr;
+};
+
+Simulator::Simulator(const ObstacleField& field, const RobotConfig& robot, const PhysicsConfig& physics,
+                     const core::Pose2& start)
+    : field_(&field), robot_(robot), physics_(physics), rects_(robot.collisionRects()),
+      box2d_(std::make_unique<Box2D>()), pose_(start) {
+  b2World& world = box2d_->world;
+  world.SetAllowSleeping(false);
+
+  // All cylinders on one static body.
+  b2BodyDef ground_def;
+  b2Body* ground = world.CreateBody(&ground_def);
+  b2CircleShape circle;
+  circle.m_radius = static_cast<float>(field.radius);
+  b2FixtureDef cylinder_def;
+  cylinder_def.shape = &circle;
+  cylinder_def.filter.categoryBits = kObstacleCategory;
+  for (std::size_t i = 0; i < field.centres.size(); ++i) {
+    const Eigen::Vector2d& c = field.centres[i];
+    circle.m_p.Set(static_cast<float>(c.x()), static_cast<float>(c.y()));
+    cylinder_def.userData.pointer = i;  // index of the exact (double) centre
+    ground->CreateFixture(&cylinder_def);
+  }
+
+  // The robot: chassis and wheels as polygons with mass, no contacts (exact test instead).
+  b2BodyDef robot_def;
+  robot_def.type = b2_dynamicBody;
+  robot_def.position.Set(static_cast<float>(start.x), static_cast<float>(start.y));
+  robot_def.angle = static_cast<float>(start.yaw);
+  box2d_->robot = world.CreateBody(&robot_def);
+  double area = 0.0;
+  for (const RobotRect& r : rects_) area += 4.0 * r.half_length * r.half_width;
+  for (const RobotRect& r : rects_) {
+    b2PolygonShape box;
+    box.SetAsBox(static_cast<float>(r.half_length), static_cast<float>(r.half_width),
+                 b2Vec2(static_cast<float>(r.centre_x), static_cast<float>(r.centre_y)), 0.0f);
+    b2FixtureDef def;
+    def.shape = &box;
+    def.density = static_cast<float>(robot.mass / area);
+    def.filter.categoryBits = kRobotCategory;
+    def.filter.maskBits = 0;
+    box2d_->robot->CreateFixture(&def);
+  }
+  collision_ = findCollision(pose_);
+}
+
+Simulator::~Simulator() = default;
+
+void Simulator::command(const core::Twist& cmd) {
+  cmd_ = cmd;
+  cmd_time_ = time_;
+}
+
+double Simulator::forwardSpeed() const {
+  return std::cos(pose_.yaw) * velocity_.x() + std::sin(pose_.yaw) * velocity_.y();
+}
+
+double Simulator::sidewaysSpeed() const {
+  return -std::sin(pose_.yaw) * velocity_.x() + std::cos(pose_.yaw) * velocity_.y();
+}
+
+void Simulator::step() {
+  const double dt = physics_.dt();
+
+  // 1-2. Command timeout and diff_drive_controller limits.
+  core::Twist target;
+  if (time_ - cmd_time_ <= robot_.cmd_timeout + 1e-9) {
+    target.linear = clampAbs(cmd_.linear, robot_.max_linear_speed);
+    target.angular = clampAbs(cmd_.angular, robot_.max_angular_speed);
+  }
+  wheel_.linear += clampAbs(target.linear - wheel_.linear, robot_.max_linear_accel * dt);
+  wheel_.angular += clampAbs(target.angular - wheel_.angular, robot_.max_angular_accel * dt);
+
+  // 3. Traction: one friction circle for the change of the body's linear velocity.
+  const Eigen::Vector2d heading(std::cos(pose_.yaw), std::sin(pose_.yaw));
+  Eigen::Vector2d change = wheel_.linear * heading - velocity_;
+  const double max_change = robot_.traction_coefficient * robot_.gravity * dt;
+  if (change.norm() > max_change) change *= max_change / change.norm();
+  velocity_ += change;
+  yaw_rate_ += clampAbs(wheel_.angular - yaw_rate_, robot_.max_angular_traction_accel * dt);
+
+  // 4. Integrate with Box2D, then the exact collision test.
+  b2Body* body = box2d_->robot;
+  body->SetLinearVelocity(b2Vec2(static_cast<float>(velocity_.x()), static_cast<float>(velocity_.y())));
+  body->SetAngularVelocity(static_cast<float>(yaw_rate_));
+  box2d_->world.Step(static_cast<float>(dt), physics_.velocity_iterations, physics_.position_iterations);
+  time_ += dt;
+  const b2Vec2 position = body->GetPosition();
+  pose_ = {position.x, position.y, core::wrapAngle(body->GetAngle())};
+  if (!collision_) {
+    collision_ = findCollision(pose_);
+    if (collision_) collision_->time = time_;
+  }
+}
+
+std::optional<CollisionInfo> Simulator::findCollision(const core::Pose2& pose) const {
+  // Broad phase: Box2D's tree returns the cylinders whose boxes meet the robot's bounding box.
+  struct Query : b2QueryCallback {
+    std::vector<b2Fixture*> found;
+    bool ReportFixture(b2Fixture* fixture) override {
+      if (fixture->GetFilterData().categoryBits == kObstacleCategory) found.push_back(fixture);
+      return true;
+    }
+  } query;
+  const float reach = static_cast<float>(robot_.collisionRadius());
+  b2AABB box;
+  box.lowerBound.Set(static_cast<float>(pose.x) - reach, static_cast<float>(pose.y) - reach);
+  box.upperBound.Set(static_cast<float>(pose.x) + reach, static_cast<float>(pose.y) + reach);
+  box2d_->world.QueryAABB(&query, box);
+
+  // Narrow phase in double precision against the exact cylinder centres.
+  std::optional<CollisionInfo> best;
+  for (b2Fixture* fixture : query.found) {
+    const Eigen::Vector2d& centre = field_->centres[fixture->GetUserData().pointer];
+    for (std::size_t i = 0; i < rects_.size(); ++i) {
+      if (rectOverlapsCircle(pose, rects_[i], centre, field_->radius)) {
+        if (!best) best = CollisionInfo{time_, centre, static_cast<int>(i)};
+      }
+    }
+  }
+  return best;
+}
+
+bool Simulator::overlaps(const core::Pose2& pose) const { return findCollision(pose).has_value(); }
+
+std::vector<double> Simulator::referenceScan(const LidarConfig& lidar, const core::Pose2& sensor_pose) const {
+  struct ClosestHit : b2RayCastCallback {
+    float fraction = 1.0f;
+    bool hit = false;
+    float ReportFixture(b2Fixture* fixture, const b2Vec2&, const b2Vec2&, float f) override {
+      if (fixture->GetFilterData().categoryBits != kObstacleCategory) return -1.0f;  // ignore the robot
+      hit = true;
+      fraction = f;
+      return f;  // clip the ray: later reports can only be closer
+    }
+  };
+  std::vector<double> ranges(static_cast<std::size_t>(lidar.beams), std::numeric_limits<double>::infinity());
+  const double increment = lidar.angleIncrement();
+  const b2Vec2 origin(static_cast<float>(sensor_pose.x), static_cast<float>(sensor_pose.y));
+  for (int i = 0; i < lidar.beams; ++i) {
+    const double angle = sensor_pose.yaw + lidar.angle_min + i * increment;
+    const b2Vec2 end(static_cast<float>(sensor_pose.x + lidar.range_max * std::cos(angle)),
+                     static_cast<float>(sensor_pose.y + lidar.range_max * std::sin(angle)));
+    ClosestHit callback;
+    box2d_->world.RayCast(&callback, origin, end);
+    if (callback.hit) {
+      const double range = static_cast<double>(callback.fraction) * lidar.range_max;
+      ranges[static_cast<std::size_t>(i)] = std::max(range, lidar.range_min);
+    }
+  }
+  return ranges;
+}
+
+void prepareForThreads() {
+  // Make two circles touch once on this thread so b2Contact's registry is initialised.
+  b2World world(b2Vec2(0.0f, 0.0f));
+  b2BodyDef def;
+  b2Body* a = world.CreateBody(&def);
+  def.type = b2_dynamicBody;
+  b2Body* b = world.CreateBody(&def);
+  b2CircleShape circle;
+  circle.m_radius = 1.0f;
+  a->CreateFixture(&circle, 1.0f);
+  b->CreateFixture(&circle, 1.0f);
+  world.Step(0.01f, 1, 1);
+}
+
+}  // namespace barn::sim
