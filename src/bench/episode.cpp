@@ -68,8 +68,8 @@ EpisodeResult runEpisode(const core::WorldSpec& world, const sim::ObstacleField&
   const Eigen::Vector2d odom_origin = protocol.start();  // odom = world shifted to the start
   const Eigen::Vector2d goal_world = protocol.goal();
   sim::Simulator simulator(field, config.robot, config.physics, start);
-  const sim::LidarCaster lidar(config.lidar, field);
-  core::Rng noise(core::mixSeed(seed, 1));
+  sim::LidarCaster lidar(config.lidar, field);
+  core::FastNoise noise(core::mixSeed(seed, 1));
 
   controllers::EpisodeInfo info;
   info.start = {0.0, 0.0, protocol.start_yaw};

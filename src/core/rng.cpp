@@ -2,16 +2,9 @@
 
 #include <cassert>
 #include <cmath>
-#include <numbers>
+#include <limits>
 
 namespace barn::core {
-
-std::uint64_t splitMix64(std::uint64_t x) {
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
 
 std::uint64_t mixSeed(std::uint64_t base, std::uint64_t a, std::uint64_t b) {
   return splitMix64(splitMix64(splitMix64(base) ^ a) ^ b);
@@ -19,7 +12,7 @@ std::uint64_t mixSeed(std::uint64_t base, std::uint64_t a, std::uint64_t b) {
 
 double Rng::uniform01() {
   // The top 53 bits fill a double's mantissa exactly: k / 2^53, k in [0, 2^53).
-  return static_cast<double>(engine_() >> 11) * 0x1.0p-53;
+  return toUnit(engine_());
 }
 
 std::uint64_t Rng::below(std::uint64_t n) {
@@ -31,11 +24,44 @@ std::uint64_t Rng::below(std::uint64_t n) {
   return x % n;
 }
 
-double Rng::normal() {
-  // 1 - u is in (0, 1], so the log is finite.
-  const double u1 = 1.0 - uniform01();
-  const double u2 = uniform01();
-  return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
+namespace {
+
+constexpr double kR = 3.6541528853610088;   // start of the tail
+constexpr double kArea = 4.92867323399e-3;  // area of each layer
+
+double gaussianDensity(double x) { return std::exp(-0.5 * x * x); }
+
+detail::Ziggurat makeZiggurat() {
+  detail::Ziggurat z;
+  z.x[0] = kArea / gaussianDensity(kR);
+  z.x[1] = kR;
+  for (int i = 2; i < 256; ++i) z.x[i] = std::sqrt(-2.0 * std::log(kArea / z.x[i - 1] + gaussianDensity(z.x[i - 1])));
+  z.x[256] = 0.0;
+  for (int i = 0; i < 257; ++i) z.f[i] = gaussianDensity(z.x[i]);
+  return z;
 }
+
+}  // namespace
+
+const detail::Ziggurat& detail::ziggurat() {
+  static const Ziggurat table = makeZiggurat();
+  return table;
+}
+
+double detail::zigguratSlowPath(int layer, double x, double u1, double u2) {
+  constexpr double kRetry = std::numeric_limits<double>::quiet_NaN();
+  if (layer == 0) {
+    // Tail beyond kR (Marsaglia 1964): accept kR + a when 2b >= a^2.
+    const double a = -std::log(1.0 - u1) / kR;
+    const double b = -std::log(1.0 - u2);
+    return b + b >= a * a ? kR + a : kRetry;
+  }
+  // Wedge between the rectangle and the curve.
+  const Ziggurat& z = ziggurat();
+  const double y = z.f[layer] + u1 * (z.f[layer + 1] - z.f[layer]);
+  return y < gaussianDensity(x) ? x : kRetry;
+}
+
+double Rng::normal() { return standardNormal(engine_); }
 
 }  // namespace barn::core

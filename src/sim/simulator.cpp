@@ -162,18 +162,20 @@ std::optional<CollisionInfo> Simulator::findCollision(const core::Pose2& pose) c
 
 bool Simulator::overlaps(const core::Pose2& pose) const { return findCollision(pose).has_value(); }
 
-std::vector<double> Simulator::referenceScan(const LidarConfig& lidar, const core::Pose2& sensor_pose) const {
+Simulator::ReferenceScan Simulator::referenceScan(const LidarConfig& lidar, const core::Pose2& sensor_pose) const {
   struct ClosestHit : b2RayCastCallback {
     float fraction = 1.0f;
-    bool hit = false;
+    int hit = -1;
     float ReportFixture(b2Fixture* fixture, const b2Vec2&, const b2Vec2&, float f) override {
       if (fixture->GetFilterData().categoryBits != kObstacleCategory) return -1.0f;  // ignore the robot
-      hit = true;
+      hit = static_cast<int>(fixture->GetUserData().pointer);
       fraction = f;
       return f;  // clip the ray: later reports can only be closer
     }
   };
-  std::vector<double> ranges(static_cast<std::size_t>(lidar.beams), std::numeric_limits<double>::infinity());
+  ReferenceScan scan;
+  scan.ranges.assign(static_cast<std::size_t>(lidar.beams), std::numeric_limits<double>::infinity());
+  scan.hit.assign(static_cast<std::size_t>(lidar.beams), -1);
   const double increment = lidar.angleIncrement();
   const b2Vec2 origin(static_cast<float>(sensor_pose.x), static_cast<float>(sensor_pose.y));
   for (int i = 0; i < lidar.beams; ++i) {
@@ -182,12 +184,13 @@ std::vector<double> Simulator::referenceScan(const LidarConfig& lidar, const cor
                      static_cast<float>(sensor_pose.y + lidar.range_max * std::sin(angle)));
     ClosestHit callback;
     box2d_->world.RayCast(&callback, origin, end);
-    if (callback.hit) {
+    if (callback.hit >= 0) {
       const double range = static_cast<double>(callback.fraction) * lidar.range_max;
-      ranges[static_cast<std::size_t>(i)] = std::max(range, lidar.range_min);
+      scan.ranges[static_cast<std::size_t>(i)] = std::max(range, lidar.range_min);
+      scan.hit[static_cast<std::size_t>(i)] = callback.hit;
     }
   }
-  return ranges;
+  return scan;
 }
 
 void prepareForThreads() {

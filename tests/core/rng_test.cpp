@@ -143,6 +143,48 @@ TEST(Rng, NormalHasMeanZeroAndVarianceOne) {
   EXPECT_NEAR(static_cast<double>(within_one) / kDraws, 0.6827, 0.0075);
 }
 
+TEST(FastNoise, IsAStandardNormalToo) {
+  constexpr int kDraws = 200000;
+  FastNoise noise(5);
+  double sum = 0.0, sum_sq = 0.0;
+  for (int i = 0; i < kDraws; ++i) {
+    const double z = noise.normal();
+    sum += z;
+    sum_sq += z * z;
+  }
+  // sigma of the mean = 1 / sqrt(2e5) = 0.00224 (5 sigma 0.011); of the variance
+  // sqrt(2 / 2e5) = 0.00316 (5 sigma 0.016).
+  EXPECT_NEAR(sum / kDraws, 0.0, 0.011);
+  EXPECT_NEAR(sum_sq / kDraws, 1.0, 0.016);
+  FastNoise same(5);
+  FastNoise other(6);
+  FastNoise again(5);
+  EXPECT_EQ(same.normal(), again.normal());
+  EXPECT_NE(same.normal(), other.normal());
+}
+
+TEST(Rng, NormalFollowsTheGaussianCdfIncludingTheTail) {
+  // 1e6 draws; for each x the count below x is binomial with sigma = sqrt(n p (1 - p)) <= 500.
+  constexpr int kDraws = 1000000;
+  const double xs[] = {-3.0, -2.0, -1.0, -0.5, 0.0, 0.5, 1.0, 2.0, 3.0};
+  int below[9] = {};
+  int tail = 0;  // |z| beyond 3.6541528853610088, where the ziggurat's tail branch draws
+  Rng rng(11);
+  for (int i = 0; i < kDraws; ++i) {
+    const double z = rng.normal();
+    for (int k = 0; k < 9; ++k) below[k] += z < xs[k];
+    tail += std::abs(z) > 3.6541528853610088;
+  }
+  for (int k = 0; k < 9; ++k) {
+    const double p = 0.5 * std::erfc(-xs[k] / std::sqrt(2.0));
+    const double sigma = std::sqrt(kDraws * p * (1.0 - p));
+    EXPECT_NEAR(below[k], kDraws * p, 5.0 * sigma + 1.0) << "P(Z < " << xs[k] << ")";
+  }
+  // P(|Z| > 3.6542) = erfc(3.6542 / sqrt 2) = 2.58e-4 -> 258 expected, sigma 16.
+  const double p_tail = std::erfc(3.6541528853610088 / std::sqrt(2.0));
+  EXPECT_NEAR(tail, kDraws * p_tail, 5.0 * std::sqrt(kDraws * p_tail));
+}
+
 // ---------------------------------------------------------------------------------------------
 // splitMix64 / mixSeed
 

@@ -41,6 +41,7 @@ struct LidarConfig {
 
 void validate(const LidarConfig& config, core::Errors& errors, const std::string& prefix = "lidar");
 
+/// One caster per episode (thread): it keeps scratch buffers between scans.
 class LidarCaster {
  public:
   LidarCaster(const LidarConfig& config, const ObstacleField& field);
@@ -48,11 +49,11 @@ class LidarCaster {
   /// Exact noise-free ranges from a sensor at `sensor_pose` (world frame) into `ranges`
   /// (resized to the beam count). No return within range_max -> +inf; a return closer than
   /// range_min is reported as range_min (only possible once the robot is already in collision).
-  void cast(const core::Pose2& sensor_pose, std::vector<double>& ranges) const;
+  void cast(const core::Pose2& sensor_pose, std::vector<double>& ranges);
 
   /// A full scan for a robot at `robot_pose` taken at `stamp`, with Gaussian noise drawn from
   /// `noise` (no noise if null or noise_stddev is 0).
-  core::LaserScan scan(const core::Pose2& robot_pose, double stamp, core::Rng* noise) const;
+  core::LaserScan scan(const core::Pose2& robot_pose, double stamp, core::FastNoise* noise);
 
   const LidarConfig& config() const { return config_; }
 
@@ -61,6 +62,15 @@ class LidarCaster {
   const ObstacleField* field_;
   std::vector<double> beam_cos_;  // cos of each beam's angle in the sensor frame
   std::vector<double> beam_sin_;
+
+  // Scratch for cast(): circles in range (sensor frame) and their near-first order.
+  struct Candidate {
+    double dx, dy, dist2, dist;  // [m], [m], [m^2], [m]
+    int bucket;                  // distance bucket (0.25 m)
+  };
+  std::vector<Candidate> candidates_;
+  std::vector<int> bucket_start_;
+  std::vector<int> order_;
 };
 
 }  // namespace barn::sim

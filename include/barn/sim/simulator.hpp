@@ -78,8 +78,14 @@ class Simulator {
   const std::optional<CollisionInfo>& collision() const { return collision_; }
 
   /// Box2D RayCast scan from `sensor_pose` (world frame), the reference for LidarCaster:
-  /// one b2World::RayCast per beam, closest hit; +inf for no hit within range_max.
-  std::vector<double> referenceScan(const LidarConfig& lidar, const core::Pose2& sensor_pose) const;
+  /// one b2World::RayCast per beam, closest hit. Box2D works in float32, so its ranges carry
+  /// errors of up to ~1e-4 m at 10 m; `hit` names the cylinder each beam hit (-1: none) so a
+  /// test can also compare which obstacle was seen.
+  struct ReferenceScan {
+    std::vector<double> ranges;  // [m] +inf for no hit within range_max
+    std::vector<int> hit;        // index into ObstacleField::centres, -1 for no hit
+  };
+  ReferenceScan referenceScan(const LidarConfig& lidar, const core::Pose2& sensor_pose) const;
 
   /// True if the robot's collision shape at `pose` overlaps a cylinder (exact geometry).
   bool overlaps(const core::Pose2& pose) const;

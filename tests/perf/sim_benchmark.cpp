@@ -1,0 +1,85 @@
+// Google Benchmark of the simulator's hot paths (built with -DBARN_BUILD_BENCHMARKS=ON):
+//   BM_Scan/fast      one 720-beam scan with LidarCaster (the simulator's caster)
+//   BM_Scan/box2d     the same scan with one b2World::RayCast per beam (the reference)
+//   BM_SimulatedSecond  one simulated second: physics at the configured rate + 50 Hz LiDAR
+// Run: build/tests/perf/barn_sim_benchmark --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+
+#include <benchmark/benchmark.h>
+
+#include "barn/bench/episode.hpp"
+#include "barn/core/world_file.hpp"
+#include "barn/sim/lidar.hpp"
+#include "barn/sim/simulator.hpp"
+
+namespace {
+
+using namespace barn;
+
+// World 150 (fill 0.25): a typical dense world. Poses along the corridor centre line.
+struct Fixture {
+  core::WorldSpec world = core::readWorldFile(std::string(BARN_SOURCE_DIR) + "/worlds/world_150.yaml");
+  sim::ObstacleField field = sim::ObstacleField::fromWorld(world);
+  sim::LidarConfig lidar;
+  std::vector<core::Pose2> poses;
+  Fixture() {
+    for (int i = 0; i < 64; ++i) poses.push_back({-2.25, 3.0 + 0.1 * i, 1.57 + 0.01 * i});
+  }
+};
+
+void BM_ScanFast(benchmark::State& state) {
+  Fixture f;
+  sim::LidarCaster caster(f.lidar, f.field);
+  std::vector<double> ranges;
+  std::size_t i = 0;
+  for (auto _ : state) {
+    caster.cast(f.lidar.sensorPose(f.poses[i++ % f.poses.size()]), ranges);
+    benchmark::DoNotOptimize(ranges.data());
+  }
+  state.SetItemsProcessed(state.iterations() * f.lidar.beams);
+}
+BENCHMARK(BM_ScanFast)->Name("BM_Scan/fast");
+
+void BM_ScanBox2D(benchmark::State& state) {
+  Fixture f;
+  const sim::Simulator simulator(f.field, sim::RobotConfig{}, sim::PhysicsConfig{}, f.poses[0]);
+  std::size_t i = 0;
+  for (auto _ : state) {
+    auto scan = simulator.referenceScan(f.lidar, f.lidar.sensorPose(f.poses[i++ % f.poses.size()]));
+    benchmark::DoNotOptimize(scan.ranges.data());
+  }
+  state.SetItemsProcessed(state.iterations() * f.lidar.beams);
+}
+BENCHMARK(BM_ScanBox2D)->Name("BM_Scan/box2d");
+
+// Physics + LiDAR for one simulated second, driving forward and turning gently through the
+// start area and into the field (the robot is reset when it collides).
+void BM_SimulatedSecond(benchmark::State& state) {
+  Fixture f;
+  sim::PhysicsConfig physics;
+  physics.rate = static_cast<double>(state.range(0));
+  sim::LidarCaster caster(f.lidar, f.field);
+  core::FastNoise noise(1);
+  auto simulator = std::make_unique<sim::Simulator>(f.field, sim::RobotConfig{}, physics, f.poses[0]);
+  const long steps_per_second = std::lround(physics.rate);
+  const long steps_per_scan = std::lround(physics.rate / f.lidar.rate);
+  long step = 0;
+  for (auto _ : state) {
+    for (long k = 0; k < steps_per_second; ++k, ++step) {
+      if (step % steps_per_scan == 0) {
+        auto scan = caster.scan(simulator->pose(), simulator->time(), &noise);
+        benchmark::DoNotOptimize(scan.ranges.data());
+        simulator->command({0.5, 0.3 * std::sin(0.1 * static_cast<double>(step / steps_per_scan))});
+      }
+      simulator->step();
+      if (simulator->collision() || simulator->time() > 8.0) {
+        simulator = std::make_unique<sim::Simulator>(f.field, sim::RobotConfig{}, physics, f.poses[0]);
+      }
+    }
+  }
+  state.counters["real_time_factor"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_SimulatedSecond)->Arg(200)->Arg(1000)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,159 @@
+#include "barn/sim/simulator.hpp"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+namespace barn::sim {
+namespace {
+
+// Traction limit of the default Jackal: mu g = 0.5 * 9.81 = 4.905 m/s^2.
+constexpr double kTraction = 0.5 * 9.81;
+
+// Runs `seconds` of simulated time with the command re-sent every physics step.
+void drive(Simulator& sim, core::Twist cmd, double seconds) {
+  const long steps = std::lround(seconds / sim.dt());
+  for (long k = 0; k < steps; ++k) {
+    sim.command(cmd);
+    sim.step();
+  }
+}
+
+TEST(Simulator, AcceleratesNoFasterThanTractionAndTheSpeedLimit) {
+  const ObstacleField empty;
+  Simulator sim(empty, RobotConfig{}, PhysicsConfig{}, {0.0, 0.0, 0.0});
+  double previous = 0.0;
+  for (int k = 0; k < 200; ++k) {  // 1 s at 200 Hz
+    sim.command({3.0, 0.0});       // above the 2 m/s limit
+    sim.step();
+    const double v = sim.forwardSpeed();
+    EXPECT_LE(v - previous, kTraction * sim.dt() + 1e-6) << "step " << k;
+    EXPECT_LE(v, 2.0 + 1e-6);
+    previous = v;
+  }
+  // 2 m/s / 4.905 m/s^2 = 0.408 s to full speed, so after 1 s it cruises at the limit.
+  EXPECT_NEAR(sim.forwardSpeed(), 2.0, 1e-6);
+}
+
+TEST(Simulator, YawRateFollowsTheControllerAccelerationLimit) {
+  const ObstacleField empty;
+  Simulator sim(empty, RobotConfig{}, PhysicsConfig{}, {0.0, 0.0, 0.0});
+  sim.command({0.0, 10.0});  // clamped to 4 rad/s
+  sim.step();
+  // 25 rad/s^2 * 0.005 s = 0.125 rad/s after one step (traction allows 40 rad/s^2).
+  EXPECT_NEAR(sim.yawRate(), 0.125, 1e-9);
+  drive(sim, {0.0, 10.0}, 0.5);
+  EXPECT_NEAR(sim.yawRate(), 4.0, 1e-9);
+}
+
+// Commanded to a speed, then to 0: the wheels stop within 0.1 s (20 m/s^2) but the body
+// slides at the traction limit, covering v^2 / (2 mu g).
+double stoppingDistance(double speed) {
+  const ObstacleField empty;
+  Simulator sim(empty, RobotConfig{}, PhysicsConfig{}, {0.0, 0.0, 0.0});
+  drive(sim, {speed, 0.0}, 2.0);
+  const double x0 = sim.pose().x;
+  drive(sim, {0.0, 0.0}, 2.0);
+  EXPECT_NEAR(sim.forwardSpeed(), 0.0, 1e-9);
+  return sim.pose().x - x0;
+}
+
+TEST(Simulator, BrakingFromTwoMetresPerSecondSlidesAsTractionPredicts) {
+  // 2^2 / (2 * 4.905) = 0.4077 m; the discrete integration is short by up to v dt = 0.01 m.
+  const double from_fast = stoppingDistance(2.0);
+  EXPECT_NEAR(from_fast, 4.0 / (2.0 * kTraction), 0.011);
+  // 0.7^2 / (2 * 4.905) = 0.0499 m: eight times shorter.
+  const double from_slow = stoppingDistance(0.7);
+  EXPECT_NEAR(from_slow, 0.49 / (2.0 * kTraction), 0.004);
+  EXPECT_GT(from_fast, 5.0 * from_slow);
+}
+
+TEST(Simulator, StopsWhenCommandsStopArriving) {
+  const ObstacleField empty;
+  Simulator sim(empty, RobotConfig{}, PhysicsConfig{}, {0.0, 0.0, 0.0});
+  sim.command({1.0, 0.0});
+  for (int k = 0; k < 400; ++k) sim.step();  // 2 s without a new command
+  // Driven for 0.25 s (accelerating at 4.905 m/s^2 for 0.204 s to 1 m/s), then braked.
+  EXPECT_NEAR(sim.forwardSpeed(), 0.0, 1e-9);
+  EXPECT_LT(sim.pose().x, 0.25 * 1.0 + 1.0 / (2.0 * kTraction));
+  EXPECT_GT(sim.pose().x, 0.1);
+}
+
+TEST(Simulator, DrivingIntoACylinderIsACollisionAtTheFrontBumper) {
+  // Cylinder on the driving line at x = 2: contact when the chassis front (x + 0.21) meets
+  // its surface at 2 - 0.075, i.e. robot centre x = 1.715.
+  ObstacleField field;
+  field.centres = {{2.0, 0.0}};
+  Simulator sim(field, RobotConfig{}, PhysicsConfig{}, {0.0, 0.0, 0.0});
+  while (!sim.collision() && sim.time() < 10.0) {
+    sim.command({0.5, 0.0});
+    sim.step();
+  }
+  ASSERT_TRUE(sim.collision());
+  EXPECT_EQ(sim.collision()->point, Eigen::Vector2d(2.0, 0.0));
+  EXPECT_EQ(sim.collision()->rect_index, 0);  // the chassis
+  // At 0.5 m/s a step moves 2.5 mm, so contact is found within one step past 1.715.
+  EXPECT_GE(sim.pose().x, 1.715 - 1e-6);
+  EXPECT_LT(sim.pose().x, 1.715 + 0.0026);
+}
+
+// The widest part of the Jackal is the wheels' outer side at y = 0.187795 + 0.02 = 0.207795.
+double sideClearanceRun(double gap) {
+  ObstacleField field;
+  field.centres = {{1.5, 0.207795 + 0.075 + gap}};
+  Simulator sim(field, RobotConfig{}, PhysicsConfig{}, {0.0, 0.0, 0.0});
+  drive(sim, {1.0, 0.0}, 3.0);
+  return sim.collision() ? 1.0 : 0.0;
+}
+
+TEST(Simulator, BrushingPastACylinderIsNoCollisionButTouchingIs) {
+  EXPECT_EQ(sideClearanceRun(0.01), 0.0);    // 1 cm clear
+  EXPECT_EQ(sideClearanceRun(0.002), 0.0);   // 2 mm: inside Box2D's 1 cm polygon skin, still clear
+  EXPECT_EQ(sideClearanceRun(-0.002), 1.0);  // 2 mm overlap
+}
+
+TEST(Simulator, RectangleCircleOverlapIsExactAtCorners) {
+  const RobotRect rect{0.0, 0.0, 0.21, 0.155};
+  const core::Pose2 pose{0.0, 0.0, 0.0};
+  // A circle on the corner's diagonal: the corner (0.21, 0.155) is at distance
+  // |c - corner| from the centre; overlap iff that is < r.
+  const Eigen::Vector2d corner(0.21, 0.155);
+  const Eigen::Vector2d dir = Eigen::Vector2d(1.0, 1.0).normalized();
+  EXPECT_FALSE(rectOverlapsCircle(pose, rect, corner + dir * (0.075 + 1e-9), 0.075));
+  EXPECT_TRUE(rectOverlapsCircle(pose, rect, corner + dir * (0.075 - 1e-9), 0.075));
+  // Rotated by 90 degrees the long side lies along y.
+  const core::Pose2 turned{0.0, 0.0, M_PI / 2};
+  EXPECT_TRUE(rectOverlapsCircle(turned, rect, {0.0, 0.21 + 0.07}, 0.075));
+  EXPECT_FALSE(rectOverlapsCircle(turned, rect, {0.21 + 0.07, 0.0}, 0.075));
+}
+
+TEST(Simulator, SameCommandsGiveTheSamePoseBitForBit) {
+  ObstacleField field;
+  field.centres = {{5.0, 5.0}};
+  const auto run = [&] {
+    Simulator sim(field, RobotConfig{}, PhysicsConfig{}, {0.1, 0.2, 0.3});
+    for (int k = 0; k < 1000; ++k) {
+      sim.command({1.5 * std::sin(0.01 * k), 2.0 * std::cos(0.013 * k)});
+      sim.step();
+    }
+    return sim.pose();
+  };
+  const core::Pose2 a = run();
+  const core::Pose2 b = run();
+  EXPECT_EQ(a.x, b.x);
+  EXPECT_EQ(a.y, b.y);
+  EXPECT_EQ(a.yaw, b.yaw);
+}
+
+TEST(Simulator, TurningAtSpeedSlidesSideways) {
+  // At 2 m/s and 4 rad/s the centripetal demand v w = 8 m/s^2 exceeds mu g = 4.9 m/s^2, so
+  // the body cannot follow the heading: a sideways velocity appears.
+  const ObstacleField empty;
+  Simulator sim(empty, RobotConfig{}, PhysicsConfig{}, {0.0, 0.0, 0.0});
+  drive(sim, {2.0, 0.0}, 1.0);
+  drive(sim, {2.0, 4.0}, 0.3);
+  EXPECT_GT(std::abs(sim.sidewaysSpeed()), 0.1);
+}
+
+}  // namespace
+}  // namespace barn::sim
