@@ -27,6 +27,19 @@ std::optional<long> stepsIn(double period, double dt) {
   return rounded;
 }
 
+// Counts a state entry when the controller's label changes.
+void countStateEntry(std::vector<std::pair<std::string, int>>& entries, std::string& last, std::string_view label) {
+  if (label.empty() || label == last) return;
+  last = label;
+  for (auto& [name, count] : entries) {
+    if (name == label) {
+      ++count;
+      return;
+    }
+  }
+  entries.emplace_back(std::string(label), 1);
+}
+
 }  // namespace
 
 void validate(const EpisodeConfig& config, core::Errors& errors) {
@@ -38,6 +51,9 @@ void validate(const EpisodeConfig& config, core::Errors& errors) {
   sim::validate(config.physics, errors);
   sim::validate(config.robot, errors);
   sim::validate(config.lidar, errors);
+  errors.check(config.odometry.position_stddev >= 0.0, "odometry.position_stddev", "must be >= 0");
+  errors.check(config.odometry.yaw_stddev >= 0.0, "odometry.yaw_stddev", "must be >= 0");
+  errors.check(config.odometry.speed_stddev >= 0.0, "odometry.speed_stddev", "must be >= 0");
   if (config.physics.rate > 0 && config.lidar.rate > 0) {
     errors.check(stepsIn(1.0 / config.lidar.rate, config.physics.dt()).has_value(), "lidar.rate",
                  "the scan period must be a whole number of physics steps (physics.rate / lidar.rate integer)");
@@ -70,6 +86,8 @@ EpisodeResult runEpisode(const core::WorldSpec& world, const sim::ObstacleField&
   sim::Simulator simulator(field, config.robot, config.physics, start);
   sim::LidarCaster lidar(config.lidar, field);
   core::FastNoise noise(core::mixSeed(seed, 1));
+  core::FastNoise odometry_noise(core::mixSeed(seed, 3));
+  const OdometryNoise& odom_sigma = config.odometry;
 
   controllers::EpisodeInfo info;
   info.start = {0.0, 0.0, protocol.start_yaw};
@@ -95,6 +113,7 @@ EpisodeResult runEpisode(const core::WorldSpec& world, const sim::ObstacleField&
   }
 
   core::LaserScan scan;
+  std::string last_state;
   std::optional<long> timer_start_step;
   Eigen::Vector2d previous = start.position();
   bool finished = false;
@@ -108,6 +127,13 @@ EpisodeResult runEpisode(const core::WorldSpec& world, const sim::ObstacleField&
       obs.scan = &scan;
       obs.odom_pose = {pose.x - odom_origin.x(), pose.y - odom_origin.y(), pose.yaw};
       obs.odom_twist = {simulator.forwardSpeed(), simulator.yawRate()};
+      if (odom_sigma.position_stddev > 0.0 || odom_sigma.yaw_stddev > 0.0 || odom_sigma.speed_stddev > 0.0) {
+        obs.odom_pose.x += odom_sigma.position_stddev * odometry_noise.normal();
+        obs.odom_pose.y += odom_sigma.position_stddev * odometry_noise.normal();
+        obs.odom_pose.yaw = core::wrapAngle(obs.odom_pose.yaw + odom_sigma.yaw_stddev * odometry_noise.normal());
+        obs.odom_twist.linear += odom_sigma.speed_stddev * odometry_noise.normal();
+        obs.odom_twist.angular += odom_sigma.speed_stddev * odometry_noise.normal();
+      }
       obs.goal = info.goal;
       core::Twist cmd;
       try {
@@ -123,6 +149,7 @@ EpisodeResult runEpisode(const core::WorldSpec& world, const sim::ObstacleField&
         break;
       }
       simulator.command(cmd);
+      countStateEntry(result.state_entries, last_state, controller.stateLabel());
       if (record_trajectory) result.trajectory.push_back({now, pose, cmd, std::string(controller.stateLabel())});
     }
 

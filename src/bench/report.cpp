@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <limits>
 #include <map>
+#include <algorithm>
+#include <set>
 #include <sstream>
 
 #include "barn/core/text_io.hpp"
@@ -55,34 +57,100 @@ RunSummary summarise(const std::vector<EpisodeResult>& results) {
   return summary;
 }
 
-std::string episodesCsv(const std::vector<EpisodeResult>& results) {
-  std::ostringstream out;
-  out << "world,trial,seed,outcome,time_s,score,optimal_time_s,path_length_m,mean_speed_mps,sim_time_s,"
-         "collision_x,collision_y,error\n";
-  for (const auto& r : results) {
-    out << r.world_id << "," << r.trial << "," << r.seed << "," << toString(r.outcome) << ","
-        << core::formatDouble(r.actual_time) << "," << core::formatDouble(r.score) << ","
-        << core::formatDouble(r.optimal_time) << "," << core::formatDouble(r.path_length) << ","
-        << core::formatDouble(r.mean_speed) << "," << core::formatDouble(r.sim_time) << ",";
-    if (r.collision) out << core::formatDouble(r.collision->point.x()) << "," << core::formatDouble(r.collision->point.y());
-    else out << ",";
-    std::string error = r.error;
-    for (char& ch : error)
-      if (ch == ',' || ch == '\n' || ch == '"') ch = ';';
-    out << "," << error << "\n";
+std::vector<BucketSummary> difficultyBreakdown(const std::vector<EpisodeResult>& results,
+                                               const std::vector<core::WorldSpec>& worlds) {
+  std::set<int> with_results;
+  for (const auto& r : results) with_results.insert(r.world_id);
+  std::vector<const core::WorldSpec*> used;
+  for (const auto& w : worlds)
+    if (with_results.count(w.id)) used.push_back(&w);
+  const auto resultsOf = [&](const std::set<int>& ids) {
+    std::vector<EpisodeResult> subset;
+    for (const auto& r : results)
+      if (ids.count(r.world_id)) subset.push_back(r);
+    return subset;
+  };
+
+  std::vector<BucketSummary> buckets;
+  // Generator parameter sets, in order of first appearance (BARN's sweep order).
+  std::vector<std::pair<double, int>> params;
+  for (const auto* w : used)
+    if (std::find(params.begin(), params.end(), std::make_pair(w->fill_pct, w->smooth_iter)) == params.end())
+      params.emplace_back(w->fill_pct, w->smooth_iter);
+  for (const auto& [fill, smooth] : params) {
+    std::set<int> ids;
+    for (const auto* w : used)
+      if (w->fill_pct == fill && w->smooth_iter == smooth) ids.insert(w->id);
+    char label[64];
+    std::snprintf(label, sizeof(label), "fill %.2f / smooth %d", fill, smooth);
+    buckets.push_back({"params", label, summarise(resultsOf(ids))});
   }
+  // Quartiles of each normalised metric: world i of the sorted list goes to quartile
+  // floor(4 i / n), so ties and small sets stay deterministic.
+  for (std::size_t k = 0; k < core::DifficultyMetrics::kNames.size(); ++k) {
+    std::vector<const core::WorldSpec*> sorted = used;
+    std::stable_sort(sorted.begin(), sorted.end(), [k](const auto* a, const auto* b) {
+      return a->norm_metrics.toArray()[k] < b->norm_metrics.toArray()[k];
+    });
+    const std::size_t n = sorted.size();
+    for (std::size_t q = 0; q < 4; ++q) {
+      std::set<int> ids;
+      double lo = 0.0, hi = 0.0;
+      for (std::size_t i = 0; i < n; ++i) {
+        if (4 * i / n != q) continue;
+        const double v = sorted[i]->norm_metrics.toArray()[k];
+        if (ids.empty()) lo = v;
+        hi = v;
+        ids.insert(sorted[i]->id);
+      }
+      if (ids.empty()) continue;
+      char label[96];
+      std::snprintf(label, sizeof(label), "Q%zu [%+.2f, %+.2f]", q + 1, lo, hi);
+      buckets.push_back({"norm_" + std::string(core::DifficultyMetrics::kNames[k]), label, summarise(resultsOf(ids))});
+    }
+  }
+  return buckets;
+}
+
+namespace {
+
+void writeSummaryFields(std::ostringstream& out, const RunSummary& s) {
+  const auto number = [](double v) { return std::isfinite(v) ? core::formatDouble(v) : std::string("null"); };
+  out << "\"worlds\": " << s.worlds << ", \"episodes\": " << s.episodes << ", \"score\": " << number(s.score)
+      << ", \"success_rate\": " << number(s.success_rate) << ", \"collision_rate\": " << number(s.collision_rate)
+      << ", \"timeout_rate\": " << number(s.timeout_rate) << ", \"error_rate\": " << number(s.error_rate)
+      << ", \"avg_success_time_s\": " << number(s.avg_success_time) << ", \"sim_time_s\": " << number(s.sim_time);
+}
+
+}  // namespace
+
+std::string summaryJson(const RunSummary& summary, const std::vector<BucketSummary>& breakdown) {
+  std::ostringstream out;
+  out << "{\n  \"summary\": {";
+  writeSummaryFields(out, summary);
+  out << "},\n  \"breakdown\": [";
+  for (std::size_t i = 0; i < breakdown.size(); ++i) {
+    out << (i ? ",\n    " : "\n    ") << "{\"group\": \"" << breakdown[i].group << "\", \"bucket\": \""
+        << breakdown[i].bucket << "\", ";
+    writeSummaryFields(out, breakdown[i].summary);
+    out << "}";
+  }
+  out << "\n  ]\n}\n";
   return out.str();
 }
 
-std::string trajectoryCsv(const EpisodeResult& result) {
-  std::ostringstream out;
-  out << "time_s,x,y,yaw,cmd_linear,cmd_angular,state\n";
-  for (const auto& s : result.trajectory) {
-    out << core::formatDouble(s.time) << "," << core::formatDouble(s.pose.x) << "," << core::formatDouble(s.pose.y) << ","
-        << core::formatDouble(s.pose.yaw) << "," << core::formatDouble(s.command.linear) << ","
-        << core::formatDouble(s.command.angular) << "," << s.state << "\n";
+std::string breakdownTable(const std::vector<BucketSummary>& breakdown) {
+  std::string table = "  by difficulty                                       worlds  score  success  collision  timeout\n";
+  std::string group;
+  for (const auto& b : breakdown) {
+    char line[256];
+    std::snprintf(line, sizeof(line), "  %-30s %-22s %5d  %.4f  %.3f    %.3f      %.3f\n",
+                  b.group == group ? "" : b.group.c_str(), b.bucket.c_str(), b.summary.worlds, b.summary.score,
+                  b.summary.success_rate, b.summary.collision_rate, b.summary.timeout_rate);
+    table += line;
+    group = b.group;
   }
-  return out.str();
+  return table;
 }
 
 std::string summaryTable(const RunSummary& s, const std::string& title) {

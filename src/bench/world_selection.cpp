@@ -69,20 +69,49 @@ std::vector<int> selectWorldIds(const std::string& spec, const std::vector<int>&
   return wanted;
 }
 
-std::vector<core::WorldSpec> loadWorlds(const std::string& spec, const std::filesystem::path& default_dir) {
+LoadedWorlds loadWorlds(const std::string& spec, const std::filesystem::path& default_dir, bool keep_going) {
+  namespace fs = std::filesystem;
   std::error_code ec;
-  if (std::filesystem::is_directory(spec, ec)) return core::readWorldSet(spec);
-  std::vector<core::WorldSpec> all = core::readWorldSet(default_dir);
+  const bool is_folder = fs::is_directory(spec, ec);
+  LoadedWorlds loaded;
+  loaded.folder = fs::absolute(is_folder ? fs::path(spec) : default_dir);
+  if (!fs::is_directory(loaded.folder, ec)) throw core::InputError(loaded.folder.string() + ": no such folder of worlds");
+
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::directory_iterator(loaded.folder, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (entry.is_regular_file() && name.rfind("world_", 0) == 0 && entry.path().extension() == ".yaml")
+      files.push_back(entry.path());
+  }
+  std::sort(files.begin(), files.end());
+  if (files.empty()) throw core::InputError(loaded.folder.string() + ": no world_*.yaml files");
+  std::vector<core::WorldSpec> all;
+  for (const auto& file : files) {
+    try {
+      all.push_back(core::readWorldFile(file));
+    } catch (const core::InputError& e) {
+      if (!keep_going) throw;
+      loaded.skipped.push_back(e.what());
+    }
+  }
+  std::sort(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.id < b.id; });
+  for (std::size_t i = 1; i < all.size(); ++i)
+    if (all[i].id == all[i - 1].id)
+      throw core::InputError(loaded.folder.string() + ": two world files have id " + std::to_string(all[i].id));
+  if (is_folder) {
+    if (all.empty()) throw core::InputError(loaded.folder.string() + ": no readable world files");
+    loaded.worlds = std::move(all);
+    return loaded;
+  }
   std::vector<int> available;
   for (const auto& w : all) available.push_back(w.id);
   const std::vector<int> ids = selectWorldIds(spec, available);
-  std::vector<core::WorldSpec> selected;
   std::size_t j = 0;
   for (int id : ids) {
     while (all[j].id != id) ++j;
-    selected.push_back(std::move(all[j]));
+    loaded.worlds.push_back(std::move(all[j]));
   }
-  return selected;
+  return loaded;
 }
 
 }  // namespace barn::bench

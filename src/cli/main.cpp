@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   barn::cli::addImportCommand(app, context);
   barn::cli::addWorldCommand(app, context);
   barn::cli::addRunCommand(app, context);
+  barn::cli::addMergeCommand(app, context);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -74,6 +74,14 @@ std::string formatDouble(double value) {
   return std::string(buffer, result.ptr);
 }
 
+std::uint64_t fnv1a64(std::string_view text, std::uint64_t hash) {
+  for (unsigned char ch : text) {
+    hash ^= ch;
+    hash *= 0x100000001b3ull;
+  }
+  return hash;
+}
+
 bool parseDouble(std::string_view text, double& value) {
   if (text.empty()) return false;
   const char* first = text.data();

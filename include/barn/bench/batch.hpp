@@ -5,6 +5,7 @@
 /// RNG; its seed depends on (run seed, world id, trial) only, and results are stored by index,
 /// so the output is identical whatever the thread count and schedule.
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -22,7 +23,16 @@ struct BatchSpec {
   EpisodeConfig episode;
   controllers::ControllerFactory make_controller;
   bool record_trajectories = false;
+  /// Episode indices to run (index = world position * trials + trial), ascending; empty = all.
+  /// Shards and resumed runs pass their subset.
+  std::vector<std::size_t> selected;
+  /// Set (e.g. by a SIGINT handler) to stop starting new episodes; running ones finish.
+  const std::atomic<bool>* stop = nullptr;
 };
+
+/// The episode indices of shard `index` (1-based) of `count`: every count-th episode,
+/// starting at index - 1, so shards interleave and balance easy and hard worlds.
+std::vector<std::size_t> shardEpisodes(std::size_t total, int index, int count);
 
 /// Seed of one episode: independent of thread scheduling.
 std::uint64_t episodeSeed(std::uint64_t run_seed, int world_id, int trial);
@@ -30,7 +40,8 @@ std::uint64_t episodeSeed(std::uint64_t run_seed, int world_id, int trial);
 /// Called after each finished episode (serialised, in completion order).
 using ProgressCallback = std::function<void(const EpisodeResult& finished, std::size_t done, std::size_t total)>;
 
-/// Runs every episode; results ordered by (world order in spec, trial).
+/// Runs the selected episodes; results ordered by (world order in spec, trial). Episodes
+/// skipped because `stop` was set are missing from the result.
 std::vector<EpisodeResult> runBatch(const BatchSpec& spec, const ProgressCallback& progress = {});
 
 }  // namespace barn::bench

@@ -24,15 +24,27 @@
 
 namespace barn::bench {
 
+/// Optional white Gaussian noise on the odometry a controller sees (0 = ground truth, the
+/// default: BARN's EKF odometry drifts little over a 100 s episode).
+struct OdometryNoise {
+  double position_stddev = 0.0;  // [m] on x and y
+  double yaw_stddev = 0.0;       // [rad]
+  double speed_stddev = 0.0;     // [m/s] on the forward speed; [rad/s] on the yaw rate
+  template <class V> void visit(V& v) {
+    v("position_stddev", position_stddev); v("yaw_stddev", yaw_stddev); v("speed_stddev", speed_stddev);
+  }
+};
+
 /// Everything about an episode except the world and the controller.
 struct EpisodeConfig {
   std::string protocol = "barn2023";  // protocol preset (barn2023, barn2024)
   sim::PhysicsConfig physics;
   sim::RobotConfig robot;
   sim::LidarConfig lidar;
+  OdometryNoise odometry;
 
   template <class V> void visit(V& v) {
-    v("protocol", protocol); v("physics", physics); v("robot", robot); v("lidar", lidar);
+    v("protocol", protocol); v("physics", physics); v("robot", robot); v("lidar", lidar); v("odometry", odometry);
   }
 };
 
@@ -68,6 +80,9 @@ struct EpisodeResult {
   double sim_time = 0.0;       // [s] simulated time in total
   std::optional<sim::CollisionInfo> collision;
   std::string error;           // what went wrong, for Outcome::Error
+  /// How often the controller entered each state (by stateLabel()), in order of first entry;
+  /// empty for controllers without states.
+  std::vector<std::pair<std::string, int>> state_entries;
   std::vector<TrajectorySample> trajectory;  // filled when recording
 };
 

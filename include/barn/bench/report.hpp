@@ -25,11 +25,24 @@ struct RunSummary {
 
 RunSummary summarise(const std::vector<EpisodeResult>& results);
 
-/// episodes.csv: one row per episode, sorted as given.
-std::string episodesCsv(const std::vector<EpisodeResult>& results);
+/// The run's results over one group of worlds (a difficulty bucket).
+struct BucketSummary {
+  std::string group;   // "params" or a metric name ("norm_closest_wall", ...)
+  std::string bucket;  // "fill 0.15 / smooth 2", "Q1 [-1.23, -0.45]", ...
+  RunSummary summary;
+};
 
-/// One episode's trajectory record: time, world pose, command and state per control tick.
-std::string trajectoryCsv(const EpisodeResult& result);
+/// Breakdown by difficulty: per generator parameter set (fill x smoothing) and per quartile of
+/// each normalised metric (quartile edges over the run's worlds). Worlds without results are
+/// skipped.
+std::vector<BucketSummary> difficultyBreakdown(const std::vector<EpisodeResult>& results,
+                                               const std::vector<core::WorldSpec>& worlds);
+
+/// summary.json: the overall summary and the breakdown. Deterministic: no times or hosts.
+std::string summaryJson(const RunSummary& summary, const std::vector<BucketSummary>& breakdown);
+
+/// The breakdown as a printed table.
+std::string breakdownTable(const std::vector<BucketSummary>& breakdown);
 
 /// The printed summary table.
 std::string summaryTable(const RunSummary& summary, const std::string& title);

@@ -14,8 +14,16 @@ namespace barn::bench {
 /// `test50` = BARN's test set 0, 6, ..., 294; `A:B` = A <= id < B; `A:B:S` with step S.
 std::vector<int> selectWorldIds(const std::string& spec, const std::vector<int>& available);
 
+/// The worlds of `spec` and where they came from.
+struct LoadedWorlds {
+  std::filesystem::path folder;         // absolute
+  std::vector<core::WorldSpec> worlds;  // in run order (ascending id)
+  std::vector<std::string> skipped;     // with keep_going: one message per unreadable file
+};
+
 /// Loads the worlds of `spec`: if `spec` is a folder, every world in it; otherwise the ids it
-/// names from `default_dir`. Files are validated before any episode runs.
-std::vector<core::WorldSpec> loadWorlds(const std::string& spec, const std::filesystem::path& default_dir);
+/// names from `default_dir`. Every file is validated before any episode runs; an invalid one
+/// is an InputError unless `keep_going`, which skips it and reports it in `skipped`.
+LoadedWorlds loadWorlds(const std::string& spec, const std::filesystem::path& default_dir, bool keep_going = false);
 
 }  // namespace barn::bench

@@ -54,8 +54,7 @@ double zigguratSlowPath(int layer, double x, double u1, double u2);
 /// One draw gives the layer (8 bits), the sign (1 bit) and a 53-bit uniform; about 99% of
 /// calls return after one comparison.
 template <class Engine>
-double standardNormal(Engine& engine) {
-  const detail::Ziggurat& z = detail::ziggurat();
+double standardNormal(Engine& engine, const detail::Ziggurat& z = detail::ziggurat()) {
   while (true) {
     const std::uint64_t bits = engine();
     const int layer = static_cast<int>(bits & 0xFF);
@@ -75,11 +74,12 @@ std::uint64_t mixSeed(std::uint64_t base, std::uint64_t a, std::uint64_t b = 0);
 /// A Gaussian noise source on SplitMix64.
 class FastNoise {
  public:
-  explicit FastNoise(std::uint64_t seed) : engine_(seed) {}
-  double normal() { return standardNormal(engine_); }
+  explicit FastNoise(std::uint64_t seed) : engine_(seed), table_(&detail::ziggurat()) {}
+  double normal() { return standardNormal(engine_, *table_); }
 
  private:
   SplitMix64 engine_;
+  const detail::Ziggurat* table_;  // looked up once: the hot loop skips the static's guard
 };
 
 class Rng {

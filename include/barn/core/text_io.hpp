@@ -1,6 +1,7 @@
 #pragma once
 /// Small file helpers: whole-file reads, atomic writes, exact number formatting.
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -25,6 +26,9 @@ void writeFilesAtomic(const std::filesystem::path& dir, const std::vector<FileCo
 
 /// Shortest decimal text that reads back as exactly `value` (std::to_chars round trip).
 std::string formatDouble(double value);
+
+/// 64-bit FNV-1a hash of `text`, continuing from `hash` (to digest several texts in order).
+std::uint64_t fnv1a64(std::string_view text, std::uint64_t hash = 0xcbf29ce484222325ull);
 
 /// Parses a whole string as a double (std::from_chars); false if it is not one.
 bool parseDouble(std::string_view text, double& value);

@@ -1,0 +1,78 @@
+#pragma once
+/// A run's experiment record: the folder `barn run` writes, `barn run --resume` finishes and
+/// `barn merge` assembles from shards.
+///
+///   manifest.yaml          what was run (effective configs, worlds, seeds, shard) and where
+///                          (commit, host, threads, wall time); enough to resume or reproduce
+///   episodes.partial.csv   journal: rows appended as episodes finish (interrupted runs only)
+///   episodes.csv           every row, sorted by (world, trial), once the run is complete
+///   summary.json           report_test.py's summary and the difficulty breakdown
+///
+/// episodes.csv and summary.json depend only on what was run, never on threads, shards,
+/// interruptions or time, so they are byte-identical across those.
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "barn/bench/episode.hpp"
+
+namespace barn::bench {
+
+inline constexpr const char* kManifestFile = "manifest.yaml";
+inline constexpr const char* kJournalFile = "episodes.partial.csv";
+inline constexpr const char* kEpisodesFile = "episodes.csv";
+inline constexpr const char* kSummaryFile = "summary.json";
+
+struct RunManifest {
+  // What was run: two records with equal fields here hold parts of the same experiment.
+  std::string controller;         // name given to --controller
+  std::string controller_config;  // effective controller config (YAML text)
+  std::string episode_config;     // effective robot, LiDAR, physics and protocol config (YAML text)
+  std::string worlds_spec;        // --worlds as given
+  std::string worlds_folder;      // absolute folder of the world files
+  std::vector<int> world_ids;     // in run order
+  std::string worlds_digest;      // FNV-1a 64 of the world files' text, hex
+  int trials = 1;
+  std::uint64_t seed = 0;
+  // Which part of it this record holds.
+  int shard_index = 0;  // 1-based; 0 = the whole run
+  int shard_count = 0;
+  std::size_t episodes_total = 0;  // episodes of this record
+  std::size_t episodes_done = 0;
+  bool complete = false;
+  // Where and how it ran (never compared).
+  std::string barnbench_version;
+  std::string git_commit;
+  std::string host;
+  int threads = 0;
+  std::string started;       // UTC, ISO 8601
+  double wall_time_s = 0.0;  // summed over resumed sessions
+  double sim_time_s = 0.0;
+};
+
+std::string formatManifest(const RunManifest& manifest);
+/// Reads and checks a manifest; InputError naming the file and field on any problem.
+RunManifest readManifest(const std::filesystem::path& path);
+
+/// Empty if `a` and `b` describe the same experiment (configs, worlds, trials, seed), else
+/// the first field that differs.
+std::string experimentDifference(const RunManifest& a, const RunManifest& b);
+
+/// Digest of a world list (what `worlds_digest` records).
+std::string worldsDigest(const std::vector<core::WorldSpec>& worlds);
+
+/// Sorts results by (position of the world in `world_ids`, trial).
+void sortResults(std::vector<EpisodeResult>& results, const std::vector<int>& world_ids);
+
+/// The worlds a manifest names, read from its folder; InputError if one is missing or the
+/// files changed since the run started (digest mismatch).
+std::vector<core::WorldSpec> loadManifestWorlds(const RunManifest& manifest);
+
+/// Writes the finished record: episodes.csv (sorted), summary.json and the manifest marked
+/// complete; removes the journal. `results` must hold every episode of the record.
+void writeCompleteRecord(const std::filesystem::path& dir, RunManifest manifest, std::vector<EpisodeResult> results,
+                         const std::vector<core::WorldSpec>& worlds);
+
+}  // namespace barn::bench

@@ -1,0 +1,155 @@
+#include "barn/bench/results_io.hpp"
+
+#include <sstream>
+
+#include "barn/core/errors.hpp"
+#include "barn/core/text_io.hpp"
+
+namespace barn::bench {
+
+namespace {
+
+constexpr int kColumns = 14;
+
+std::string sanitise(std::string text) {
+  for (char& ch : text)
+    if (ch == ',' || ch == '\n' || ch == '\r' || ch == '|') ch = ';';
+  return text;
+}
+
+std::vector<std::string> splitFields(const std::string& line) {
+  std::vector<std::string> fields;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = line.find(',', start);
+    fields.push_back(line.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+    if (comma == std::string::npos) return fields;
+    start = comma + 1;
+  }
+}
+
+}  // namespace
+
+std::string episodesCsvHeader() {
+  return "world,trial,seed,outcome,time_s,score,optimal_time_s,path_length_m,mean_speed_mps,sim_time_s,"
+         "collision_x,collision_y,states,error\n";
+}
+
+std::string episodeCsvRow(const EpisodeResult& r) {
+  std::string row = std::to_string(r.world_id) + "," + std::to_string(r.trial) + "," + std::to_string(r.seed) + "," +
+                    std::string(toString(r.outcome)) + "," + core::formatDouble(r.actual_time) + "," +
+                    core::formatDouble(r.score) + "," + core::formatDouble(r.optimal_time) + "," +
+                    core::formatDouble(r.path_length) + "," + core::formatDouble(r.mean_speed) + "," +
+                    core::formatDouble(r.sim_time) + ",";
+  if (r.collision) row += core::formatDouble(r.collision->point.x()) + "," + core::formatDouble(r.collision->point.y());
+  else row += ",";
+  row += ",";
+  for (std::size_t i = 0; i < r.state_entries.size(); ++i)
+    row += (i ? "|" : "") + sanitise(r.state_entries[i].first) + ":" + std::to_string(r.state_entries[i].second);
+  row += "," + sanitise(r.error) + "\n";
+  return row;
+}
+
+std::string episodesCsv(const std::vector<EpisodeResult>& results) {
+  std::string text = episodesCsvHeader();
+  for (const auto& r : results) text += episodeCsvRow(r);
+  return text;
+}
+
+EpisodeResult parseEpisodeRow(const std::string& line, const std::string& where) {
+  const std::vector<std::string> f = splitFields(line);
+  const auto fail = [&](const std::string& what) { throw core::InputError(where + ": " + what); };
+  if (static_cast<int>(f.size()) != kColumns) fail("expected " + std::to_string(kColumns) + " columns, got " + std::to_string(f.size()));
+  EpisodeResult r;
+  const auto integer = [&](const std::string& text, const char* name) {
+    std::size_t used = 0;
+    long long v = 0;
+    try {
+      v = std::stoll(text, &used);
+    } catch (...) {
+      used = 0;
+    }
+    if (text.empty() || used != text.size()) fail(std::string(name) + ": '" + text + "' is not an integer");
+    return v;
+  };
+  const auto number = [&](const std::string& text, const char* name) {
+    double v = 0.0;
+    if (!core::parseDouble(text, v)) fail(std::string(name) + ": '" + text + "' is not a number");
+    return v;
+  };
+  r.world_id = static_cast<int>(integer(f[0], "world"));
+  r.trial = static_cast<int>(integer(f[1], "trial"));
+  try {
+    std::size_t used = 0;
+    r.seed = std::stoull(f[2], &used);
+    if (used != f[2].size()) fail("seed: '" + f[2] + "' is not an unsigned integer");
+  } catch (const std::logic_error&) {
+    fail("seed: '" + f[2] + "' is not an unsigned integer");
+  }
+  if (f[3] == "success") r.outcome = Outcome::Success;
+  else if (f[3] == "collision") r.outcome = Outcome::Collision;
+  else if (f[3] == "timeout") r.outcome = Outcome::Timeout;
+  else if (f[3] == "error") r.outcome = Outcome::Error;
+  else fail("outcome: '" + f[3] + "' is not success/collision/timeout/error");
+  r.actual_time = number(f[4], "time_s");
+  r.score = number(f[5], "score");
+  r.optimal_time = number(f[6], "optimal_time_s");
+  r.path_length = number(f[7], "path_length_m");
+  r.mean_speed = number(f[8], "mean_speed_mps");
+  r.sim_time = number(f[9], "sim_time_s");
+  if (!f[10].empty() || !f[11].empty()) {
+    sim::CollisionInfo info;
+    info.point = {number(f[10], "collision_x"), number(f[11], "collision_y")};
+    r.collision = info;
+  }
+  if (!f[12].empty()) {
+    std::size_t start = 0;
+    while (start <= f[12].size()) {
+      const std::size_t bar = f[12].find('|', start);
+      const std::string item = f[12].substr(start, bar == std::string::npos ? std::string::npos : bar - start);
+      const std::size_t colon = item.rfind(':');
+      if (colon == std::string::npos) fail("states: '" + item + "' is not NAME:COUNT");
+      r.state_entries.emplace_back(item.substr(0, colon), static_cast<int>(integer(item.substr(colon + 1), "states")));
+      if (bar == std::string::npos) break;
+      start = bar + 1;
+    }
+  }
+  r.error = f[13];
+  return r;
+}
+
+std::vector<EpisodeResult> readEpisodesCsv(const std::filesystem::path& path, bool allow_missing) {
+  std::error_code ec;
+  if (allow_missing && !std::filesystem::exists(path, ec)) return {};
+  const std::string text = core::readTextFile(path);
+  std::vector<EpisodeResult> results;
+  std::size_t start = 0;
+  int line_number = 0;
+  while (start < text.size()) {
+    const std::size_t end = text.find('\n', start);
+    if (end == std::string::npos) break;  // a row cut short by an interruption
+    const std::string line = text.substr(start, end - start);
+    start = end + 1;
+    ++line_number;
+    if (line_number == 1) {
+      if (line + "\n" != episodesCsvHeader()) throw core::InputError(path.string() + ": not an episodes.csv (unexpected header)");
+      continue;
+    }
+    results.push_back(parseEpisodeRow(line, path.string() + ":" + std::to_string(line_number)));
+  }
+  if (line_number == 0 && !text.empty()) throw core::InputError(path.string() + ": not an episodes.csv (no header line)");
+  return results;
+}
+
+std::string trajectoryCsv(const EpisodeResult& result) {
+  std::ostringstream out;
+  out << "time_s,x,y,yaw,cmd_linear,cmd_angular,state\n";
+  for (const auto& s : result.trajectory) {
+    out << core::formatDouble(s.time) << "," << core::formatDouble(s.pose.x) << "," << core::formatDouble(s.pose.y) << ","
+        << core::formatDouble(s.pose.yaw) << "," << core::formatDouble(s.command.linear) << ","
+        << core::formatDouble(s.command.angular) << "," << sanitise(s.state) << "\n";
+  }
+  return out.str();
+}
+
+}  // namespace barn::bench

@@ -1,0 +1,186 @@
+#include "barn/bench/run_record.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <map>
+#include <sstream>
+
+#include "barn/bench/report.hpp"
+#include "barn/bench/results_io.hpp"
+#include "barn/core/config.hpp"
+#include "barn/core/text_io.hpp"
+#include "barn/core/world_file.hpp"
+
+namespace barn::bench {
+
+namespace {
+
+// A YAML literal block, indented under its key.
+std::string block(const std::string& text) {
+  std::string out = "|\n";
+  std::size_t start = 0;
+  while (start < text.size()) {
+    const std::size_t end = text.find('\n', start);
+    out += "  " + text.substr(start, end == std::string::npos ? std::string::npos : end - start) + "\n";
+    if (end == std::string::npos) break;
+    start = end + 1;
+  }
+  return out;
+}
+
+std::string quoted(const std::string& text) {
+  std::string out = "\"";
+  for (char ch : text) {
+    if (ch == '"' || ch == '\\') out += '\\';
+    out += ch;
+  }
+  return out + "\"";
+}
+
+// The manifest's fields, read through the strict config reader.
+struct ManifestFields {
+  std::string controller, controller_config, episode_config, worlds_spec, worlds_folder, worlds_digest;
+  std::vector<double> world_ids;
+  int trials = 0;
+  std::uint64_t seed = 0;
+  int shard_index = 0, shard_count = 0;
+  int episodes_total = 0, episodes_done = 0;
+  bool complete = false;
+  std::string barnbench_version, git_commit, host, started;
+  int threads = 0;
+  double wall_time_s = 0.0, sim_time_s = 0.0;
+  template <class V> void visit(V& v) {
+    v("controller", controller); v("controller_config", controller_config); v("episode_config", episode_config);
+    v("worlds_spec", worlds_spec); v("worlds_folder", worlds_folder); v("world_ids", world_ids);
+    v("worlds_digest", worlds_digest); v("trials", trials); v("seed", seed); v("shard_index", shard_index);
+    v("shard_count", shard_count); v("episodes_total", episodes_total); v("episodes_done", episodes_done);
+    v("complete", complete); v("barnbench_version", barnbench_version); v("git_commit", git_commit); v("host", host);
+    v("threads", threads); v("started", started); v("wall_time_s", wall_time_s); v("sim_time_s", sim_time_s);
+  }
+};
+
+}  // namespace
+
+std::string formatManifest(const RunManifest& m) {
+  std::ostringstream out;
+  out << "# barnbench run record; `barn run --resume` and `barn merge` read it back.\n";
+  out << "controller: " << quoted(m.controller) << "\n";
+  out << "controller_config: " << block(m.controller_config);
+  out << "episode_config: " << block(m.episode_config);
+  out << "worlds_spec: " << quoted(m.worlds_spec) << "\n";
+  out << "worlds_folder: " << quoted(m.worlds_folder) << "\n";
+  out << "world_ids: [";
+  for (std::size_t i = 0; i < m.world_ids.size(); ++i) out << (i ? ", " : "") << m.world_ids[i];
+  out << "]\n";
+  out << "worlds_digest: " << quoted(m.worlds_digest) << "\n";
+  out << "trials: " << m.trials << "\n";
+  out << "seed: " << m.seed << "\n";
+  out << "shard_index: " << m.shard_index << "\n";
+  out << "shard_count: " << m.shard_count << "\n";
+  out << "episodes_total: " << m.episodes_total << "\n";
+  out << "episodes_done: " << m.episodes_done << "\n";
+  out << "complete: " << (m.complete ? "true" : "false") << "\n";
+  out << "barnbench_version: " << quoted(m.barnbench_version) << "\n";
+  out << "git_commit: " << quoted(m.git_commit) << "\n";
+  out << "host: " << quoted(m.host) << "\n";
+  out << "threads: " << m.threads << "\n";
+  out << "started: " << quoted(m.started) << "\n";
+  out << "wall_time_s: " << core::formatDouble(m.wall_time_s) << "\n";
+  out << "sim_time_s: " << core::formatDouble(m.sim_time_s) << "\n";
+  return out.str();
+}
+
+RunManifest readManifest(const std::filesystem::path& path) {
+  const ManifestFields f = core::readConfig<ManifestFields>(core::ConfigNode::parseFile(path));
+  core::Errors errors(path.string());
+  errors.check(!f.controller.empty(), "controller", "missing");
+  errors.check(f.trials >= 1, "trials", "must be >= 1");
+  errors.check(!f.world_ids.empty(), "world_ids", "missing");
+  errors.check(f.shard_count >= 0 && f.shard_index >= 0 && f.shard_index <= f.shard_count, "shard_index",
+               "must be within 1..shard_count (or both 0)");
+  errors.throwIfAny();
+  RunManifest m;
+  m.controller = f.controller;
+  m.controller_config = f.controller_config;
+  m.episode_config = f.episode_config;
+  m.worlds_spec = f.worlds_spec;
+  m.worlds_folder = f.worlds_folder;
+  for (double id : f.world_ids) m.world_ids.push_back(static_cast<int>(id));
+  m.worlds_digest = f.worlds_digest;
+  m.trials = f.trials;
+  m.seed = f.seed;
+  m.shard_index = f.shard_index;
+  m.shard_count = f.shard_count;
+  m.episodes_total = static_cast<std::size_t>(f.episodes_total);
+  m.episodes_done = static_cast<std::size_t>(f.episodes_done);
+  m.complete = f.complete;
+  m.barnbench_version = f.barnbench_version;
+  m.git_commit = f.git_commit;
+  m.host = f.host;
+  m.threads = f.threads;
+  m.started = f.started;
+  m.wall_time_s = f.wall_time_s;
+  m.sim_time_s = f.sim_time_s;
+  return m;
+}
+
+std::string experimentDifference(const RunManifest& a, const RunManifest& b) {
+  if (a.controller != b.controller) return "controller";
+  if (a.controller_config != b.controller_config) return "controller_config";
+  if (a.episode_config != b.episode_config) return "episode_config";
+  if (a.world_ids != b.world_ids) return "world_ids";
+  if (a.worlds_digest != b.worlds_digest) return "worlds_digest";
+  if (a.trials != b.trials) return "trials";
+  if (a.seed != b.seed) return "seed";
+  return "";
+}
+
+std::string worldsDigest(const std::vector<core::WorldSpec>& worlds) {
+  std::uint64_t hash = core::fnv1a64("");
+  for (const auto& w : worlds) hash = core::fnv1a64(core::formatWorldFile(w), hash);
+  char text[32];
+  std::snprintf(text, sizeof(text), "%016llx", static_cast<unsigned long long>(hash));
+  return text;
+}
+
+void sortResults(std::vector<EpisodeResult>& results, const std::vector<int>& world_ids) {
+  std::map<int, std::size_t> position;
+  for (std::size_t i = 0; i < world_ids.size(); ++i) position.emplace(world_ids[i], i);
+  std::stable_sort(results.begin(), results.end(), [&](const EpisodeResult& a, const EpisodeResult& b) {
+    const std::size_t pa = position.count(a.world_id) ? position.at(a.world_id) : world_ids.size();
+    const std::size_t pb = position.count(b.world_id) ? position.at(b.world_id) : world_ids.size();
+    return pa != pb ? pa < pb : a.trial < b.trial;
+  });
+}
+
+std::vector<core::WorldSpec> loadManifestWorlds(const RunManifest& manifest) {
+  std::vector<core::WorldSpec> all = core::readWorldSet(manifest.worlds_folder);
+  std::map<int, std::size_t> by_id;
+  for (std::size_t i = 0; i < all.size(); ++i) by_id.emplace(all[i].id, i);
+  std::vector<core::WorldSpec> worlds;
+  for (int id : manifest.world_ids) {
+    if (!by_id.count(id))
+      throw core::InputError(manifest.worlds_folder + ": world " + std::to_string(id) + " of the run is missing");
+    worlds.push_back(all[by_id.at(id)]);
+  }
+  if (worldsDigest(worlds) != manifest.worlds_digest)
+    throw core::InputError(manifest.worlds_folder + ": the world files changed since the run started (digest " +
+                           worldsDigest(worlds) + ", run recorded " + manifest.worlds_digest + ")");
+  return worlds;
+}
+
+void writeCompleteRecord(const std::filesystem::path& dir, RunManifest manifest, std::vector<EpisodeResult> results,
+                         const std::vector<core::WorldSpec>& worlds) {
+  sortResults(results, manifest.world_ids);
+  const RunSummary summary = summarise(results);
+  manifest.complete = true;
+  manifest.episodes_done = results.size();
+  manifest.sim_time_s = summary.sim_time;
+  core::writeFilesAtomic(dir, {{kEpisodesFile, episodesCsv(results)},
+                               {kSummaryFile, summaryJson(summary, difficultyBreakdown(results, worlds))},
+                               {kManifestFile, formatManifest(manifest)}});
+  std::error_code ec;
+  std::filesystem::remove(dir / kJournalFile, ec);
+}
+
+}  // namespace barn::bench

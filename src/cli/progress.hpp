@@ -1,0 +1,37 @@
+#pragma once
+/// Progress of a long run: a bar redrawn in place on a terminal, plain lines every 10% (or
+/// every 30 s) otherwise, so CI logs stay short.
+
+#include <chrono>
+#include <cstddef>
+#include <string>
+
+namespace barn::cli {
+
+class ProgressReporter {
+ public:
+  ProgressReporter(std::size_t total, std::size_t already_done, bool terminal);
+
+  /// One more episode finished (`success`: it reached the goal; `sim_time`: its simulated s).
+  void update(bool success, double sim_time);
+  /// Ends the bar's line on a terminal.
+  void finish();
+
+ private:
+  void print(bool final_line);
+
+  std::size_t total_;
+  std::size_t done_;
+  std::size_t done_here_ = 0;  // finished in this session (for the ETA)
+  std::size_t successes_ = 0;
+  double sim_time_ = 0.0;
+  bool terminal_;
+  std::size_t next_line_at_;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  std::chrono::steady_clock::time_point last_print_ = start_;
+};
+
+/// "1:02:03" or "2:03".
+std::string formatDuration(double seconds);
+
+}  // namespace barn::cli

@@ -1,0 +1,172 @@
+#include "barn/bench/report.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "barn/bench/results_io.hpp"
+
+namespace barn::bench {
+namespace {
+
+using ::testing::HasSubstr;
+using ::testing::StartsWith;
+
+EpisodeResult episode(int world, int trial, Outcome outcome, double actual_time, double score, double sim_time) {
+  EpisodeResult r;
+  r.world_id = world;
+  r.trial = trial;
+  r.outcome = outcome;
+  r.actual_time = actual_time;
+  r.score = score;
+  r.sim_time = sim_time;
+  return r;
+}
+
+// Three worlds with different trial counts, listed interleaved:
+//   world 3: 1 trial  -- success AT 10 s, score 0.5
+//   world 8: 3 trials -- success AT 20 s (0.3), success AT 30 s (0.15), collision
+//   world 1: 2 trials -- timeout, error
+std::vector<EpisodeResult> unevenRun() {
+  return {
+      episode(8, 0, Outcome::Success, 20.0, 0.3, 20.5),
+      episode(3, 0, Outcome::Success, 10.0, 0.5, 10.5),
+      episode(1, 0, Outcome::Timeout, 100.0, 0.0, 102.0),
+      episode(8, 1, Outcome::Success, 30.0, 0.15, 30.5),
+      episode(1, 1, Outcome::Error, 0.0, 0.0, 1.0),
+      episode(8, 2, Outcome::Collision, 4.0, 0.0, 4.5),
+  };
+}
+
+TEST(Summarise, ScoreIsTheMeanOverWorldsOfThePerWorldMean) {
+  const RunSummary s = summarise(unevenRun());
+  EXPECT_EQ(s.worlds, 3);
+  EXPECT_EQ(s.episodes, 6);
+  // Per world: 3 -> 0.5; 8 -> (0.3 + 0.15 + 0) / 3 = 0.15; 1 -> 0.
+  // (0.5 + 0.15 + 0) / 3 = 0.216667, not the per-episode mean 0.95 / 6 = 0.158333.
+  EXPECT_NEAR(s.score, 0.65 / 3.0, 1e-12);
+}
+
+TEST(Summarise, RatesAreMeansOverWorldsOfThePerWorldRates) {
+  const RunSummary s = summarise(unevenRun());
+  // Success: (1 + 2/3 + 0) / 3 = 5/9 (per episode it would be 3/6 = 1/2).
+  EXPECT_NEAR(s.success_rate, 5.0 / 9.0, 1e-12);
+  // Collision: (0 + 1/3 + 0) / 3 = 1/9.
+  EXPECT_NEAR(s.collision_rate, 1.0 / 9.0, 1e-12);
+  // Timeout: (0 + 0 + 1/2) / 3 = 1/6; error likewise.
+  EXPECT_NEAR(s.timeout_rate, 1.0 / 6.0, 1e-12);
+  EXPECT_NEAR(s.error_rate, 1.0 / 6.0, 1e-12);
+  EXPECT_NEAR(s.success_rate + s.collision_rate + s.timeout_rate + s.error_rate, 1.0, 1e-12);
+}
+
+TEST(Summarise, AverageTimeIsOverWorldsWithASuccessOnly) {
+  const RunSummary s = summarise(unevenRun());
+  // World 3: 10 s; world 8: (20 + 30) / 2 = 25 s; world 1 has no success and is left out.
+  // (10 + 25) / 2 = 17.5 s (the per-episode mean of successful ATs would be 60 / 3 = 20 s;
+  // counting world 1 as 0 would give 35 / 3 = 11.67 s).
+  EXPECT_NEAR(s.avg_success_time, 17.5, 1e-12);
+}
+
+TEST(Summarise, SimTimeIsTheTotalOverEpisodes) {
+  // 20.5 + 10.5 + 102 + 30.5 + 1 + 4.5 = 169 s.
+  EXPECT_NEAR(summarise(unevenRun()).sim_time, 169.0, 1e-12);
+}
+
+TEST(Summarise, AverageTimeIsNanWithoutAnySuccess) {
+  const RunSummary s = summarise({episode(4, 0, Outcome::Collision, 3.0, 0.0, 3.5),
+                                  episode(4, 1, Outcome::Timeout, 100.0, 0.0, 100.5)});
+  EXPECT_TRUE(std::isnan(s.avg_success_time));
+  EXPECT_EQ(s.score, 0.0);
+  EXPECT_EQ(s.success_rate, 0.0);
+  EXPECT_DOUBLE_EQ(s.collision_rate, 0.5);
+}
+
+TEST(Summarise, EmptyRunGivesZeros) {
+  const RunSummary s = summarise({});
+  EXPECT_EQ(s.worlds, 0);
+  EXPECT_EQ(s.episodes, 0);
+  EXPECT_EQ(s.score, 0.0);
+  EXPECT_EQ(s.sim_time, 0.0);
+}
+
+TEST(Summarise, OneTrialPerWorldEqualsThePlainMean) {
+  const RunSummary s = summarise({episode(0, 0, Outcome::Success, 8.0, 0.25, 8.2),
+                                  episode(6, 0, Outcome::Success, 12.0, 0.2, 12.2),
+                                  episode(12, 0, Outcome::Collision, 2.0, 0.0, 2.2)});
+  // (0.25 + 0.2 + 0) / 3 = 0.15.
+  EXPECT_NEAR(s.score, 0.15, 1e-12);
+  // (8 + 12) / 2 = 10 s.
+  EXPECT_NEAR(s.avg_success_time, 10.0, 1e-12);
+}
+
+// ---------------------------------------------------------------------------------------------
+
+constexpr char kEpisodesHeader[] =
+    "world,trial,seed,outcome,time_s,score,optimal_time_s,path_length_m,mean_speed_mps,sim_time_s,"
+    "collision_x,collision_y,states,error\n";
+
+TEST(EpisodesCsv, HasTheHeaderAndOneRowPerResult) {
+  const std::vector<EpisodeResult> results = unevenRun();
+  const std::string csv = episodesCsv(results);
+  EXPECT_THAT(csv, StartsWith(kEpisodesHeader));
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + static_cast<long>(results.size()));
+  EXPECT_EQ(episodesCsv({}), kEpisodesHeader);
+  EXPECT_EQ(episodesCsvHeader(), kEpisodesHeader);
+}
+
+TEST(EpisodesCsv, WritesRowsInTheOrderGiven) {
+  const std::string csv = episodesCsv(unevenRun());
+  // The first row is world 8 trial 0, the second world 3 trial 0: no re-sorting.
+  const std::size_t first = csv.find("\n8,0,");
+  const std::size_t second = csv.find("\n3,0,");
+  ASSERT_NE(first, std::string::npos);
+  ASSERT_NE(second, std::string::npos);
+  EXPECT_LT(first, second);
+}
+
+TEST(EpisodesCsv, FormatsASuccessRow) {
+  EpisodeResult r = episode(3, 1, Outcome::Success, 10.0, 0.5, 10.25);
+  r.seed = 99;
+  r.optimal_time = 5.0;
+  r.path_length = 9.5;
+  r.mean_speed = 0.75;
+  EXPECT_EQ(episodesCsv({r}), std::string(kEpisodesHeader) + "3,1,99,success,10,0.5,5,9.5,0.75,10.25,,,,\n");
+}
+
+TEST(EpisodesCsv, WritesTheCollisionPointStatesAndASanitisedError) {
+  EpisodeResult hit = episode(5, 0, Outcome::Collision, 2.5, 0.0, 2.75);
+  hit.collision = sim::CollisionInfo{2.75, {-2.175, 5.925}, 1};
+  hit.state_entries = {{"drive", 2}, {"recover", 1}};
+  EpisodeResult broken = episode(5, 1, Outcome::Error, 0.0, 0.0, 1.0);
+  broken.error = "controller threw: bad, worse\nworst";
+  const std::string csv = episodesCsv({hit, broken});
+  EXPECT_THAT(csv, HasSubstr("\n5,0,0,collision,2.5,0,0,0,0,2.75,-2.175,5.925,drive:2|recover:1,\n"));
+  // Commas and newlines would break the row: they become ';'.
+  EXPECT_THAT(csv, HasSubstr("\n5,1,0,error,0,0,0,0,0,1,,,,controller threw: bad; worse;worst\n"));
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 3);
+}
+
+TEST(TrajectoryCsv, HasOneRowPerSample) {
+  EpisodeResult r;
+  r.trajectory.push_back({0.0, {-2.0, 3.0, 1.57}, {1.0, 0.0}, "drive"});
+  r.trajectory.push_back({0.05, {-2.0, 3.05, 1.57}, {1.0, -0.5}, ""});
+  EXPECT_EQ(trajectoryCsv(r),
+            "time_s,x,y,yaw,cmd_linear,cmd_angular,state\n"
+            "0,-2,3,1.57,1,0,drive\n"
+            "0.05,-2,3.05,1.57,1,-0.5,\n");
+}
+
+TEST(SummaryTable, ShowsTheTitleAndTheScore) {
+  const std::string table = summaryTable(summarise(unevenRun()), "pure_pursuit on 3 worlds");
+  EXPECT_THAT(table, StartsWith("pure_pursuit on 3 worlds\n"));
+  EXPECT_THAT(table, HasSubstr("worlds 3, episodes 6"));
+  EXPECT_THAT(table, HasSubstr("Avg Score      0.2167"));
+  EXPECT_THAT(table, HasSubstr("Avg Time       17.5000 s"));
+}
+
+}  // namespace
+}  // namespace barn::bench

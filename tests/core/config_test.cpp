@@ -1,0 +1,105 @@
+#include "barn/core/config.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+namespace barn::core {
+namespace {
+
+using ::testing::HasSubstr;
+
+struct Inner {
+  double offset = 0.04;  // [m]
+  bool enabled = true;
+  template <class V> void visit(V& v) { v("offset", offset); v("enabled", enabled); }
+};
+
+struct Outer {
+  int beams = 720;
+  std::string name = "fi";
+  std::vector<double> speeds = {0.5, 1.0};
+  Inner safety;
+  template <class V> void visit(V& v) { v("beams", beams); v("name", name); v("speeds", speeds); v("safety", safety); }
+};
+
+std::string errorOf(const std::string& yaml) {
+  try {
+    readConfig<Outer>(ConfigNode::parseString(yaml, "test.yaml"));
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Config, MissingKeysKeepDefaults) {
+  const Outer config = readConfig<Outer>(ConfigNode::parseString("beams: 360\nsafety: {offset: 0.1}", "test.yaml"));
+  EXPECT_EQ(config.beams, 360);
+  EXPECT_EQ(config.name, "fi");
+  EXPECT_EQ(config.safety.offset, 0.1);
+  EXPECT_TRUE(config.safety.enabled);
+}
+
+TEST(Config, AnEmptyFileGivesTheDefaults) {
+  const Outer config = readConfig<Outer>(ConfigNode::parseString("", "empty.yaml"));
+  EXPECT_EQ(config.beams, 720);
+}
+
+TEST(Config, UnknownKeysNameTheirFullPath) {
+  EXPECT_THAT(errorOf("safety: {ofset: 0.1}"), HasSubstr("test.yaml: safety.ofset: unknown key (known: offset, enabled)"));
+  EXPECT_THAT(errorOf("beam: 3"), HasSubstr("test.yaml: beam: unknown key"));
+}
+
+TEST(Config, WrongTypesNameTheField) {
+  EXPECT_THAT(errorOf("beams: many"), HasSubstr("test.yaml: beams: expected an integer"));
+  EXPECT_THAT(errorOf("beams: 3.5"), HasSubstr("beams: expected an integer"));
+  EXPECT_THAT(errorOf("safety: {enabled: yes}"), HasSubstr("safety.enabled: expected true or false"));
+  EXPECT_THAT(errorOf("safety: 3"), HasSubstr("safety: expected a map"));
+  EXPECT_THAT(errorOf("speeds: [1, x]"), HasSubstr("speeds: expected a list of numbers"));
+  EXPECT_THAT(errorOf("safety: {offset: .nan}"), HasSubstr("safety.offset: expected a number"));
+}
+
+TEST(Config, DuplicateKeysAreErrors) {
+  EXPECT_THAT(errorOf("beams: 1\nbeams: 2"), HasSubstr("beams: duplicate key"));
+}
+
+TEST(Config, ReportsEveryErrorAtOnce) {
+  const std::string message = errorOf("beams: x\nsafety: {offset: y, colour: red}");
+  EXPECT_THAT(message, HasSubstr("beams: expected an integer"));
+  EXPECT_THAT(message, HasSubstr("safety.offset: expected a number"));
+  EXPECT_THAT(message, HasSubstr("safety.colour: unknown key"));
+}
+
+TEST(Config, MalformedYamlNamesTheFile) {
+  EXPECT_THAT(errorOf("beams: [1, 2"), HasSubstr("test.yaml: not valid YAML"));
+  EXPECT_THAT(errorOf("- 1\n- 2"), HasSubstr("expected a map"));
+}
+
+TEST(Config, OverridesSetNestedKeys) {
+  ConfigNode node = ConfigNode::parseString("beams: 360", "test.yaml");
+  node.set("safety.offset", "0.08");
+  node.set("name", "mpc");
+  const Outer config = readConfig<Outer>(node);
+  EXPECT_EQ(config.beams, 360);
+  EXPECT_EQ(config.safety.offset, 0.08);
+  EXPECT_EQ(config.name, "mpc");
+}
+
+TEST(Config, WritingAndReadingBackGivesTheSameStruct) {
+  Outer config;
+  config.beams = 100;
+  config.name = "with: colon";
+  config.speeds = {0.1, 0.30000000000000004};
+  config.safety.offset = 1.0 / 3.0;
+  config.safety.enabled = false;
+  const std::string text = writeConfig(config);
+  const Outer back = readConfig<Outer>(ConfigNode::parseString(text, "written.yaml"));
+  EXPECT_EQ(back.beams, 100);
+  EXPECT_EQ(back.name, "with: colon");
+  EXPECT_EQ(back.speeds, config.speeds);
+  EXPECT_EQ(back.safety.offset, 1.0 / 3.0);  // exact: shortest round-trip formatting
+  EXPECT_FALSE(back.safety.enabled);
+  EXPECT_EQ(writeConfig(back), text);
+}
+
+}  // namespace
+}  // namespace barn::core
