@@ -52,6 +52,7 @@ struct RunOptions {
   std::string resume;
   bool keep_going = false;
   bool trajectories = false;
+  std::size_t stop_after = 0;  // 0 = never
 };
 
 // The controller config: --config FILE, else configs/controllers/NAME.yaml, else the type NAME
@@ -202,6 +203,8 @@ void addRunCommand(CLI::App& app, CommandContext& context) {
   cmd->add_option("--shard", options->shard, "Run shard K of N (every N-th episode from K); combine with barn merge");
   cmd->add_option("--resume", options->resume, "Finish the interrupted run in this record folder");
   cmd->add_flag("--keep-going", options->keep_going, "Skip world files that fail to load (reported) instead of stopping");
+  cmd->add_option("--stop-after", options->stop_after,
+                  "Stop after this many episodes, as Ctrl-C would (to try out --resume)");
   cmd->add_flag("--trajectories", options->trajectories,
                 "Also write trajectories/world_N_trial_T.csv (pose, command and state per control tick)");
   cmd->callback([options, &context] {
@@ -209,7 +212,7 @@ void addRunCommand(CLI::App& app, CommandContext& context) {
       throw core::InputError("run: --controller is required (or --resume DIR)");
     if (!options->resume.empty() && (!options->controller.empty() || !options->config.empty() ||
                                      !options->shard.empty() || !options->out.empty()))
-      throw core::InputError("run: --resume takes its settings from the record; give only --jobs with it");
+      throw core::InputError("run: --resume takes its settings from the record; give only --jobs (and --stop-after) with it");
     Session session = options->resume.empty() ? freshSession(*options) : resumedSession(*options);
     bench::RunManifest& m = session.manifest;
     if (m.complete) {
@@ -253,6 +256,7 @@ void addRunCommand(CLI::App& app, CommandContext& context) {
     std::vector<core::FileContent> trajectories;
     const auto t0 = std::chrono::steady_clock::now();
     session.spec.stop = &g_interrupted;
+    std::size_t finished_here = 0;
     std::vector<bench::EpisodeResult> results =
         bench::runBatch(session.spec, [&](const bench::EpisodeResult& r, std::size_t, std::size_t) {
           journal_out << bench::episodeCsvRow(r);
@@ -261,6 +265,7 @@ void addRunCommand(CLI::App& app, CommandContext& context) {
             trajectories.push_back({"world_" + std::to_string(r.world_id) + "_trial_" + std::to_string(r.trial) + ".csv",
                                     bench::trajectoryCsv(r)});
           progress.update(r.outcome == bench::Outcome::Success, r.sim_time);
+          if (options->stop_after > 0 && ++finished_here >= options->stop_after) g_interrupted.store(true);
         });
     progress.finish();
     std::signal(SIGINT, SIG_DFL);
