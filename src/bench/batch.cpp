@@ -25,9 +25,12 @@ std::vector<EpisodeResult> runBatch(const BatchSpec& spec, const ProgressCallbac
   for (const auto& world : spec.worlds) fields.push_back(sim::ObstacleField::fromWorld(world));
 
   const std::size_t trials = static_cast<std::size_t>(spec.trials);
-  std::vector<std::size_t> indices = spec.selected;
-  if (indices.empty())
+  std::vector<std::size_t> indices;
+  if (spec.selected) {
+    indices = *spec.selected;
+  } else {
     for (std::size_t i = 0; i < spec.worlds.size() * trials; ++i) indices.push_back(i);
+  }
   const long total = static_cast<long>(indices.size());
   std::vector<EpisodeResult> results(indices.size());
   std::vector<char> ran(indices.size(), 0);

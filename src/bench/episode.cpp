@@ -175,8 +175,12 @@ EpisodeResult runEpisode(const core::WorldSpec& world, const sim::ObstacleField&
     }
     const long since_start = step + 1 - *timer_start_step;
     if (since_start % check_steps != 0) continue;
-    // Whole checks since the timer started, so AT is an exact multiple of the check period.
-    const double elapsed = static_cast<double>(since_start / check_steps) * protocol.check_period;
+    // Whole checks since the timer started, so AT is a multiple of the check period; divided
+    // by the checks per second (10) so that 189 checks print as 18.9, not 18.900000000000002.
+    const double checks = static_cast<double>(since_start / check_steps);
+    const double per_second = std::round(1.0 / protocol.check_period);
+    const double elapsed = std::abs(per_second * protocol.check_period - 1.0) < 1e-12 ? checks / per_second
+                                                                                    : checks * protocol.check_period;
     if (elapsed >= protocol.timeout - 1e-9) {
       result.outcome = Outcome::Timeout;
       result.actual_time = elapsed;
@@ -186,7 +190,7 @@ EpisodeResult runEpisode(const core::WorldSpec& world, const sim::ObstacleField&
       result.actual_time = elapsed;
       finished = true;
     }
-    if (step > max_steps) {  // cannot happen with the rules above; a guard against a hang
+    if (since_start > max_steps) {  // cannot happen with the rules above; a guard against a hang
       result.outcome = Outcome::Timeout;
       result.actual_time = elapsed;
       finished = true;

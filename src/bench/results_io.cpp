@@ -13,7 +13,7 @@ constexpr int kColumns = 14;
 
 std::string sanitise(std::string text) {
   for (char& ch : text)
-    if (ch == ',' || ch == '\n' || ch == '\r' || ch == '|') ch = ';';
+    if (ch == ',' || ch == '\n' || ch == '\r' || ch == '|' || ch == '"') ch = ';';
   return text;
 }
 
@@ -79,10 +79,10 @@ EpisodeResult parseEpisodeRow(const std::string& line, const std::string& where)
   };
   r.world_id = static_cast<int>(integer(f[0], "world"));
   r.trial = static_cast<int>(integer(f[1], "trial"));
+  const bool digits = !f[2].empty() && f[2].find_first_not_of("0123456789") == std::string::npos;
   try {
-    std::size_t used = 0;
-    r.seed = std::stoull(f[2], &used);
-    if (used != f[2].size()) fail("seed: '" + f[2] + "' is not an unsigned integer");
+    if (!digits) throw std::invalid_argument("seed");
+    r.seed = std::stoull(f[2]);
   } catch (const std::logic_error&) {
     fail("seed: '" + f[2] + "' is not an unsigned integer");
   }

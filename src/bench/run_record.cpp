@@ -7,6 +7,7 @@
 
 #include "barn/bench/report.hpp"
 #include "barn/bench/results_io.hpp"
+#include "barn/bench/world_selection.hpp"
 #include "barn/core/config.hpp"
 #include "barn/core/text_io.hpp"
 #include "barn/core/world_file.hpp"
@@ -154,14 +155,19 @@ void sortResults(std::vector<EpisodeResult>& results, const std::vector<int>& wo
 }
 
 std::vector<core::WorldSpec> loadManifestWorlds(const RunManifest& manifest) {
-  std::vector<core::WorldSpec> all = core::readWorldSet(manifest.worlds_folder);
+  // Files of the folder that are not part of the run may be broken (a --keep-going run);
+  // only the run's own worlds must load.
+  LoadedWorlds loaded = loadWorlds(manifest.worlds_folder, manifest.worlds_folder, /*keep_going=*/true);
   std::map<int, std::size_t> by_id;
-  for (std::size_t i = 0; i < all.size(); ++i) by_id.emplace(all[i].id, i);
+  for (std::size_t i = 0; i < loaded.worlds.size(); ++i) by_id.emplace(loaded.worlds[i].id, i);
   std::vector<core::WorldSpec> worlds;
   for (int id : manifest.world_ids) {
-    if (!by_id.count(id))
-      throw core::InputError(manifest.worlds_folder + ": world " + std::to_string(id) + " of the run is missing");
-    worlds.push_back(all[by_id.at(id)]);
+    if (!by_id.count(id)) {
+      std::string why;
+      for (const auto& message : loaded.skipped) why += "\n  " + message;
+      throw core::InputError(manifest.worlds_folder + ": world " + std::to_string(id) + " of the run is missing or unreadable" + why);
+    }
+    worlds.push_back(loaded.worlds[by_id.at(id)]);
   }
   if (worldsDigest(worlds) != manifest.worlds_digest)
     throw core::InputError(manifest.worlds_folder + ": the world files changed since the run started (digest " +

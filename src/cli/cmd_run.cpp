@@ -33,9 +33,9 @@ namespace fs = std::filesystem;
 // handler can only reach a global; this is the one mutable global of barnbench.
 std::atomic<bool> g_interrupted{false};
 
-extern "C" void onInterrupt(int) {
+extern "C" void onInterrupt(int signal) {
   g_interrupted.store(true);
-  std::signal(SIGINT, SIG_DFL);  // a second Ctrl-C kills at once
+  std::signal(signal, SIG_DFL);  // a second Ctrl-C kills at once
 }
 
 struct RunOptions {
@@ -226,7 +226,7 @@ void addRunCommand(CLI::App& app, CommandContext& context) {
     session.spec.jobs = options->jobs;
     session.spec.record_trajectories = options->trajectories;
     session.spec.selected = pendingEpisodes(session);
-    const std::size_t total_of_record = session.previous.size() + session.spec.selected.size();
+    const std::size_t total_of_record = session.previous.size() + session.spec.selected->size();
     const int threads = options->jobs > 0 ? options->jobs : static_cast<int>(std::max(1L, ::sysconf(_SC_NPROCESSORS_ONLN)));
 
     m.barnbench_version = BARN_VERSION;
@@ -252,6 +252,7 @@ void addRunCommand(CLI::App& app, CommandContext& context) {
 
     g_interrupted.store(false);
     std::signal(SIGINT, onInterrupt);
+    std::signal(SIGTERM, onInterrupt);  // Slurm's time limit and preemption
     ProgressReporter progress(total_of_record, session.previous.size(), ::isatty(STDOUT_FILENO));
     std::vector<core::FileContent> trajectories;
     const auto t0 = std::chrono::steady_clock::now();
@@ -269,6 +270,7 @@ void addRunCommand(CLI::App& app, CommandContext& context) {
         });
     progress.finish();
     std::signal(SIGINT, SIG_DFL);
+    std::signal(SIGTERM, SIG_DFL);
     journal_out.close();
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     m.wall_time_s += wall;

@@ -1,5 +1,6 @@
 #include "barn/controllers/registry.hpp"
 
+#include "barn/controllers/dwa.hpp"
 #include "barn/controllers/pure_pursuit.hpp"
 #include "barn/controllers/straight.hpp"
 
@@ -32,6 +33,7 @@ const std::vector<Entry>& entries() {
   static const std::vector<Entry> kEntries = {
       entry<StraightConfig, StraightController>("straight"),
       entry<PurePursuitConfig, PurePursuitController>("pure_pursuit"),
+      entry<DwaConfig, DwaController>("dwa"),
   };
   return kEntries;
 }

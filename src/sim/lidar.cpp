@@ -45,7 +45,7 @@ void validate(const LidarConfig& c, core::Errors& errors, const std::string& pre
 
 LidarCaster::LidarCaster(const LidarConfig& config, const ObstacleField& field)
     : config_(config), field_(&field),
-      bucket_start_(static_cast<std::size_t>(std::ceil((config.range_max + field.radius) * 4.0)) + 2, 0) {
+      bucket_start_(static_cast<std::size_t>(std::ceil((config.range_max + field.maxRadius()) * 4.0)) + 2, 0) {
   beam_cos_.resize(static_cast<std::size_t>(config.beams));
   beam_sin_.resize(static_cast<std::size_t>(config.beams));
   const double increment = config.angleIncrement();
@@ -57,6 +57,14 @@ LidarCaster::LidarCaster(const LidarConfig& config, const ObstacleField& field)
 }
 
 void LidarCaster::cast(const core::Pose2& sensor_pose, std::vector<double>& ranges) {
+  // Two instantiations: BARN's cylinders all share one radius, and that loop stays exactly as
+  // it was (the radius is a loop constant); hallucinated LfLH obstacles have one radius each.
+  if (field_->hasRadii()) castCircles<true>(sensor_pose, ranges);
+  else castCircles<false>(sensor_pose, ranges);
+}
+
+template <bool kVariedRadii>
+void LidarCaster::castCircles(const core::Pose2& sensor_pose, std::vector<double>& ranges) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   constexpr double kTwoPi = 2.0 * std::numbers::pi;
   // Beams whose angle lies within this margin outside a circle's angular interval are tested
@@ -66,9 +74,9 @@ void LidarCaster::cast(const core::Pose2& sensor_pose, std::vector<double>& rang
 
   const int beams = config_.beams;
   ranges.assign(static_cast<std::size_t>(beams), kInf);
-  const double r = field_->radius;
-  const double r2 = r * r;
-  const double reach2 = (config_.range_max + r) * (config_.range_max + r);
+  const double uniform_r = field_->radius;
+  const double max_r = kVariedRadii ? field_->maxRadius() : uniform_r;
+  const double reach2 = (config_.range_max + max_r) * (config_.range_max + max_r);
   const double increment = config_.angleIncrement();
   const double inverse_increment = 1.0 / increment;
   const double c = std::cos(sensor_pose.yaw);
@@ -83,9 +91,17 @@ void LidarCaster::cast(const core::Pose2& sensor_pose, std::vector<double>& rang
 
   // Pass 1: every circle in range, in the sensor frame, counted into distance buckets.
   candidates_.clear();
+  if constexpr (kVariedRadii) candidate_radius_.clear();
   std::fill(bucket_start_.begin(), bucket_start_.end(), 0);
   const int last_bucket = static_cast<int>(bucket_start_.size()) - 2;
-  for (const Eigen::Vector2d& centre : field_->centres) {
+  // Plain pointers: push_back below could alias a vector's members, forcing reloads each turn.
+  const Eigen::Vector2d* const centres = field_->centres.data();
+  const double* const radii = field_->radii.data();
+  const std::size_t count = field_->centres.size();
+  for (std::size_t n = 0; n < count; ++n) {
+    const Eigen::Vector2d& centre = centres[n];
+    const double r = kVariedRadii ? radii[n] : uniform_r;
+    const double r2 = r * r;
     const double wx = centre.x() - sensor_pose.x;
     const double wy = centre.y() - sensor_pose.y;
     const double dx = c * wx + s * wy;
@@ -97,7 +113,8 @@ void LidarCaster::cast(const core::Pose2& sensor_pose, std::vector<double>& rang
     if (dist2 > reach2 || dist2 <= r2) continue;  // out of range, or the sensor is inside it
     const double dist = std::sqrt(dist2);
     const int bucket = std::min(last_bucket, static_cast<int>(dist * kBucketsPerMetre));
-    candidates_.push_back({dx, dy, dist2, dist, bucket});
+    candidates_.push_back({dx, dy, dist2 - r2, dist - r, bucket});
+    if constexpr (kVariedRadii) candidate_radius_.push_back(r);
     ++bucket_start_[static_cast<std::size_t>(bucket) + 1];
   }
   for (std::size_t b = 1; b < bucket_start_.size(); ++b) bucket_start_[b] += bucket_start_[b - 1];
@@ -110,13 +127,13 @@ void LidarCaster::cast(const core::Pose2& sensor_pose, std::vector<double>& rang
     if (hi < config_.angle_min || lo > config_.angle_max) return;
     const int first = std::max(0, static_cast<int>(std::ceil((lo - config_.angle_min) * inverse_increment)));
     const int last = std::min(beams - 1, static_cast<int>(std::floor((hi - config_.angle_min) * inverse_increment)));
-    const double nearest = circle.dist - r;  // no ray can hit this circle closer than this
+    const double nearest = circle.nearest;
     for (int i = first; i <= last; ++i) {
       double& range = ranges[static_cast<std::size_t>(i)];
       if (nearest >= range) continue;  // something closer already blocks this beam
       // Ray p(t) = t u, |u| = 1: |t u - d|^2 = r^2 -> t = u.d - sqrt((u.d)^2 - (|d|^2 - r^2)).
       const double along = beam_cos_[static_cast<std::size_t>(i)] * circle.dx + beam_sin_[static_cast<std::size_t>(i)] * circle.dy;
-      const double disc = along * along - (circle.dist2 - r2);
+      const double disc = along * along - circle.power;
       if (disc < 0.0 || along <= 0.0) continue;
       const double t = along - std::sqrt(disc);
       if (t < range) range = t;
@@ -124,10 +141,11 @@ void LidarCaster::cast(const core::Pose2& sensor_pose, std::vector<double>& rang
   };
   for (int k : order_) {
     const Candidate& circle = candidates_[static_cast<std::size_t>(k)];
+    const double r = kVariedRadii ? candidate_radius_[static_cast<std::size_t>(k)] : uniform_r;
     const double bearing = approxAtan2(circle.dy, circle.dx);
     // Half the angle the circle subtends is asin(r / d) <= r / sqrt(d^2 - r^2) (its tangent):
     // a slight over-estimate, cheaper than asin; the exact test rejects the extra beams.
-    const double half = r / std::sqrt(circle.dist2 - r2) + kAngleMargin;
+    const double half = r / std::sqrt(circle.power) + kAngleMargin;
     castInterval(circle, bearing - half, bearing + half);
     // An interval reaching past +-pi (behind the sensor) continues on the other side.
     if (bearing + half > std::numbers::pi) castInterval(circle, bearing - half - kTwoPi, bearing + half - kTwoPi);
@@ -147,13 +165,16 @@ core::LaserScan LidarCaster::scan(const core::Pose2& robot_pose, double stamp, c
   scan.range_min = config_.range_min;
   scan.range_max = config_.range_max;
   cast(config_.sensorPose(robot_pose), scan.ranges);
-  if (noise && config_.noise_stddev > 0.0) {
-    for (double& range : scan.ranges) {
-      if (!std::isfinite(range)) continue;  // Gazebo's noise does not turn a miss into a hit
-      range = std::clamp(range + config_.noise_stddev * noise->normal(), config_.range_min, config_.range_max);
-    }
-  }
+  if (noise) addRangeNoise(config_, *noise, scan.ranges);
   return scan;
+}
+
+void addRangeNoise(const LidarConfig& config, core::FastNoise& noise, std::vector<double>& ranges) {
+  if (config.noise_stddev <= 0.0) return;
+  for (double& range : ranges) {
+    if (!std::isfinite(range)) continue;  // Gazebo's noise does not turn a miss into a hit
+    range = std::clamp(range + config.noise_stddev * noise.normal(), config.range_min, config.range_max);
+  }
 }
 
 }  // namespace barn::sim

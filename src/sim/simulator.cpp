@@ -50,12 +50,12 @@ Simulator::Simulator(const ObstacleField& field, const RobotConfig& robot, const
   b2BodyDef ground_def;
   b2Body* ground = world.CreateBody(&ground_def);
   b2CircleShape circle;
-  circle.m_radius = static_cast<float>(field.radius);
   b2FixtureDef cylinder_def;
   cylinder_def.shape = &circle;
   cylinder_def.filter.categoryBits = kObstacleCategory;
   for (std::size_t i = 0; i < field.centres.size(); ++i) {
     const Eigen::Vector2d& c = field.centres[i];
+    circle.m_radius = static_cast<float>(field.radiusOf(i));
     circle.m_p.Set(static_cast<float>(c.x()), static_cast<float>(c.y()));
     cylinder_def.userData.pointer = i;  // index of the exact (double) centre
     ground->CreateFixture(&cylinder_def);
@@ -150,9 +150,11 @@ std::optional<CollisionInfo> Simulator::findCollision(const core::Pose2& pose) c
   // Narrow phase in double precision against the exact cylinder centres.
   std::optional<CollisionInfo> best;
   for (b2Fixture* fixture : query.found) {
-    const Eigen::Vector2d& centre = field_->centres[fixture->GetUserData().pointer];
+    const std::size_t index = fixture->GetUserData().pointer;
+    const Eigen::Vector2d& centre = field_->centres[index];
+    const double radius = field_->radiusOf(index);
     for (std::size_t i = 0; i < rects_.size(); ++i) {
-      if (rectOverlapsCircle(pose, rects_[i], centre, field_->radius)) {
+      if (rectOverlapsCircle(pose, rects_[i], centre, radius)) {
         if (!best) best = CollisionInfo{time_, centre, static_cast<int>(i)};
       }
     }

@@ -27,9 +27,9 @@ double analyticRange(double angle, const Eigen::Vector2d& d, double r) {
 // Brute force over every circle: the nearest analytic hit.
 double bruteForceRange(double angle, const core::Pose2& sensor, const ObstacleField& field) {
   double best = kInf;
-  for (const auto& c : field.centres) {
-    const Eigen::Vector2d d = sensor.inverseTransform(c);
-    best = std::min(best, analyticRange(angle, d, field.radius));
+  for (std::size_t i = 0; i < field.centres.size(); ++i) {
+    const Eigen::Vector2d d = sensor.inverseTransform(field.centres[i]);
+    best = std::min(best, analyticRange(angle, d, field.radiusOf(i)));
   }
   return best;
 }
@@ -92,6 +92,31 @@ TEST(Lidar, ContainmentWallMatchesBruteForce) {
     }
   }
   EXPECT_GT(finite, 500);  // the walls surround the sensor on three sides
+}
+
+TEST(Lidar, CirclesWithTheirOwnRadiiMatchBruteForce) {
+  // Hallucinated LfLH obstacles: circles of 0.05-0.6 m, overlapping, one of them large and
+  // close enough to hide others, around a sensor that is not at the origin.
+  ObstacleField field;
+  field.centres = {{1.0, 0.2}, {1.3, 0.5}, {2.5, 0.0}, {0.3, -1.2}, {-1.5, 1.0}, {0.5, 2.0}, {-0.4, -0.6}};
+  field.radii = {0.3, 0.05, 0.6, 0.2, 0.45, 0.1, 0.15};
+  LidarConfig config;
+  LidarCaster caster(config, field);
+  const core::Pose2 sensor{0.1, -0.1, 0.4};
+  std::vector<double> ranges;
+  caster.cast(sensor, ranges);
+  int finite = 0;
+  for (int i = 0; i < 720; ++i) {
+    const double angle = config.angle_min + i * config.angleIncrement();
+    const double expected = bruteForceRange(angle, sensor, field);
+    if (std::isinf(expected)) {
+      EXPECT_TRUE(std::isinf(ranges[static_cast<std::size_t>(i)])) << "beam " << i;
+    } else {
+      ++finite;
+      EXPECT_NEAR(ranges[static_cast<std::size_t>(i)], expected, 1e-12) << "beam " << i;
+    }
+  }
+  EXPECT_GT(finite, 200);
 }
 
 TEST(Lidar, SeesNothingInTheBlindWedgeButCatchesCirclesStraddlingItsEdge) {

@@ -97,6 +97,23 @@ TEST(Simulator, DrivingIntoACylinderIsACollisionAtTheFrontBumper) {
   EXPECT_LT(sim.pose().x, 1.715 + 0.0026);
 }
 
+TEST(Simulator, CirclesWithTheirOwnRadiiCollideAtTheirOwnSurface) {
+  // The small circle (r 0.05) beside the path is passed; the large one (r 0.5) ahead is hit
+  // when the chassis front (x + 0.21) meets its surface at 3 - 0.5, i.e. centre x = 2.29.
+  ObstacleField field;
+  field.centres = {{1.0, 0.4}, {3.0, 0.0}};
+  field.radii = {0.05, 0.5};
+  Simulator sim(field, RobotConfig{}, PhysicsConfig{}, {0.0, 0.0, 0.0});
+  while (!sim.collision() && sim.time() < 10.0) {
+    sim.command({0.5, 0.0});
+    sim.step();
+  }
+  ASSERT_TRUE(sim.collision());
+  EXPECT_EQ(sim.collision()->point, Eigen::Vector2d(3.0, 0.0));
+  EXPECT_GE(sim.pose().x, 2.29 - 1e-6);
+  EXPECT_LT(sim.pose().x, 2.29 + 0.0026);
+}
+
 // The widest part of the Jackal is the wheels' outer side at y = 0.187795 + 0.02 = 0.207795.
 double sideClearanceRun(double gap) {
   ObstacleField field;

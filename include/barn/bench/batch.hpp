@@ -8,6 +8,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include "barn/bench/episode.hpp"
@@ -23,9 +24,9 @@ struct BatchSpec {
   EpisodeConfig episode;
   controllers::ControllerFactory make_controller;
   bool record_trajectories = false;
-  /// Episode indices to run (index = world position * trials + trial), ascending; empty = all.
-  /// Shards and resumed runs pass their subset.
-  std::vector<std::size_t> selected;
+  /// Episode indices to run (index = world position * trials + trial), ascending; unset = all.
+  /// Shards and resumed runs pass their subset (which may be empty).
+  std::optional<std::vector<std::size_t>> selected;
   /// Set (e.g. by a SIGINT handler) to stop starting new episodes; running ones finish.
   const std::atomic<bool>* stop = nullptr;
 };

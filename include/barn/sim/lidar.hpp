@@ -58,6 +58,9 @@ class LidarCaster {
   const LidarConfig& config() const { return config_; }
 
  private:
+  template <bool kVariedRadii>
+  void castCircles(const core::Pose2& sensor_pose, std::vector<double>& ranges);
+
   LidarConfig config_;
   const ObstacleField* field_;
   std::vector<double> beam_cos_;  // cos of each beam's angle in the sensor frame
@@ -65,12 +68,19 @@ class LidarCaster {
 
   // Scratch for cast(): circles in range (sensor frame) and their near-first order.
   struct Candidate {
-    double dx, dy, dist2, dist;  // [m], [m], [m^2], [m]
-    int bucket;                  // distance bucket (0.25 m)
+    double dx, dy;   // [m] centre
+    double power;    // [m^2] |d|^2 - r^2, the sensor's power with respect to the circle
+    double nearest;  // [m] |d| - r: no ray can hit the circle closer than this
+    int bucket;      // distance bucket (0.25 m)
   };
   std::vector<Candidate> candidates_;
   std::vector<int> bucket_start_;
   std::vector<int> order_;
+  std::vector<double> candidate_radius_;  // [m] beside candidates_ when circles have own radii
 };
+
+/// Adds the sensor's Gaussian range noise to finite `ranges` (clamped to [range_min,
+/// range_max]; misses stay +inf), as scan() does.
+void addRangeNoise(const LidarConfig& config, core::FastNoise& noise, std::vector<double>& ranges);
 
 }  // namespace barn::sim

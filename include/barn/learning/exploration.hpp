@@ -1,0 +1,67 @@
+#pragma once
+/// LfLH step 1: drive the simulated Jackal with random smooth commands in empty space and log
+/// its motion, as the original explorer did on the real robot (research notes §2.1).
+///
+/// The recording file (`exploration_<name>.csv` in the data folder) is plain CSV:
+///
+///     # barnbench lflh exploration 1
+///     # name: lflh_1ms
+///     # collect_hash: 0x1234abcd...        (FNV-1a of the effective `collect` section)
+///     t,x,y,yaw,v,vy,w,cmd_v,cmd_w
+///     0,0,0,0,0,0,0,0.04,-0.08
+///
+/// t [s], pose x y [m] yaw [rad] in the start frame, body velocity v (forward) vy (sideways)
+/// [m/s] and w [rad/s], and the cmd_vel in force from that record on, cmd_v [m/s] cmd_w [rad/s].
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "barn/core/types.hpp"
+#include "barn/learning/lflh_config.hpp"
+
+namespace barn::learning {
+
+/// One logged instant.
+struct MotionRecord {
+  double t = 0.0;        // [s]
+  core::Pose2 pose;      // [m, m, rad] start frame
+  double v = 0.0;        // [m/s] forward body speed
+  double vy = 0.0;       // [m/s] sideways body speed (slip)
+  double w = 0.0;        // [rad/s] yaw rate
+  core::Twist command;   // the cmd_vel sent at this record (held until the next one)
+};
+
+/// A continuous drive at a fixed record rate.
+struct Recording {
+  std::string name;              // the config's name
+  std::uint64_t collect_hash = 0;  // collectHash() of the settings that made it
+  double rate = 50.0;            // [Hz] records per second
+  std::vector<MotionRecord> records;
+};
+
+/// Drives the default Jackal (sim::RobotConfig, sim::PhysicsConfig) in an empty world for
+/// `config.duration` seconds. Deterministic: the same config gives the same records bit for bit.
+Recording collectExploration(const CollectConfig& config, const std::string& name);
+
+/// The recording file of config `name` inside `dir`.
+std::filesystem::path recordingPath(const std::filesystem::path& dir, const std::string& name);
+/// Writes the CSV (atomically; numbers round-trip exactly).
+void writeRecording(const std::filesystem::path& path, const Recording& recording);
+/// Reads a recording; InputError naming the file and line for anything malformed.
+Recording readRecording(const std::filesystem::path& path);
+
+/// Statistics of the commands, to compare with the original logs (§2.1).
+struct ExplorationStats {
+  std::size_t records = 0;
+  double duration = 0.0;          // [s]
+  double cmd_v_min = 0.0, cmd_v_max = 0.0;  // [m/s]
+  double top_speed_share = 0.0;   // [-] records whose cmd_v is within 1 % of the maximum
+  double cmd_w_min = 0.0, cmd_w_max = 0.0;  // [rad/s]
+  double mean_speed = 0.0;        // [m/s] of the body
+  double distance = 0.0;          // [m] driven
+};
+ExplorationStats explorationStats(const Recording& recording);
+
+}  // namespace barn::learning

@@ -1,0 +1,119 @@
+#pragma once
+/// A 2D costmap in the odom frame, as ROS costmap_2d builds it from a laser scan: an obstacle
+/// layer (marking and ray-trace clearing) and an inflation layer (cost decaying with the
+/// distance to the nearest obstacle).
+///
+/// Costs follow costmap_2d: 0 free, 1..252 inflated, 253 inscribed (the robot's centre here
+/// means its inscribed circle touches an obstacle), 254 lethal (an obstacle cell), 255 unknown.
+/// Inflated cost at distance d from the nearest obstacle cell (cell centre to cell centre):
+///   d <= inscribed_radius                 -> 253
+///   inscribed_radius < d <= inflation_radius -> 252 exp(-cost_scaling_factor (d - inscribed_radius))
+///   d > inflation_radius                  -> 0
+///
+/// A scan only changes cells along its rays; the inflation is recomputed in the window around
+/// the cells that became or stopped being obstacles, so an update costs what it changed.
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "barn/core/errors.hpp"
+#include "barn/core/types.hpp"
+
+namespace barn::nav {
+
+inline constexpr std::uint8_t kFreeCost = 0;
+inline constexpr std::uint8_t kInscribedCost = 253;
+inline constexpr std::uint8_t kLethalCost = 254;
+inline constexpr std::uint8_t kUnknownCost = 255;
+
+struct CostmapConfig {
+  double resolution = 0.05;         // [m] cell size
+  double width = 10.0;              // [m] along x
+  double height = 10.0;             // [m] along y
+  double origin_x = -5.0;           // [m] odom frame: lower-left corner (fixed map) or offset
+  double origin_y = -5.0;           //     from the robot (rolling window)
+  bool rolling = false;             // the window follows the robot (local costmap)
+  double obstacle_range = 2.5;      // [m] returns closer than this mark obstacles
+  double raytrace_range = 3.0;      // [m] free space is cleared up to here along each ray
+  bool track_unknown = false;       // unseen cells are unknown (255) rather than free
+  double inscribed_radius = 0.265;  // [m] 0.42 x 0.33 footprint + 0.1 padding: 0.165 + 0.1
+  double inflation_radius = 0.30;   // [m]
+  double cost_scaling_factor = 10.0;  // [1/m] costmap_2d default
+
+  template <class V> void visit(V& v) {
+    v("resolution", resolution); v("width", width); v("height", height); v("origin_x", origin_x);
+    v("origin_y", origin_y); v("rolling", rolling); v("obstacle_range", obstacle_range);
+    v("raytrace_range", raytrace_range); v("track_unknown", track_unknown); v("inscribed_radius", inscribed_radius);
+    v("inflation_radius", inflation_radius); v("cost_scaling_factor", cost_scaling_factor);
+  }
+};
+
+void validate(const CostmapConfig& config, core::Errors& errors, const std::string& prefix);
+
+/// A cell index.
+struct CellIndex {
+  int x = 0;
+  int y = 0;
+  friend bool operator==(const CellIndex&, const CellIndex&) = default;
+};
+
+class Costmap {
+ public:
+  explicit Costmap(const CostmapConfig& config);
+
+  /// Marks the returns of `scan` taken from `sensor_pose` (odom frame) and clears the cells
+  /// its rays cross; then brings the inflation up to date. A rolling map first re-centres on
+  /// `robot_position`.
+  void integrateScan(const core::LaserScan& scan, const core::Pose2& sensor_pose, const Eigen::Vector2d& robot_position);
+
+  /// Re-centres a rolling window on `position` (no-op for a fixed map).
+  void recentre(const Eigen::Vector2d& position);
+
+  /// Forgets the obstacles farther than `radius` from `centre` (move_base's clearing
+  /// recovery resets them to unknown, or free when unknown space is not tracked).
+  void clearOutside(const Eigen::Vector2d& centre, double radius);
+
+  int widthCells() const { return width_; }
+  int heightCells() const { return height_; }
+  double resolution() const { return config_.resolution; }
+  const CostmapConfig& config() const { return config_; }
+  Eigen::Vector2d origin() const { return origin_; }  // [m] odom frame, lower-left corner
+
+  bool inBounds(int x, int y) const { return x >= 0 && y >= 0 && x < width_ && y < height_; }
+  bool toCell(const Eigen::Vector2d& p, CellIndex& cell) const;
+  Eigen::Vector2d cellCentre(CellIndex cell) const;
+
+  /// Final (inflated) cost of a cell; cells outside the map are unknown.
+  std::uint8_t cost(int x, int y) const { return inBounds(x, y) ? cost_[index(x, y)] : kUnknownCost; }
+  std::uint8_t costAt(const Eigen::Vector2d& p) const;
+  /// True if the cell holds an obstacle (marked and not cleared since).
+  bool isObstacle(int x, int y) const { return inBounds(x, y) && obstacle_[index(x, y)] == kLethalCost; }
+
+  /// The inflation cost for a distance d [m] to the nearest obstacle (see the header comment).
+  std::uint8_t inflationCost(double distance) const;
+
+ private:
+  std::size_t index(int x, int y) const { return static_cast<std::size_t>(y) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(x); }
+  void setObstacle(int x, int y, std::uint8_t value);
+  void markDirty(int x, int y);
+  void reinflate(int x0, int y0, int x1, int y1);  // cells [x0, x1) x [y0, y1)
+  void traceClear(const Eigen::Vector2d& from, const Eigen::Vector2d& to);
+
+  CostmapConfig config_;
+  int width_ = 0;
+  int height_ = 0;
+  Eigen::Vector2d origin_;
+  std::vector<std::uint8_t> obstacle_;  // kLethalCost, kFreeCost or kUnknownCost per cell
+  std::vector<std::uint8_t> cost_;      // final cost per cell
+  int inflation_cells_ = 0;             // ceil(inflation_radius / resolution)
+  std::vector<std::uint8_t> cost_by_squared_cells_;  // inflation cost indexed by squared cell distance
+  // Cells whose obstacle state changed since the last re-inflation (bounding box).
+  int dirty_x0_ = 0, dirty_y0_ = 0, dirty_x1_ = 0, dirty_y1_ = 0;
+  // Scratch for the distance transform.
+  std::vector<double> edt_, edt_row_, edt_z_;
+  std::vector<int> edt_v_;
+};
+
+}  // namespace barn::nav

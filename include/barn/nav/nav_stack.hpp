@@ -1,0 +1,75 @@
+#pragma once
+/// A move_base-like navigation stack as one plain object a controller owns: a global costmap
+/// (fixed, covering BARN's corridor in the odom frame), a rolling local costmap (10 x 10 m)
+/// that remembers what was seen, and the global planner replanning at its rate.
+///
+/// It sees only what a controller sees: scans, odometry and the goal.
+
+#include <optional>
+
+#include "barn/nav/costmap.hpp"
+#include "barn/nav/global_planner.hpp"
+#include "barn/nav/path_tools.hpp"
+
+namespace barn::nav {
+
+struct NavStackConfig {
+  CostmapConfig global_costmap = defaultGlobalCostmap();
+  CostmapConfig local_costmap = defaultLocalCostmap();
+  double global_update_rate = 10.0;  // [Hz] (BARN: global 10, local 20)
+  double local_update_rate = 20.0;   // [Hz]
+  PlannerConfig planner;
+
+  template <class V> void visit(V& v) {
+    v("global_costmap", global_costmap); v("local_costmap", local_costmap);
+    v("global_update_rate", global_update_rate); v("local_update_rate", local_update_rate); v("planner", planner);
+  }
+
+  /// BARN's corridor in the odom frame (start at the origin, goal 10 m ahead): 10 x 20 m.
+  static CostmapConfig defaultGlobalCostmap();
+  /// 10 x 10 m rolling window.
+  static CostmapConfig defaultLocalCostmap();
+};
+
+void validate(const NavStackConfig& config, core::Errors& errors, const std::string& prefix);
+
+class NavStack {
+ public:
+  explicit NavStack(const NavStackConfig& config);
+
+  /// New episode: empty costmaps, no path, this goal (odom frame).
+  void reset(const Eigen::Vector2d& goal);
+
+  /// Folds in the latest scan (once per scan, at the costmaps' rates) and replans when due.
+  /// `sensor_pose` is the LiDAR's pose in the odom frame.
+  void update(double time, const core::LaserScan& scan, const core::Pose2& sensor_pose, const core::Pose2& robot_pose);
+
+  /// Forces a replan now (e.g. after a recovery cleared the costmaps).
+  void replan(const core::Pose2& robot_pose);
+
+  bool hasPath() const { return !path_.empty(); }
+  const Path& path() const { return path_; }  // odom frame, robot -> goal; empty if none
+  const Costmap& globalCostmap() const { return global_; }
+  const Costmap& localCostmap() const { return local_; }
+  Costmap& mutableGlobalCostmap() { return global_; }
+  Costmap& mutableLocalCostmap() { return local_; }
+  const Eigen::Vector2d& goal() const { return goal_; }
+  int plansMade() const { return plans_; }
+  int plansFailed() const { return failed_plans_; }
+
+ private:
+  NavStackConfig config_;
+  Costmap global_;
+  Costmap local_;
+  GlobalPlanner planner_;
+  Eigen::Vector2d goal_ = Eigen::Vector2d::Zero();
+  Path path_;
+  double last_global_update_ = -1e9;
+  double last_local_update_ = -1e9;
+  double last_plan_ = -1e9;
+  double last_scan_stamp_ = -1e9;
+  int plans_ = 0;
+  int failed_plans_ = 0;
+};
+
+}  // namespace barn::nav

@@ -1,0 +1,305 @@
+#include "barn/learning/hallucination.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "barn/sim/obstacle_field.hpp"
+
+namespace barn::learning {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+double uniform(core::Rng& rng, double lo, double hi) { return lo + (hi - lo) * rng.uniform01(); }
+
+// The pose `b` in the frame of pose `a`.
+core::Pose2 relative(const core::Pose2& a, const core::Pose2& b) {
+  const Eigen::Vector2d p = a.inverseTransform(b.position());
+  return {p.x(), p.y(), core::wrapAngle(b.yaw - a.yaw)};
+}
+
+// Distance from q to the circular sector with apex `apex`, axis angle `heading`, radius
+// `radius` and half-angle `half` <= pi/2 (a convex set): 0 inside.
+double sectorDistance(const Eigen::Vector2d& q, const Eigen::Vector2d& apex, double heading, double radius, double half) {
+  const Eigen::Vector2d d = q - apex;
+  const double rho = d.norm();
+  const double off_axis = std::abs(core::wrapAngle(std::atan2(d.y(), d.x()) - heading));
+  if (off_axis <= half) return std::max(0.0, rho - radius);
+  // Nearest point on the closer edge segment apex -> apex + radius e.
+  const double side = core::wrapAngle(std::atan2(d.y(), d.x()) - heading) > 0.0 ? 1.0 : -1.0;
+  const Eigen::Vector2d e(std::cos(heading + side * half), std::sin(heading + side * half));
+  const double t = std::clamp(d.dot(e), 0.0, radius);
+  return (d - t * e).norm();
+}
+
+// A random obstacle shape at the origin: a circle of radius U[size_min, size_max] with
+// probability circle_share, else an ellipse with a ~ U[size_min, size_max] and
+// b ~ U[max(size_min, a / max_aspect), a] at a random orientation.
+Obstacle randomShape(core::Rng& rng, double circle_share, double size_min, double size_max, double max_aspect) {
+  const double a = uniform(rng, size_min, size_max);
+  if (rng.uniform01() < circle_share) return makeObstacle(Eigen::Vector2d::Zero(), a, a, 0.0);
+  const double b = uniform(rng, std::min(a, std::max(size_min, a / max_aspect)), a);
+  return makeObstacle(Eigen::Vector2d::Zero(), a, b, uniform(rng, 0.0, kPi));
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------
+// Shapes
+
+std::vector<Disk> ellipseDisks(const Eigen::Vector2d& centre, double a, double b, double orientation) {
+  if (a - b <= 1e-9 * a) return {{centre, a}};
+  const double focal2 = a * a - b * b;          // a^2 - b^2
+  const double medial = focal2 / a;             // half-length of the medial axis
+  const double vertex_radius = b * b / a;       // radius of the end disks
+  const int count = 1 + static_cast<int>(std::ceil(2.0 * medial / vertex_radius));
+  const Eigen::Vector2d axis(std::cos(orientation), std::sin(orientation));
+  std::vector<Disk> disks;
+  disks.reserve(static_cast<std::size_t>(count));
+  for (int j = 0; j < count; ++j) {
+    const double x = medial * (-1.0 + 2.0 * j / (count - 1));
+    const double r = b * std::sqrt(std::max(0.0, 1.0 - x * x / focal2));
+    disks.push_back({centre + x * axis, r});
+  }
+  return disks;
+}
+
+Obstacle makeObstacle(const Eigen::Vector2d& centre, double a, double b, double orientation) {
+  Obstacle o;
+  o.centre = centre;
+  o.semi_major = a;
+  o.semi_minor = b;
+  o.orientation = orientation;
+  o.disks = ellipseDisks(centre, a, b, orientation);
+  return o;
+}
+
+Obstacle translated(const Obstacle& obstacle, const Eigen::Vector2d& offset) {
+  Obstacle o = obstacle;
+  o.centre += offset;
+  for (Disk& d : o.disks) d.centre += offset;
+  return o;
+}
+
+std::vector<Obstacle> mirrored(const std::vector<Obstacle>& obstacles) {
+  std::vector<Obstacle> out = obstacles;
+  for (Obstacle& o : out) {
+    o.centre.y() = -o.centre.y();
+    o.orientation = -o.orientation;
+    for (Disk& d : o.disks) d.centre.y() = -d.centre.y();
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------------------
+// Swept footprint
+
+SweptFootprint::SweptFootprint(const std::vector<core::Pose2>& motion, double length, double width, double step)
+    : half_length_(0.5 * length), half_width_(0.5 * width), step_(step) {
+  const double corner = std::hypot(half_length_, half_width_);
+  for (std::size_t k = 0; k < motion.size(); ++k) {
+    if (k == 0) {
+      poses_.push_back(motion[0]);
+      continue;
+    }
+    const core::Pose2& a = motion[k - 1];
+    const core::Pose2& b = motion[k];
+    const double turn = core::wrapAngle(b.yaw - a.yaw);
+    // A footprint point moves at most |dp| + corner |dyaw| between the two poses.
+    const double travel = std::hypot(b.x - a.x, b.y - a.y) + corner * std::abs(turn);
+    const int pieces = std::max(1, static_cast<int>(std::ceil(travel / step)));
+    for (int j = 1; j <= pieces; ++j) {
+      const double s = static_cast<double>(j) / pieces;
+      poses_.push_back({a.x + s * (b.x - a.x), a.y + s * (b.y - a.y), core::wrapAngle(a.yaw + s * turn)});
+    }
+  }
+  cos_.reserve(poses_.size());
+  sin_.reserve(poses_.size());
+  for (const core::Pose2& p : poses_) {
+    cos_.push_back(std::cos(p.yaw));
+    sin_.push_back(std::sin(p.yaw));
+  }
+}
+
+double SweptFootprint::distance(const Eigen::Vector2d& p) const {
+  double best2 = kInf;
+  for (std::size_t k = 0; k < poses_.size(); ++k) {
+    const double wx = p.x() - poses_[k].x;
+    const double wy = p.y() - poses_[k].y;
+    const double dx = std::max(0.0, std::abs(cos_[k] * wx + sin_[k] * wy) - half_length_);
+    const double dy = std::max(0.0, std::abs(-sin_[k] * wx + cos_[k] * wy) - half_width_);
+    best2 = std::min(best2, dx * dx + dy * dy);
+    if (best2 == 0.0) return 0.0;
+  }
+  return std::sqrt(best2);
+}
+
+double SweptFootprint::gap(const Obstacle& obstacle) const {
+  double best = kInf;
+  for (const Disk& d : obstacle.disks) best = std::min(best, distance(d.centre) - d.radius);
+  return best;
+}
+
+// ---------------------------------------------------------------------------
+// Demonstrations
+
+std::optional<Demonstration> hallucinate(const Recording& recording, std::size_t record, int render,
+                                         const HallucinationConfig& config, const sim::RobotConfig& robot,
+                                         const sim::LidarConfig& lidar) {
+  const auto& records = recording.records;
+  const auto steps = [&](double seconds) { return static_cast<std::size_t>(std::lround(seconds * recording.rate)); };
+  const std::size_t goal_steps = steps(config.goal_time);
+  const std::size_t lookahead = std::max(goal_steps, steps(config.horizon_max));
+  if (record + lookahead >= records.size()) return std::nullopt;
+
+  const core::Pose2 origin = records[record].pose;
+  Demonstration demo;
+  demo.record = record;
+  demo.command = records[record].command;
+  const Eigen::Vector2d goal = origin.inverseTransform(records[record + goal_steps].pose.position());
+  if (goal.norm() < config.min_goal_distance) return std::nullopt;
+  demo.goal = goal.normalized();
+
+  core::Rng rng(core::mixSeed(config.seed, record, static_cast<std::uint64_t>(render)));
+  const std::size_t horizon_steps = std::max<std::size_t>(1, steps(uniform(rng, config.horizon_min, config.horizon_max)));
+  for (std::size_t k = 0; k <= horizon_steps; ++k) demo.motion.push_back(relative(origin, records[record + k].pose));
+  const SweptFootprint swept(demo.motion, robot.footprint_length, robot.footprint_width, config.sweep_step);
+  const std::vector<core::Pose2>& poses = swept.poses();
+
+  // Hugging obstacles: pushed out from the path until their gap is the clearance (+ the
+  // sweep's bulge allowance). Each push ends at the first position along its ray with that
+  // gap; one that has not arrived within kMaxPush (a ray grazing the sweep) is dropped.
+  constexpr int kMaxIterations = 200;
+  constexpr double kMaxPush = 4.0;       // [m]
+  constexpr double kOvershoot = 1e-7;    // [m] each step goes this far past the estimate
+  const int hugging = config.constraining_min +
+                      static_cast<int>(rng.below(static_cast<std::uint64_t>(config.constraining_max - config.constraining_min + 1)));
+  for (int n = 0; n < hugging; ++n) {
+    const core::Pose2& anchor = poses[static_cast<std::size_t>(rng.below(poses.size()))];
+    const double side = rng.uniform01() < 0.5 ? 1.0 : -1.0;
+    const double direction = anchor.yaw + side * 0.5 * kPi + uniform(rng, -config.direction_jitter, config.direction_jitter);
+    const double clearance = uniform(rng, config.clearance_min, config.clearance_max);
+    const Obstacle shape = randomShape(rng, config.circle_share, config.size_min, config.size_max, config.max_aspect);
+    const Eigen::Vector2d ray(std::cos(direction), std::sin(direction));
+    const double target = clearance + swept.inflation();
+    double push = 0.0;
+    Obstacle placed = translated(shape, anchor.position());
+    double missing = target - swept.gap(placed);
+    for (int it = 0; it < kMaxIterations && missing > 0.0 && push < kMaxPush; ++it) {
+      push += missing + kOvershoot;
+      placed = translated(shape, anchor.position() + push * ray);
+      missing = target - swept.gap(placed);
+    }
+    if (missing > 0.0) continue;
+    demo.obstacles.push_back(std::move(placed));
+    demo.clearances.push_back(clearance);
+  }
+  demo.hugging = demo.obstacles.size();
+
+  // Distractors, kept clear of the sweep and of the velocity sector along the motion.
+  constexpr int kSectorPoses = 10;
+  constexpr int kTries = 10;
+  constexpr double kBearingLimit = 0.75 * kPi;  // +-135 degrees, the LiDAR's field of view
+  for (int n = 0; n < config.distractors; ++n) {
+    for (int attempt = 0; attempt < kTries; ++attempt) {
+      const double distance = uniform(rng, 0.0, config.distractor_distance);
+      const double bearing = uniform(rng, -kBearingLimit, kBearingLimit);
+      const Obstacle candidate = translated(
+          randomShape(rng, config.circle_share, config.distractor_size_min, config.distractor_size_max, config.max_aspect),
+          distance * Eigen::Vector2d(std::cos(bearing), std::sin(bearing)));
+      bool ok = swept.gap(candidate) >= config.clearance_min + swept.inflation();
+      for (int m = 0; ok && m < kSectorPoses; ++m) {
+        const std::size_t k = static_cast<std::size_t>(std::lround(static_cast<double>(m * horizon_steps) / (kSectorPoses - 1)));
+        const core::Pose2& pose = demo.motion[k];
+        const double v = records[record + k].v;
+        const double heading = v >= 0.0 ? pose.yaw : pose.yaw + kPi;
+        for (const Disk& d : candidate.disks) {
+          if (sectorDistance(d.centre, pose.position(), heading, std::abs(v) * config.sector_time, config.sector_half_angle) <
+              d.radius) {
+            ok = false;
+            break;
+          }
+        }
+      }
+      if (ok) {
+        demo.obstacles.push_back(candidate);
+        break;
+      }
+    }
+  }
+
+  core::FastNoise noise(rng.below(std::numeric_limits<std::uint64_t>::max()));
+  demo.ranges = renderScan(demo.obstacles, lidar, &noise);
+  return demo;
+}
+
+std::vector<double> renderScan(const std::vector<Obstacle>& obstacles, const sim::LidarConfig& lidar,
+                               core::FastNoise* noise) {
+  sim::ObstacleField field;
+  for (const Obstacle& o : obstacles) {
+    for (const Disk& d : o.disks) {
+      field.centres.push_back(d.centre);
+      field.radii.push_back(d.radius);
+    }
+  }
+  if (field.centres.empty()) {
+    // No obstacle at all: every beam misses (an empty `radii` would mean "uniform radius").
+    return std::vector<double>(static_cast<std::size_t>(lidar.beams), kInf);
+  }
+  sim::LidarCaster caster(lidar, field);
+  return caster.scan({0.0, 0.0, 0.0}, 0.0, noise).ranges;
+}
+
+// ---------------------------------------------------------------------------
+// Dataset
+
+void encodeInput(const std::vector<double>& ranges, const Eigen::Vector2d& goal, double range_clip, float* column) {
+  for (std::size_t i = 0; i < ranges.size(); ++i) {
+    const double r = ranges[i];
+    // +inf (no return) and NaN read as "free up to the clip"; noise cannot make a range negative.
+    column[i] = static_cast<float>(std::isnan(r) ? range_clip : std::clamp(r, 0.0, range_clip));
+  }
+  const double norm = goal.norm();
+  const Eigen::Vector2d unit = norm > 0.0 ? Eigen::Vector2d(goal / norm) : Eigen::Vector2d::UnitX();
+  column[ranges.size()] = static_cast<float>(unit.x());
+  column[ranges.size() + 1] = static_cast<float>(unit.y());
+}
+
+void mirrorExample(float* input, float* target, int beams) {
+  std::reverse(input, input + beams);
+  input[beams + 1] = -input[beams + 1];
+  target[1] = -target[1];
+}
+
+Dataset buildDataset(const Recording& recording, const HallucinationConfig& config, double range_clip,
+                     const sim::RobotConfig& robot, const sim::LidarConfig& lidar) {
+  Dataset data;
+  data.beams = lidar.beams;
+  data.record_count = recording.records.size();
+  data.lookahead = static_cast<std::size_t>(
+      std::lround(std::max(config.goal_time, config.horizon_max) * recording.rate));
+  const int rows = lidar.beams + 2;
+  std::vector<float> inputs, targets;
+  for (std::size_t record = 0; record < recording.records.size(); record += static_cast<std::size_t>(config.stride)) {
+    for (int render = 0; render < config.renders_per_sample; ++render) {
+      const auto demo = hallucinate(recording, record, render, config, robot, lidar);
+      if (!demo) continue;
+      const std::size_t at = inputs.size();
+      inputs.resize(at + static_cast<std::size_t>(rows));
+      encodeInput(demo->ranges, demo->goal, range_clip, inputs.data() + at);
+      targets.push_back(static_cast<float>(demo->command.linear));
+      targets.push_back(static_cast<float>(demo->command.angular));
+      data.records.push_back(record);
+    }
+  }
+  const auto n = static_cast<Eigen::Index>(data.records.size());
+  data.inputs = Eigen::Map<const Eigen::MatrixXf>(inputs.data(), rows, n);
+  data.targets = Eigen::Map<const Eigen::MatrixXf>(targets.data(), 2, n);
+  return data;
+}
+
+}  // namespace barn::learning

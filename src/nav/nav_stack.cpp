@@ -1,0 +1,72 @@
+#include "barn/nav/nav_stack.hpp"
+
+namespace barn::nav {
+
+CostmapConfig NavStackConfig::defaultGlobalCostmap() {
+  CostmapConfig c;
+  c.width = 10.0;
+  c.height = 20.0;
+  c.origin_x = -5.0;
+  c.origin_y = -5.0;
+  c.rolling = false;
+  return c;
+}
+
+CostmapConfig NavStackConfig::defaultLocalCostmap() {
+  CostmapConfig c;
+  c.width = 10.0;
+  c.height = 10.0;
+  c.rolling = true;
+  return c;
+}
+
+void validate(const NavStackConfig& c, core::Errors& errors, const std::string& prefix) {
+  validate(c.global_costmap, errors, prefix + ".global_costmap");
+  validate(c.local_costmap, errors, prefix + ".local_costmap");
+  validate(c.planner, errors, prefix + ".planner");
+  errors.check(c.global_update_rate > 0.0, prefix + ".global_update_rate", "must be > 0");
+  errors.check(c.local_update_rate > 0.0, prefix + ".local_update_rate", "must be > 0");
+}
+
+NavStack::NavStack(const NavStackConfig& config)
+    : config_(config), global_(config.global_costmap), local_(config.local_costmap), planner_(config.planner) {}
+
+void NavStack::reset(const Eigen::Vector2d& goal) {
+  global_ = Costmap(config_.global_costmap);
+  local_ = Costmap(config_.local_costmap);
+  goal_ = goal;
+  path_.clear();
+  last_global_update_ = last_local_update_ = last_plan_ = last_scan_stamp_ = -1e9;
+  plans_ = failed_plans_ = 0;
+}
+
+void NavStack::update(double time, const core::LaserScan& scan, const core::Pose2& sensor_pose,
+                      const core::Pose2& robot_pose) {
+  constexpr double kSlack = 1e-9;  // periods are multiples of the control period up to rounding
+  const bool new_scan = scan.stamp != last_scan_stamp_;
+  if (new_scan && time - last_global_update_ >= 1.0 / config_.global_update_rate - kSlack) {
+    global_.integrateScan(scan, sensor_pose, robot_pose.position());
+    last_global_update_ = time;
+  }
+  if (new_scan && time - last_local_update_ >= 1.0 / config_.local_update_rate - kSlack) {
+    local_.integrateScan(scan, sensor_pose, robot_pose.position());
+    last_local_update_ = time;
+  } else {
+    local_.recentre(robot_pose.position());
+  }
+  last_scan_stamp_ = scan.stamp;
+  if (time - last_plan_ >= 1.0 / config_.planner.rate - kSlack) {
+    replan(robot_pose);
+    last_plan_ = time;
+  }
+}
+
+void NavStack::replan(const core::Pose2& robot_pose) {
+  Plan plan = planner_.plan(global_, robot_pose.position(), goal_);
+  ++plans_;
+  // move_base keeps following the last path while the planner fails (planner_patience).
+  if (plan.found) path_ = std::move(plan.path);
+  else ++failed_plans_;
+}
+
+}  // namespace barn::nav

@@ -1,0 +1,431 @@
+#include "barn/bench/run_record.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <random>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "barn/bench/results_io.hpp"
+#include "barn/core/errors.hpp"
+#include "barn/core/world_file.hpp"
+
+namespace barn::bench {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::AllOf;
+using ::testing::HasSubstr;
+
+const fs::path kWorlds = fs::path(BARN_SOURCE_DIR) / "worlds";
+
+std::string readFile(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  return buffer.str();
+}
+
+void writeFile(const fs::path& path, const std::string& content) {
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << content;
+}
+
+class TempDir {
+ public:
+  TempDir() {
+    std::random_device device;
+    path_ = fs::temp_directory_path() / ("barn_run_record_test_" + std::to_string(device()) + "_" + std::to_string(device()));
+    fs::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+// Multi-line blocks as barn run writes them: nested maps, a list, a comment-looking string,
+// a blank line inside the block and trailing spaces on a line.
+constexpr char kControllerConfig[] = R"(type: pure_pursuit
+pure_pursuit:
+  speed: 0.5
+  lookahead: 0.5
+  rate: 20
+  label: "a # not a comment: | > -"
+
+  waypoints: [1, 2.5, -3]
+  note: trailing spaces   
+)";
+
+constexpr char kEpisodeConfig[] = R"(protocol: barn2024
+physics:
+  rate: 200
+robot:
+  max_linear_speed: 2
+lidar:
+  beams: 720
+  angle_min: -2.35619
+)";
+
+// Every field set to something other than its default.
+RunManifest fullManifest() {
+  RunManifest m;
+  m.controller = "pure_pursuit";
+  m.controller_config = kControllerConfig;
+  m.episode_config = kEpisodeConfig;
+  m.worlds_spec = "0:300:30";
+  m.worlds_folder = "/data/barn worlds/set \"A\"\\v2";  // a space, quotes and a backslash
+  m.world_ids = {12, 3, 7, 299, 0};
+  m.worlds_digest = "7d5bf5559195d306";
+  m.trials = 3;
+  m.seed = std::numeric_limits<std::uint64_t>::max();  // beyond a double's 2^53
+  m.shard_index = 2;
+  m.shard_count = 5;
+  m.episodes_total = 3;
+  m.episodes_done = 2;
+  m.complete = false;
+  m.barnbench_version = "0.1.0";
+  m.git_commit = "1d04ae207e6448d32720f7c45e13471baa8d2954-dirty";
+  m.host = "node-17: gpu";  // a colon, as some cluster host names have
+  m.threads = 16;
+  m.started = "2026-11-22T00:27:30Z";
+  m.wall_time_s = 0.1 + 0.2;  // 0.30000000000000004: exact round trip needed
+  m.sim_time_s = 353.07000000000164;
+  return m;
+}
+
+void expectSameManifest(const RunManifest& a, const RunManifest& b) {
+  EXPECT_EQ(a.controller, b.controller);
+  EXPECT_EQ(a.controller_config, b.controller_config);
+  EXPECT_EQ(a.episode_config, b.episode_config);
+  EXPECT_EQ(a.worlds_spec, b.worlds_spec);
+  EXPECT_EQ(a.worlds_folder, b.worlds_folder);
+  EXPECT_EQ(a.world_ids, b.world_ids);
+  EXPECT_EQ(a.worlds_digest, b.worlds_digest);
+  EXPECT_EQ(a.trials, b.trials);
+  EXPECT_EQ(a.seed, b.seed);
+  EXPECT_EQ(a.shard_index, b.shard_index);
+  EXPECT_EQ(a.shard_count, b.shard_count);
+  EXPECT_EQ(a.episodes_total, b.episodes_total);
+  EXPECT_EQ(a.episodes_done, b.episodes_done);
+  EXPECT_EQ(a.complete, b.complete);
+  EXPECT_EQ(a.barnbench_version, b.barnbench_version);
+  EXPECT_EQ(a.git_commit, b.git_commit);
+  EXPECT_EQ(a.host, b.host);
+  EXPECT_EQ(a.threads, b.threads);
+  EXPECT_EQ(a.started, b.started);
+  EXPECT_EQ(a.wall_time_s, b.wall_time_s);
+  EXPECT_EQ(a.sim_time_s, b.sim_time_s);
+}
+
+RunManifest roundTrip(const RunManifest& m) {
+  TempDir dir;
+  const fs::path file = dir.path() / kManifestFile;
+  writeFile(file, formatManifest(m));
+  return readManifest(file);
+}
+
+// ---------------------------------------------------------------------------------------------
+// formatManifest / readManifest
+
+TEST(Manifest, RoundTripsEveryField) {
+  const RunManifest m = fullManifest();
+  expectSameManifest(roundTrip(m), m);
+}
+
+TEST(Manifest, RoundTripsACompleteWholeRun) {
+  RunManifest m = fullManifest();
+  m.shard_index = 0;
+  m.shard_count = 0;
+  m.complete = true;
+  m.episodes_done = m.episodes_total;
+  m.seed = 0;
+  expectSameManifest(roundTrip(m), m);
+}
+
+TEST(Manifest, PreservesMultiLineConfigBlocksExactly) {
+  const RunManifest back = roundTrip(fullManifest());
+  // Byte for byte, so a resumed run rebuilds the same controller and merge compares equal text.
+  EXPECT_EQ(back.controller_config, std::string(kControllerConfig));
+  EXPECT_EQ(back.episode_config, std::string(kEpisodeConfig));
+}
+
+TEST(Manifest, FormatIsStableAcrossARoundTrip) {
+  const std::string text = formatManifest(fullManifest());
+  EXPECT_EQ(formatManifest(roundTrip(fullManifest())), text);
+}
+
+TEST(Manifest, RealEffectiveConfigsRoundTrip) {
+  // The texts a real run writes: the shipped configs, as files end with one newline.
+  RunManifest m = fullManifest();
+  m.controller_config = readFile(fs::path(BARN_SOURCE_DIR) / "configs" / "controllers" / "pure_pursuit.yaml");
+  m.episode_config = readFile(fs::path(BARN_SOURCE_DIR) / "configs" / "sim" / "barn.yaml");
+  ASSERT_FALSE(m.controller_config.empty());
+  ASSERT_FALSE(m.episode_config.empty());
+  expectSameManifest(roundTrip(m), m);
+}
+
+TEST(Manifest, MissingControllerIsAnErrorNamingFileAndField) {
+  TempDir dir;
+  const fs::path file = dir.path() / kManifestFile;
+  RunManifest m = fullManifest();
+  m.controller = "";
+  writeFile(file, formatManifest(m));
+  try {
+    readManifest(file);
+    FAIL() << "expected an InputError";
+  } catch (const core::InputError& e) {
+    EXPECT_THAT(e.what(), AllOf(HasSubstr(file.string()), HasSubstr("controller")));
+  }
+}
+
+TEST(Manifest, UnknownKeyIsAnErrorNamingIt) {
+  TempDir dir;
+  const fs::path file = dir.path() / kManifestFile;
+  writeFile(file, formatManifest(fullManifest()) + "tirals: 4\n");
+  try {
+    readManifest(file);
+    FAIL() << "expected an InputError";
+  } catch (const core::InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("tirals"));
+  }
+}
+
+TEST(Manifest, ShardIndexBeyondCountIsAnError) {
+  TempDir dir;
+  const fs::path file = dir.path() / kManifestFile;
+  RunManifest m = fullManifest();
+  m.shard_index = 6;  // of 5
+  writeFile(file, formatManifest(m));
+  try {
+    readManifest(file);
+    FAIL() << "expected an InputError";
+  } catch (const core::InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("shard_index"));
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// experimentDifference
+
+TEST(ExperimentDifference, IsEmptyForTheSameExperiment) {
+  EXPECT_EQ(experimentDifference(fullManifest(), fullManifest()), "");
+}
+
+TEST(ExperimentDifference, NamesEachDifferingField) {
+  const RunManifest base = fullManifest();
+  const std::vector<std::pair<std::string, void (*)(RunManifest&)>> cases = {
+      {"controller", [](RunManifest& m) { m.controller = "straight"; }},
+      {"controller_config", [](RunManifest& m) { m.controller_config += "extra: 1\n"; }},
+      {"episode_config", [](RunManifest& m) { m.episode_config = "protocol: barn2023\n"; }},
+      {"world_ids", [](RunManifest& m) { m.world_ids = {12, 3, 7, 299}; }},
+      {"world_ids", [](RunManifest& m) { m.world_ids = {3, 12, 7, 299, 0}; }},  // same ids, other order
+      {"worlds_digest", [](RunManifest& m) { m.worlds_digest = "0000000000000000"; }},
+      {"trials", [](RunManifest& m) { m.trials = 4; }},
+      {"seed", [](RunManifest& m) { m.seed = 1; }},
+  };
+  for (const auto& [field, change] : cases) {
+    RunManifest other = base;
+    change(other);
+    EXPECT_EQ(experimentDifference(base, other), field);
+    EXPECT_EQ(experimentDifference(other, base), field);
+  }
+}
+
+TEST(ExperimentDifference, NamesTheFirstDifferingField) {
+  RunManifest other = fullManifest();
+  other.seed = 1;
+  other.trials = 9;
+  other.episode_config = "protocol: barn2023\n";
+  // Order: controller, controller_config, episode_config, world_ids, worlds_digest, trials, seed.
+  EXPECT_EQ(experimentDifference(fullManifest(), other), "episode_config");
+}
+
+TEST(ExperimentDifference, IgnoresWhereAndHowItRanAndWhichShard) {
+  RunManifest other = fullManifest();
+  other.host = "another-node";
+  other.threads = 1;
+  other.wall_time_s = 1234.5;
+  other.sim_time_s = 99.0;
+  other.started = "2027-01-01T00:00:00Z";
+  other.git_commit = "0000000";
+  other.barnbench_version = "9.9.9";
+  other.shard_index = 5;
+  other.shard_count = 5;
+  other.episodes_total = 100;
+  other.episodes_done = 0;
+  other.complete = true;
+  // The worlds are identified by ids and digest: another checkout (cluster node) may keep
+  // them in another folder.
+  other.worlds_folder = "/elsewhere/worlds";
+  EXPECT_EQ(experimentDifference(fullManifest(), other), "");
+}
+
+// ---------------------------------------------------------------------------------------------
+// sortResults
+
+EpisodeResult episode(int world, int trial) {
+  EpisodeResult r;
+  r.world_id = world;
+  r.trial = trial;
+  return r;
+}
+
+std::vector<std::pair<int, int>> keys(const std::vector<EpisodeResult>& results) {
+  std::vector<std::pair<int, int>> out;
+  for (const auto& r : results) out.emplace_back(r.world_id, r.trial);
+  return out;
+}
+
+TEST(SortResults, OrdersByTheWorldIdsOrderThenTrial) {
+  std::vector<EpisodeResult> results = {episode(7, 1), episode(3, 0), episode(12, 1), episode(7, 0),
+                                        episode(3, 1), episode(12, 0)};
+  sortResults(results, {12, 3, 7});
+  // The run order {12, 3, 7}, not numeric order {3, 7, 12}.
+  const std::vector<std::pair<int, int>> expected = {{12, 0}, {12, 1}, {3, 0}, {3, 1}, {7, 0}, {7, 1}};
+  EXPECT_EQ(keys(results), expected);
+}
+
+TEST(SortResults, TrialsSortNumericallyNotAsText) {
+  std::vector<EpisodeResult> results;
+  for (int t : {10, 2, 1, 0, 11}) results.push_back(episode(5, t));
+  sortResults(results, {5});
+  const std::vector<std::pair<int, int>> expected = {{5, 0}, {5, 1}, {5, 2}, {5, 10}, {5, 11}};
+  EXPECT_EQ(keys(results), expected);
+}
+
+TEST(SortResults, GivesTheSameOrderWhateverTheInputOrder) {
+  std::vector<EpisodeResult> results;
+  for (int w : {12, 3, 7})
+    for (int t = 0; t < 3; ++t) results.push_back(episode(w, t));
+  const std::vector<std::pair<int, int>> sorted = keys(results);
+  std::mt19937 rng(7);
+  for (int i = 0; i < 20; ++i) {
+    std::shuffle(results.begin(), results.end(), rng);
+    sortResults(results, {12, 3, 7});
+    EXPECT_EQ(keys(results), sorted);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// worldsDigest and loadManifestWorlds
+
+TEST(WorldsDigest, IsSixteenHexDigitsAndDeterministic) {
+  const std::vector<core::WorldSpec> worlds = {core::readWorldFile(kWorlds / "world_000.yaml"),
+                                               core::readWorldFile(kWorlds / "world_001.yaml")};
+  const std::string digest = worldsDigest(worlds);
+  EXPECT_THAT(digest, ::testing::MatchesRegex("[0-9a-f]{16}"));
+  EXPECT_EQ(worldsDigest(worlds), digest);
+}
+
+TEST(WorldsDigest, ChangesWhenOneWorldsGridChanges) {
+  std::vector<core::WorldSpec> worlds = {core::readWorldFile(kWorlds / "world_000.yaml"),
+                                         core::readWorldFile(kWorlds / "world_001.yaml"),
+                                         core::readWorldFile(kWorlds / "world_002.yaml")};
+  const std::string before = worldsDigest(worlds);
+  // One cell of the middle world flipped (row 15, column 15).
+  auto& cell = worlds[1].grid.at(15, 15);
+  cell = cell ? 0 : 1;
+  EXPECT_NE(worldsDigest(worlds), before);
+  cell = cell ? 0 : 1;
+  EXPECT_EQ(worldsDigest(worlds), before);
+}
+
+TEST(WorldsDigest, DependsOnTheOrderAndTheSelection) {
+  const core::WorldSpec a = core::readWorldFile(kWorlds / "world_000.yaml");
+  const core::WorldSpec b = core::readWorldFile(kWorlds / "world_001.yaml");
+  EXPECT_NE(worldsDigest({a, b}), worldsDigest({b, a}));
+  EXPECT_NE(worldsDigest({a, b}), worldsDigest({a}));
+}
+
+class ManifestWorlds : public testing::Test {
+ protected:
+  void SetUp() override {
+    for (int id : {0, 1, 2}) fs::copy_file(kWorlds / core::worldFileName(id), dir_.path() / core::worldFileName(id));
+    manifest_.controller = "pure_pursuit";
+    manifest_.worlds_folder = dir_.path().string();
+    manifest_.world_ids = {2, 0};
+    manifest_.worlds_digest = worldsDigest({core::readWorldFile(dir_.path() / core::worldFileName(2)),
+                                            core::readWorldFile(dir_.path() / core::worldFileName(0))});
+  }
+  TempDir dir_;
+  RunManifest manifest_;
+};
+
+TEST_F(ManifestWorlds, LoadsTheRunsWorldsInRunOrder) {
+  const auto worlds = loadManifestWorlds(manifest_);
+  ASSERT_EQ(worlds.size(), 2u);
+  EXPECT_EQ(worlds[0].id, 2);
+  EXPECT_EQ(worlds[1].id, 0);
+}
+
+TEST_F(ManifestWorlds, ChangedWorldFileIsAnError) {
+  core::WorldSpec w = core::readWorldFile(dir_.path() / core::worldFileName(0));
+  w.grid.at(15, 15) = w.grid.at(15, 15) ? 0 : 1;
+  writeFile(dir_.path() / core::worldFileName(0), core::formatWorldFile(w));
+  try {
+    loadManifestWorlds(manifest_);
+    FAIL() << "expected an InputError";
+  } catch (const core::InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("changed"));
+  }
+}
+
+TEST_F(ManifestWorlds, MissingWorldIsAnErrorNamingIt) {
+  fs::remove(dir_.path() / core::worldFileName(2));
+  try {
+    loadManifestWorlds(manifest_);
+    FAIL() << "expected an InputError";
+  } catch (const core::InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("world 2"));
+  }
+}
+
+TEST_F(ManifestWorlds, BrokenFileOfAWorldOutsideTheRunDoesNotMatter) {
+  // A run with --keep-going skipped world_001.yaml (broken); resuming or merging it must
+  // still find its own worlds 2 and 0.
+  const std::string text = readFile(dir_.path() / core::worldFileName(1));
+  writeFile(dir_.path() / core::worldFileName(1), text.substr(0, text.find("grid:")));
+  std::vector<core::WorldSpec> worlds;
+  EXPECT_NO_THROW(worlds = loadManifestWorlds(manifest_));
+  EXPECT_EQ(worlds.size(), 2u);
+}
+
+// ---------------------------------------------------------------------------------------------
+// writeCompleteRecord
+
+TEST_F(ManifestWorlds, WriteCompleteRecordSortsMarksCompleteAndRemovesTheJournal) {
+  TempDir out;
+  manifest_.trials = 2;
+  manifest_.episodes_total = 4;
+  writeFile(out.path() / kJournalFile, episodesCsvHeader());
+  std::vector<EpisodeResult> results = {episode(0, 1), episode(2, 1), episode(0, 0), episode(2, 0)};
+  for (auto& r : results) {
+    r.outcome = Outcome::Success;
+    r.sim_time = 10.0;
+  }
+  writeCompleteRecord(out.path(), manifest_, results, loadManifestWorlds(manifest_));
+  EXPECT_FALSE(fs::exists(out.path() / kJournalFile));
+  EXPECT_TRUE(fs::exists(out.path() / kSummaryFile));
+  const RunManifest m = readManifest(out.path() / kManifestFile);
+  EXPECT_TRUE(m.complete);
+  EXPECT_EQ(m.episodes_done, 4u);
+  EXPECT_EQ(m.sim_time_s, 40.0);  // 4 episodes x 10 s
+  const auto rows = readEpisodesCsv(out.path() / kEpisodesFile);
+  const std::vector<std::pair<int, int>> expected = {{2, 0}, {2, 1}, {0, 0}, {0, 1}};
+  EXPECT_EQ(keys(rows), expected);
+}
+
+}  // namespace
+}  // namespace barn::bench
