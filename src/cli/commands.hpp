@@ -21,6 +21,7 @@ void addImportCommand(CLI::App& app, CommandContext& context);
 void addWorldCommand(CLI::App& app, CommandContext& context);
 void addRunCommand(CLI::App& app, CommandContext& context);
 void addMergeCommand(CLI::App& app, CommandContext& context);
+void addLflhCommand(CLI::App& app, CommandContext& context);
 
 /// Prints a complete record's summary table and difficulty breakdown.
 void printRecordSummary(const std::filesystem::path& dir, const bench::RunManifest& manifest,

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <deque>
 #include <limits>
 #include <numbers>
 
@@ -50,18 +49,15 @@ void validate(const DwaConfig& c, core::Errors& errors, const std::string& prefi
   errors.check(c.vtheta_samples >= 2, prefix + ".vtheta_samples", "must be >= 2");
   errors.check(c.pdist_scale >= 0.0 && c.gdist_scale >= 0.0 && c.occdist_scale >= 0.0, prefix + ".pdist_scale",
                "the scoring scales must be >= 0");
+  errors.check(c.scoring_window > 0.0, prefix + ".scoring_window", "must be > 0");
   errors.check(c.escape_vel < 0.0, prefix + ".escape_vel", "must be < 0 (backwards)");
-  errors.check(c.footprint_length > 0.0 && c.footprint_width > 0.0, prefix + ".footprint_length", "the footprint must be > 0");
   errors.check(c.recovery.controller_patience > 0.0, prefix + ".recovery.controller_patience", "must be > 0");
   errors.check(c.recovery.rotation_speed > 0.0, prefix + ".recovery.rotation_speed", "must be > 0");
   nav::validate(c.nav, errors, prefix + ".nav");
 }
 
-DwaController::DwaController(const DwaConfig& config) : config_(config), nav_(config.nav) {
-  const double hx = config.footprint_length / 2 + config.footprint_padding;
-  const double hy = config.footprint_width / 2 + config.footprint_padding;
-  footprint_ = {{hx, hy}, {-hx, hy}, {-hx, -hy}, {hx, -hy}};
-}
+DwaController::DwaController(const DwaConfig& config)
+    : config_(config), nav_(config.nav), footprint_(nav_.paddedFootprint()) {}
 
 void DwaController::reset(const EpisodeInfo& info) {
   info_ = info;
@@ -70,6 +66,8 @@ void DwaController::reset(const EpisodeInfo& info) {
   last_valid_time_ = 0.0;
   recovery_index_ = 0;
   rotated_ = 0.0;
+  rotating_left_ = rotating_right_ = stuck_left_ = stuck_right_ = false;
+  oscillation_origin_ = info.start.position();
 }
 
 std::string_view DwaController::stateLabel() const {
@@ -86,8 +84,11 @@ double DwaController::footprintCost(double x, double y, double theta) const {
   const nav::Costmap& map = nav_.localCostmap();
   nav::CellIndex centre;
   if (!map.toCell({x, y}, centre)) return -1.0;
+  // As base_local_planner's CostmapModel: only the outline (and the centre) must stay off
+  // lethal and unknown cells; inscribed costs only weigh in the score. Obstacles cannot get
+  // inside the footprint without crossing its outline first.
   const std::uint8_t centre_cost = map.cost(centre.x, centre.y);
-  if (centre_cost >= nav::kInscribedCost) return -1.0;  // lethal, inscribed or unknown
+  if (centre_cost == nav::kLethalCost || centre_cost == nav::kUnknownCost) return -1.0;
   // The padded rectangle's outline must not cross an obstacle (costmap_2d footprintCost).
   const double c = std::cos(theta), s = std::sin(theta);
   nav::CellIndex corners[4];
@@ -110,74 +111,89 @@ double DwaController::footprintCost(double x, double y, double theta) const {
 }
 
 void DwaController::updateDistanceMaps(const core::Pose2& pose) {
-  // MapGrid: 4-connected wavefronts over the local costmap from the global path (pruned to
-  // what lies ahead of the robot) and from the local goal (its last point inside the map).
+  // MapGrid: 4-connected wavefronts from the global path (pruned to what lies ahead of the
+  // robot) and from the local goal (its last point inside the window).
+  // The wavefronts cover a window of +-scoring_window around the robot (ROS: the whole local
+  // map), which holds every trajectory end; cells outside count as blocked.
   const nav::Costmap& map = nav_.localCostmap();
   const int w = map.widthCells(), h = map.heightCells();
-  const auto blocked = [&](int x, int y) { return map.cost(x, y) >= nav::kInscribedCost; };
-  const auto wavefront = [&](std::vector<int>& distance, const std::vector<nav::CellIndex>& seeds) {
-    distance.assign(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), kUnreachable);
-    std::deque<nav::CellIndex> queue;
-    for (const auto& cell : seeds) {
-      int& d = distance[static_cast<std::size_t>(cell.y * w + cell.x)];
-      if (d == 0 || blocked(cell.x, cell.y)) continue;
-      d = 0;
-      queue.push_back(cell);
+  const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+  nav::CellIndex robot;
+  map.toCell(pose.position(), robot);
+  const int reach = static_cast<int>(std::ceil(config_.scoring_window / map.resolution()));
+  const int wx0 = std::max(0, robot.x - reach), wx1 = std::min(w - 1, robot.x + reach);
+  const int wy0 = std::max(0, robot.y - reach), wy1 = std::min(h - 1, robot.y + reach);
+  blocked_.assign(n, 1);
+  for (int y = wy0; y <= wy1; ++y)
+    for (int x = wx0; x <= wx1; ++x) blocked_[static_cast<std::size_t>(y * w + x)] = map.cost(x, y) >= nav::kInscribedCost;
+  const auto wavefront = [&](std::vector<int>& distance, const std::vector<int>& seeds) {
+    distance.assign(n, kUnreachable);
+    queue_.clear();
+    for (int i : seeds) {
+      if (distance[static_cast<std::size_t>(i)] == 0 || blocked_[static_cast<std::size_t>(i)]) continue;
+      distance[static_cast<std::size_t>(i)] = 0;
+      queue_.push_back(i);
     }
-    constexpr int kSteps[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
-    while (!queue.empty()) {
-      const nav::CellIndex cell = queue.front();
-      queue.pop_front();
-      const int next = distance[static_cast<std::size_t>(cell.y * w + cell.x)] + 1;
-      for (const auto& step : kSteps) {
-        const int nx = cell.x + step[0], ny = cell.y + step[1];
-        if (nx < 0 || ny < 0 || nx >= w || ny >= h || blocked(nx, ny)) continue;
-        int& d = distance[static_cast<std::size_t>(ny * w + nx)];
-        if (d <= next) continue;
-        d = next;
-        queue.push_back({nx, ny});
-      }
+    for (std::size_t head = 0; head < queue_.size(); ++head) {
+      const int i = queue_[head];
+      const int x = i % w, y = i / w;
+      const int next = distance[static_cast<std::size_t>(i)] + 1;
+      const auto visit = [&](int j) {
+        if (blocked_[static_cast<std::size_t>(j)] || distance[static_cast<std::size_t>(j)] <= next) return;
+        distance[static_cast<std::size_t>(j)] = next;
+        queue_.push_back(j);
+      };
+      if (x + 1 < w) visit(i + 1);
+      if (x > 0) visit(i - 1);
+      if (y + 1 < h) visit(i + w);
+      if (y > 0) visit(i - w);
     }
   };
-  std::vector<nav::CellIndex> path_cells;
-  nav::CellIndex goal_cell{-1, -1};
+  std::vector<int> path_cells;
+  int goal_cell = -1;
   if (nav_.hasPath()) {
     const nav::Path& path = nav_.path();
     for (std::size_t i = nav::closestIndex(path, pose.position()); i < path.size(); ++i) {
       nav::CellIndex cell;
-      if (!map.toCell(path[i], cell)) break;  // the part of the path inside the local map
-      path_cells.push_back(cell);
-      goal_cell = cell;
+      if (!map.toCell(path[i], cell) || cell.x < wx0 || cell.x > wx1 || cell.y < wy0 || cell.y > wy1) break;
+      path_cells.push_back(cell.y * w + cell.x);
+      goal_cell = path_cells.back();
     }
   }
   wavefront(path_distance_, path_cells);
-  wavefront(goal_distance_, goal_cell.x >= 0 ? std::vector<nav::CellIndex>{goal_cell} : std::vector<nav::CellIndex>{});
+  wavefront(goal_distance_, goal_cell >= 0 ? std::vector<int>{goal_cell} : std::vector<int>{});
 }
 
 double DwaController::scoreTrajectory(const core::Pose2& pose, double vx, double vtheta) const {
-  const int steps = std::max(1, static_cast<int>(std::max(std::ceil(std::abs(vx) * config_.sim_time / config_.sim_granularity),
-                                                          std::ceil(std::abs(vtheta) * config_.sim_time / config_.angular_sim_granularity))));
+  // TrajectoryPlanner::generateTrajectory: steps of sim_granularity metres (or of
+  // angular_sim_granularity per rad/s of yaw rate), every point checked, the score taken at
+  // the last one.
+  const int steps = std::max(1, static_cast<int>(std::max(std::abs(vx) * config_.sim_time / config_.sim_granularity,
+                                                          std::abs(vtheta) / config_.angular_sim_granularity) + 0.5));
   const double dt = config_.sim_time / steps;
   const nav::Costmap& map = nav_.localCostmap();
+  const int w = map.widthCells();
   double x = pose.x, y = pose.y, theta = pose.yaw;
   double occupancy = 0.0;
-  nav::CellIndex last{-1, -1};
+  int path_cells = kUnreachable, goal_cells = kUnreachable;
   for (int i = 0; i < steps; ++i) {
+    nav::CellIndex cell;
+    if (!map.toCell({x, y}, cell)) return -1.0;
     const double cost = footprintCost(x, y, theta);
     if (cost < 0.0) return -1.0;
-    occupancy = std::max(occupancy, cost);
-    if (!map.toCell({x, y}, last)) return -1.0;
+    occupancy = std::max({occupancy, cost, static_cast<double>(map.cost(cell.x, cell.y))});
+    const std::size_t at = static_cast<std::size_t>(cell.y * w + cell.x);
+    path_cells = path_distance_.empty() ? kUnreachable : path_distance_[at];
+    goal_cells = goal_distance_.empty() ? kUnreachable : goal_distance_[at];
+    if (path_cells == kUnreachable || goal_cells == kUnreachable) return -2.0;  // no way on from here
     x += vx * std::cos(theta) * dt;
     y += vx * std::sin(theta) * dt;
     theta += vtheta * dt;
   }
-  const std::size_t at = static_cast<std::size_t>(last.y * map.widthCells() + last.x);
-  const int path_cells = path_distance_.empty() ? kUnreachable : path_distance_[at];
-  const int goal_cells = goal_distance_.empty() ? kUnreachable : goal_distance_[at];
-  if (path_cells == kUnreachable || goal_cells == kUnreachable) return -2.0;
-  // meter_scoring: distances in cells times the resolution.
+  // meter_scoring: TrajectoryPlannerROS multiplies all three scales by the resolution, so the
+  // distances count in metres and the occupancy term weighs occdist_scale * 0.05 per cost unit.
   const double res = map.resolution();
-  return config_.pdist_scale * res * path_cells + config_.gdist_scale * res * goal_cells + config_.occdist_scale * occupancy;
+  return res * (config_.pdist_scale * path_cells + config_.gdist_scale * goal_cells + config_.occdist_scale * occupancy);
 }
 
 DwaTrajectory DwaController::bestTrajectory(const core::Pose2& pose, const core::Twist& velocity) {
@@ -201,20 +217,53 @@ DwaTrajectory DwaController::bestTrajectory(const core::Pose2& pose, const core:
       for (int j = 0; j < config_.vtheta_samples - 1; ++j) consider(vx, min_th + j * dvth);
     }
   }
-  // In place: only rotations fast enough to overcome friction (min_in_place_vel_theta).
-  DwaTrajectory turn;
+  // In place, toward open space: a rotation replaces the best trajectory if it is no worse and
+  // the point heading_lookahead ahead of its end is nearer the goal than the rotations taken
+  // so far. A direction that was abandoned for the other one since the robot last moved is
+  // not tried again (TrajectoryPlanner's stuck_left / stuck_right against oscillation).
+  double heading_distance = std::numeric_limits<double>::infinity();
+  const nav::Costmap& map = nav_.localCostmap();
   for (int j = 0; j < config_.vtheta_samples; ++j) {
-    double vth = min_th + j * dvth;
-    if (std::abs(vth) < config_.min_in_place_vel_theta) vth = std::copysign(config_.min_in_place_vel_theta, vth == 0.0 ? 1.0 : vth);
+    const double sample = min_th + j * dvth;
+    if (!(sample > dvth || sample < -dvth)) continue;  // too slow to turn the base in place
+    const double vth = sample > 0 ? std::max(sample, config_.min_in_place_vel_theta)
+                                  : std::min(sample, -config_.min_in_place_vel_theta);
     const double cost = scoreTrajectory(pose, 0.0, vth);
-    if (cost >= 0.0 && (turn.cost < 0.0 || cost < turn.cost)) turn = {0.0, vth, cost};
+    if (cost < 0.0 || !(best.cost < 0.0 || cost <= best.cost)) continue;
+    const double end_yaw = pose.yaw + vth * config_.sim_time;
+    nav::CellIndex ahead;
+    if (!map.toCell(pose.position() + config_.heading_lookahead * Eigen::Vector2d(std::cos(end_yaw), std::sin(end_yaw)), ahead))
+      continue;
+    const int ahead_cells = goal_distance_[static_cast<std::size_t>(ahead.y * map.widthCells() + ahead.x)];
+    const double ahead_distance = ahead_cells == kUnreachable ? std::numeric_limits<double>::infinity() : ahead_cells;
+    if (!(ahead_distance < heading_distance)) continue;
+    if ((vth < 0 && !stuck_left_) || (vth > 0 && !stuck_right_)) {
+      best = {0.0, vth, cost};
+      heading_distance = ahead_distance;
+    }
   }
-  if (turn.cost >= 0.0 && (best.cost < 0.0 || turn.cost <= best.cost)) best = turn;
   if (best.cost >= 0.0) return best;
   // Nothing forward or in place: try backing out.
   const double escape_cost = scoreTrajectory(pose, config_.escape_vel, 0.0);
   if (escape_cost >= 0.0) return {config_.escape_vel, 0.0, escape_cost};
   return {};
+}
+
+void DwaController::updateOscillationFlags(const core::Pose2& pose, const DwaTrajectory& chosen) {
+  if (chosen.vx <= 0.0) {
+    // Turning back the other way since the robot last moved marks the first way as stuck.
+    if (chosen.vtheta < 0) {
+      if (rotating_right_) stuck_right_ = true;
+      rotating_left_ = true;
+    } else if (chosen.vtheta > 0) {
+      if (rotating_left_) stuck_left_ = true;
+      rotating_right_ = true;
+    }
+  }
+  if ((pose.position() - oscillation_origin_).norm() > config_.oscillation_reset_dist) {
+    rotating_left_ = rotating_right_ = stuck_left_ = stuck_right_ = false;
+    oscillation_origin_ = pose.position();
+  }
 }
 
 core::Twist DwaController::act(const Observation& obs) {
@@ -238,6 +287,7 @@ core::Twist DwaController::act(const Observation& obs) {
   updateDistanceMaps(pose);
   const DwaTrajectory best = bestTrajectory(pose, obs.odom_twist);
   if (best.cost >= 0.0) {
+    updateOscillationFlags(pose, best);
     if (best.vx < 0.0 && mode_ != Mode::Escaping) {
       mode_ = Mode::Escaping;
       escape_start_ = pose.position();

@@ -77,6 +77,7 @@ void Costmap::setObstacle(int x, int y, std::uint8_t value) {
   if (cell == kLethalCost || value == kLethalCost) markDirty(x, y);
   else if (cost_[index(x, y)] == kUnknownCost || value == kUnknownCost) markDirty(x, y);
   cell = value;
+  ++version_;
 }
 
 void Costmap::traceClear(const Eigen::Vector2d& from, const Eigen::Vector2d& to) {
@@ -241,6 +242,7 @@ void Costmap::recentre(const Eigen::Vector2d& position) {
   obstacle_.swap(obstacle);
   cost_.swap(cost);
   origin_ = wanted;
+  ++version_;
   // Costs near the edges that moved lost (or gained) obstacles beyond the old window.
   const int band = inflation_cells_ + 1;
   if (std::abs(shift_x) >= width_ || std::abs(shift_y) >= height_) {
@@ -251,6 +253,53 @@ void Costmap::recentre(const Eigen::Vector2d& position) {
   if (shift_x < 0) reinflate(0, 0, -shift_x + band, height_);
   if (shift_y > 0) reinflate(0, height_ - shift_y - band, width_, height_);
   if (shift_y < 0) reinflate(0, 0, width_, -shift_y + band);
+}
+
+void Costmap::clearPolygon(const std::vector<Eigen::Vector2d>& polygon) {
+  if (polygon.size() < 3) return;
+  double min_x = polygon[0].x(), max_x = min_x, min_y = polygon[0].y(), max_y = min_y;
+  for (const auto& p : polygon) {
+    min_x = std::min(min_x, p.x());
+    max_x = std::max(max_x, p.x());
+    min_y = std::min(min_y, p.y());
+    max_y = std::max(max_y, p.y());
+  }
+  const double res = config_.resolution;
+  const int x0 = std::max(0, static_cast<int>(std::floor((min_x - origin_.x()) / res)));
+  const int x1 = std::min(width_ - 1, static_cast<int>(std::floor((max_x - origin_.x()) / res)));
+  const int y0 = std::max(0, static_cast<int>(std::floor((min_y - origin_.y()) / res)));
+  const int y1 = std::min(height_ - 1, static_cast<int>(std::floor((max_y - origin_.y()) / res)));
+  // Inside a convex polygon: on the same side of every edge.
+  const auto inside = [&](const Eigen::Vector2d& q) {
+    int sign = 0;
+    for (std::size_t i = 0; i < polygon.size(); ++i) {
+      const Eigen::Vector2d& a = polygon[i];
+      const Eigen::Vector2d& b = polygon[(i + 1) % polygon.size()];
+      const double cross = (b.x() - a.x()) * (q.y() - a.y()) - (b.y() - a.y()) * (q.x() - a.x());
+      const int side = cross > 0 ? 1 : (cross < 0 ? -1 : 0);
+      if (side == 0) continue;
+      if (sign == 0) sign = side;
+      else if (side != sign) return false;
+    }
+    return true;
+  };
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x)
+      if (obstacle_[index(x, y)] == kLethalCost && inside(cellCentre({x, y}))) setObstacle(x, y, kFreeCost);
+  if (dirty_x1_ > dirty_x0_ && dirty_y1_ > dirty_y0_) reinflate(dirty_x0_, dirty_y0_, dirty_x1_, dirty_y1_);
+  dirty_x0_ = width_;
+  dirty_y0_ = height_;
+  dirty_x1_ = dirty_y1_ = 0;
+}
+
+void Costmap::markObstacle(const Eigen::Vector2d& p) {
+  CellIndex cell;
+  if (!toCell(p, cell)) return;
+  setObstacle(cell.x, cell.y, kLethalCost);
+  if (dirty_x1_ > dirty_x0_ && dirty_y1_ > dirty_y0_) reinflate(dirty_x0_, dirty_y0_, dirty_x1_, dirty_y1_);
+  dirty_x0_ = width_;
+  dirty_y0_ = height_;
+  dirty_x1_ = dirty_y1_ = 0;
 }
 
 void Costmap::clearOutside(const Eigen::Vector2d& centre, double radius) {

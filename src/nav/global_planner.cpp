@@ -2,75 +2,127 @@
 
 #include <cmath>
 #include <limits>
-#include <queue>
 
 namespace barn::nav {
 
+namespace {
+constexpr std::int64_t kUnreached = std::numeric_limits<std::int64_t>::max();
+constexpr int kSteps[8][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {1, -1}, {-1, 1}, {-1, -1}};
+}  // namespace
+
 void validate(const PlannerConfig& c, core::Errors& errors, const std::string& prefix) {
   errors.check(c.rate > 0.0, prefix + ".rate", "must be > 0");
-  errors.check(c.neutral_cost > 0.0, prefix + ".neutral_cost", "must be > 0");
-  errors.check(c.cost_factor >= 0.0, prefix + ".cost_factor", "must be >= 0");
+  errors.check(c.neutral_cost > 0.0 && c.neutral_cost <= 1000.0, prefix + ".neutral_cost", "must be in (0, 1000]");
+  errors.check(c.cost_factor >= 0.0 && c.cost_factor <= 100.0, prefix + ".cost_factor", "must be in [0, 100]");
   errors.check(c.smoothing_window >= 0, prefix + ".smoothing_window", "must be >= 0");
 }
 
-double GlobalPlanner::cellCost(std::uint8_t c) const {
-  if (c == kUnknownCost) return config_.allow_unknown ? config_.neutral_cost : -1.0;
-  if (c >= kInscribedCost) return -1.0;
-  return config_.neutral_cost + config_.cost_factor * c;
+GlobalPlanner::GlobalPlanner(const PlannerConfig& config) : config_(config) {
+  straight_cost_.resize(256);
+  diagonal_cost_.resize(256);
+  for (int c = 0; c < 256; ++c) {
+    double enter = config.neutral_cost + config.cost_factor * c;
+    bool passable = c < kInscribedCost;
+    if (c == kUnknownCost) {
+      passable = config.allow_unknown;
+      enter = config.neutral_cost;
+    }
+    straight_cost_[static_cast<std::size_t>(c)] = passable ? static_cast<int>(std::lround(10.0 * enter)) : -1;
+    diagonal_cost_[static_cast<std::size_t>(c)] = passable ? static_cast<int>(std::lround(10.0 * enter * std::sqrt(2.0))) : -1;
+  }
+}
+
+int GlobalPlanner::stepCost(std::uint8_t c, bool diagonal) const {
+  return diagonal ? diagonal_cost_[c] : straight_cost_[c];
+}
+
+void GlobalPlanner::computeField(const Costmap& costmap, CellIndex goal, CellIndex start) {
+  const int w = costmap.widthCells();
+  const int h = costmap.heightCells();
+  const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+  field_.assign(n, kUnreached);
+  next_.assign(n, -1);
+  settled_.assign(n, 0);
+  cost_.resize(n);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) cost_[static_cast<std::size_t>(y * w + x)] = costmap.cost(x, y);
+  const std::vector<std::uint8_t>& cost = cost_;
+  const auto passable = [&](int x, int y) { return straight_cost_[cost[static_cast<std::size_t>(y * w + x)]] >= 0; };
+  const int start_index = start.y * w + start.x;
+
+  // Dial's algorithm: a ring of buckets, one per integer distance modulo (largest edge + 1).
+  const int ring = diagonal_cost_[kInscribedCost - 1] + 1;
+  buckets_.resize(static_cast<std::size_t>(ring));
+  for (auto& b : buckets_) b.clear();
+  std::vector<std::vector<int>>& buckets = buckets_;
+  const int goal_index = goal.y * w + goal.x;
+  field_[static_cast<std::size_t>(goal_index)] = 0;
+  buckets[0].push_back(goal_index);
+  std::size_t pending = 1;
+  std::size_t expanded = 0;
+  bool start_settled = false;
+  for (std::int64_t d = 0; pending > 0 && !start_settled; ++d) {
+    std::vector<int>& bucket = buckets[static_cast<std::size_t>(d % ring)];
+    // Entries may be appended to this bucket while it is scanned only with d (zero-cost
+    // edges), which do not exist: every step costs at least 10 * neutral.
+    for (std::size_t k = 0; k < bucket.size(); ++k) {
+      const int i = bucket[k];
+      --pending;
+      if (field_[static_cast<std::size_t>(i)] != d || settled_[static_cast<std::size_t>(i)]) continue;  // stale entry
+      settled_[static_cast<std::size_t>(i)] = 1;
+      ++expanded;
+      const int x = i % w;
+      const int y = i / w;
+      // Reverse search: a neighbour p reaches this cell by entering it.
+      const std::uint8_t here = cost[static_cast<std::size_t>(i)];
+      for (const auto& step : kSteps) {
+        const int px = x + step[0];
+        const int py = y + step[1];
+        if (px < 0 || py < 0 || px >= w || py >= h) continue;
+        const bool diagonal = step[0] != 0 && step[1] != 0;
+        if (diagonal && (!passable(px, y) || !passable(x, py))) continue;  // no corner cutting
+        const std::int64_t candidate = d + stepCost(here, diagonal);
+        const std::size_t p = static_cast<std::size_t>(py * w + px);
+        if (candidate >= field_[p]) continue;
+        field_[p] = candidate;
+        next_[p] = i;
+        // The start is done once reached if it cannot be entered (it is never expanded).
+        if (static_cast<int>(p) == start_index && !passable(px, py)) settled_[p] = 1;
+        // An impassable neighbour gets a cost (a start may sit there) but is never expanded:
+        // nothing can pass through it.
+        if (!passable(px, py)) continue;
+        buckets[static_cast<std::size_t>(candidate % ring)].push_back(static_cast<int>(p));
+        ++pending;
+      }
+    }
+    bucket.clear();
+    // Stop once the start's cost is final: every cell on its path is settled by then, and
+    // later starts reuse the field only if their cell is settled too.
+    start_settled = settled_[static_cast<std::size_t>(start_index)] != 0;
+  }
+  last_expanded_ = expanded;
 }
 
 Plan GlobalPlanner::plan(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal) {
   Plan result;
   CellIndex s, g;
   if (!costmap.toCell(start, s) || !costmap.toCell(goal, g)) return result;
-  if (cellCost(costmap.cost(g.x, g.y)) < 0.0) return result;
-  const int w = costmap.widthCells();
-  const int h = costmap.heightCells();
-  const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  distance_.assign(n, kInf);
-  parent_.assign(n, -1);
-  const auto flat = [w](int x, int y) { return static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x); };
-
-  using Entry = std::pair<double, int>;  // (distance, flat index)
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> open;
-  distance_[flat(s.x, s.y)] = 0.0;
-  open.emplace(0.0, static_cast<int>(flat(s.x, s.y)));
-  constexpr int kSteps[8][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {1, -1}, {-1, 1}, {-1, -1}};
-  const double diagonal = std::sqrt(2.0);
-  const std::size_t goal_index = flat(g.x, g.y);
-  while (!open.empty()) {
-    const auto [d, i] = open.top();
-    open.pop();
-    if (d > distance_[static_cast<std::size_t>(i)]) continue;  // stale entry
-    if (static_cast<std::size_t>(i) == goal_index) break;
-    const int x = i % w;
-    const int y = i / w;
-    for (const auto& step : kSteps) {
-      const int nx = x + step[0];
-      const int ny = y + step[1];
-      if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
-      const double enter = cellCost(costmap.cost(nx, ny));
-      if (enter < 0.0) continue;
-      const bool is_diagonal = step[0] != 0 && step[1] != 0;
-      if (is_diagonal && (cellCost(costmap.cost(nx, y)) < 0.0 || cellCost(costmap.cost(x, ny)) < 0.0)) continue;
-      const double candidate = d + enter * (is_diagonal ? diagonal : 1.0);
-      const std::size_t j = flat(nx, ny);
-      if (candidate < distance_[j]) {
-        distance_[j] = candidate;
-        parent_[j] = i;
-        open.emplace(candidate, static_cast<int>(j));
-      }
-    }
+  if (straight_cost_[costmap.cost(g.x, g.y)] < 0) return result;
+  const std::size_t start_index = static_cast<std::size_t>(s.y * costmap.widthCells() + s.x);
+  if (field_map_ != &costmap || field_version_ != costmap.version() || !(field_goal_ == g) ||
+      field_.size() != static_cast<std::size_t>(costmap.widthCells()) * static_cast<std::size_t>(costmap.heightCells()) ||
+      !settled_[start_index]) {
+    computeField(costmap, g, s);
+    field_map_ = &costmap;
+    field_version_ = costmap.version();
+    field_goal_ = g;
   }
-  if (!std::isfinite(distance_[goal_index])) return result;
-
-  std::vector<CellIndex> cells;
-  for (int i = static_cast<int>(goal_index); i >= 0; i = parent_[static_cast<std::size_t>(i)]) cells.push_back({i % w, i / w});
+  const int w = costmap.widthCells();
+  if (field_[start_index] == kUnreached) return result;
   result.found = true;
-  result.cost = distance_[goal_index];
-  result.path.reserve(cells.size());
-  for (auto it = cells.rbegin(); it != cells.rend(); ++it) result.path.push_back(costmap.cellCentre(*it));
+  result.cost = field_[start_index];
+  for (int i = static_cast<int>(start_index); i >= 0; i = next_[static_cast<std::size_t>(i)])
+    result.path.push_back(costmap.cellCentre({i % w, i / w}));
   if (config_.smoothing_window > 1 && result.path.size() > 2) {
     // Moving average over the cell path, end points kept: removes the 45-degree staircase.
     const std::vector<Eigen::Vector2d> raw = result.path;

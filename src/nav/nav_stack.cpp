@@ -1,13 +1,18 @@
 #include "barn/nav/nav_stack.hpp"
 
+#include <algorithm>
+
 namespace barn::nav {
 
 CostmapConfig NavStackConfig::defaultGlobalCostmap() {
   CostmapConfig c;
-  c.width = 10.0;
-  c.height = 20.0;
-  c.origin_x = -5.0;
-  c.origin_y = -5.0;
+  // BARN's corridor is 4.2 m wide around the start's x (odom x in [-2.4, 2.2] for either
+  // protocol) and the goal is 10 m ahead; 6 x 15 m covers it with margin. (BARN's own global
+  // costmap is 40 x 40 m: the cells behind the walls only cost planning time.)
+  c.width = 6.0;
+  c.height = 15.0;
+  c.origin_x = -3.0;
+  c.origin_y = -3.0;
   c.rolling = false;
   return c;
 }
@@ -24,6 +29,10 @@ void validate(const NavStackConfig& c, core::Errors& errors, const std::string& 
   validate(c.global_costmap, errors, prefix + ".global_costmap");
   validate(c.local_costmap, errors, prefix + ".local_costmap");
   validate(c.planner, errors, prefix + ".planner");
+  errors.check(c.footprint_length > 0.0, prefix + ".footprint_length", "must be > 0");
+  errors.check(c.footprint_width > 0.0, prefix + ".footprint_width", "must be > 0");
+  errors.check(c.footprint_padding > -0.5 * std::min(c.footprint_length, c.footprint_width), prefix + ".footprint_padding",
+               "must not shrink the footprint to nothing");
   errors.check(c.global_update_rate > 0.0, prefix + ".global_update_rate", "must be > 0");
   errors.check(c.local_update_rate > 0.0, prefix + ".local_update_rate", "must be > 0");
 }
@@ -40,16 +49,27 @@ void NavStack::reset(const Eigen::Vector2d& goal) {
   plans_ = failed_plans_ = 0;
 }
 
+std::vector<Eigen::Vector2d> NavStack::paddedFootprint() const {
+  const double hx = config_.footprint_length / 2 + config_.footprint_padding;
+  const double hy = config_.footprint_width / 2 + config_.footprint_padding;
+  return {{hx, hy}, {-hx, hy}, {-hx, -hy}, {hx, -hy}};
+}
+
 void NavStack::update(double time, const core::LaserScan& scan, const core::Pose2& sensor_pose,
                       const core::Pose2& robot_pose) {
   constexpr double kSlack = 1e-9;  // periods are multiples of the control period up to rounding
   const bool new_scan = scan.stamp != last_scan_stamp_;
+  std::vector<Eigen::Vector2d> footprint;
+  if (config_.footprint_clearing)
+    for (const auto& corner : paddedFootprint()) footprint.push_back(robot_pose.transform(corner));
   if (new_scan && time - last_global_update_ >= 1.0 / config_.global_update_rate - kSlack) {
     global_.integrateScan(scan, sensor_pose, robot_pose.position());
+    global_.clearPolygon(footprint);
     last_global_update_ = time;
   }
   if (new_scan && time - last_local_update_ >= 1.0 / config_.local_update_rate - kSlack) {
     local_.integrateScan(scan, sensor_pose, robot_pose.position());
+    local_.clearPolygon(footprint);
     last_local_update_ = time;
   } else {
     local_.recentre(robot_pose.position());

@@ -8,7 +8,8 @@
 ///   pdist_scale * (distance of its end to the global path)
 /// + gdist_scale * (distance of its end to the local goal)
 /// + occdist_scale * (highest costmap cost under the footprint along it),
-/// distances in metres along the local costmap (4-connected wavefronts, as MapGrid). A
+/// all times the costmap resolution (meter_scoring), distances counted in cells along the
+/// local costmap (4-connected wavefronts, as MapGrid). A
 /// trajectory whose footprint touches a lethal cell is invalid. If no forward trajectory is
 /// valid, an in-place rotation is tried, then escaping backwards at escape_vel. If nothing is
 /// valid for controller_patience seconds, move_base's recovery runs: clear the costmaps beyond
@@ -50,11 +51,12 @@ struct DwaConfig {
   double pdist_scale = 0.75;
   double gdist_scale = 1.0;
   double occdist_scale = 0.1;
+  double scoring_window = 3.0;        // [m] half-size of the window the path and goal distances
+                                      // are computed in (ROS: the whole 10 x 10 m local map)
   double escape_vel = -0.5;           // [m/s]
   double escape_reset_dist = 0.1;     // [m]
-  double footprint_length = 0.42;     // [m] BARN's costmap footprint (x)
-  double footprint_width = 0.33;      // [m] (y)
-  double footprint_padding = 0.1;     // [m]
+  double oscillation_reset_dist = 0.05;  // [m] moving this far forgets the stuck rotations
+  double heading_lookahead = 0.325;   // [m] how far ahead a rotation's end heading is judged
   DwaRecoveryConfig recovery;
   nav::NavStackConfig nav;
 
@@ -63,9 +65,10 @@ struct DwaConfig {
     v("min_in_place_vel_theta", min_in_place_vel_theta); v("acc_lim_x", acc_lim_x); v("acc_lim_theta", acc_lim_theta);
     v("sim_time", sim_time); v("sim_granularity", sim_granularity); v("angular_sim_granularity", angular_sim_granularity);
     v("vx_samples", vx_samples); v("vtheta_samples", vtheta_samples); v("pdist_scale", pdist_scale);
-    v("gdist_scale", gdist_scale); v("occdist_scale", occdist_scale); v("escape_vel", escape_vel);
-    v("escape_reset_dist", escape_reset_dist); v("footprint_length", footprint_length);
-    v("footprint_width", footprint_width); v("footprint_padding", footprint_padding); v("recovery", recovery);
+    v("gdist_scale", gdist_scale); v("occdist_scale", occdist_scale);
+    v("scoring_window", scoring_window); v("escape_vel", escape_vel);
+    v("escape_reset_dist", escape_reset_dist); v("oscillation_reset_dist", oscillation_reset_dist);
+    v("heading_lookahead", heading_lookahead); v("recovery", recovery);
     v("nav", nav);
   }
 };
@@ -97,6 +100,7 @@ class DwaController : public Controller {
   enum class Mode { Planning, Escaping, RecoveryRotate, GaveUp };
 
   double scoreTrajectory(const core::Pose2& pose, double vx, double vtheta) const;
+  void updateOscillationFlags(const core::Pose2& pose, const DwaTrajectory& chosen);
   double footprintCost(double x, double y, double theta) const;
 
   DwaConfig config_;
@@ -107,11 +111,15 @@ class DwaController : public Controller {
   int recovery_index_ = 0;  // recoveries since the last valid command
   Eigen::Vector2d escape_start_ = Eigen::Vector2d::Zero();
   double rotated_ = 0.0;          // [rad] accumulated in the current recovery rotation
+  bool rotating_left_ = false, rotating_right_ = false, stuck_left_ = false, stuck_right_ = false;
+  Eigen::Vector2d oscillation_origin_ = Eigen::Vector2d::Zero();
   double last_yaw_ = 0.0;
-  std::vector<Eigen::Vector2d> footprint_;  // padded corners, robot frame
+  std::vector<Eigen::Vector2d> footprint_;  // padded corners, robot frame (from the nav stack)
   // Wavefront distances on the local costmap [cells]; kUnreachable where blocked.
   std::vector<int> path_distance_;
   std::vector<int> goal_distance_;
+  std::vector<char> blocked_;  // scratch: inscribed, lethal or unknown cells of the local map
+  std::vector<int> queue_;     // scratch: wavefront queue
 };
 
 }  // namespace barn::controllers

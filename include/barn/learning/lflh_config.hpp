@@ -85,7 +85,7 @@ struct TrainConfig {
   double range_clip = 2.0;          // [m] ranges are clipped to [0, range_clip]; +inf -> range_clip
   double learning_rate = 3e-4;      // [-] Adam step size
   int batch_size = 32;              // [samples]
-  int epochs = 200;                 // [-] full passes over the training split
+  int epochs = 50;                  // [-] full passes over the training split
   double validation_share = 0.1;    // [-] the last share of the recording (in time) is held out
   double flip_probability = 0.5;    // [-] mirror augmentation per presented sample
   double range_noise = 0.03;        // [m] Gaussian noise on clipped ranges (training only)

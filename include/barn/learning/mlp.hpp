@@ -11,9 +11,7 @@
 /// Eigen runs single-threaded here (barn_learning is built with EIGEN_DONT_PARALLELIZE), so a
 /// run is bit-reproducible on one machine.
 
-#include <cstdint>
-#include <functional>
-#include <string>
+#include <cstddef>
 
 #include <Eigen/Core>
 

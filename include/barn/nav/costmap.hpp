@@ -71,6 +71,15 @@ class Costmap {
   /// Re-centres a rolling window on `position` (no-op for a fixed map).
   void recentre(const Eigen::Vector2d& position);
 
+  /// Frees every obstacle cell whose centre lies inside the convex polygon (odom frame, corners
+  /// in order): costmap_2d's footprint clearing, so the robot never sees itself as stuck in an
+  /// obstacle it only now sees beside it.
+  void clearPolygon(const std::vector<Eigen::Vector2d>& polygon);
+
+  /// Marks the cell containing `p` as an obstacle and updates the inflation (a static obstacle;
+  /// also how tests draw maps).
+  void markObstacle(const Eigen::Vector2d& p);
+
   /// Forgets the obstacles farther than `radius` from `centre` (move_base's clearing
   /// recovery resets them to unknown, or free when unknown space is not tracked).
   void clearOutside(const Eigen::Vector2d& centre, double radius);
@@ -90,6 +99,9 @@ class Costmap {
   std::uint8_t costAt(const Eigen::Vector2d& p) const;
   /// True if the cell holds an obstacle (marked and not cleared since).
   bool isObstacle(int x, int y) const { return inBounds(x, y) && obstacle_[index(x, y)] == kLethalCost; }
+
+  /// Changes whenever any cost may have changed (planners cache on it).
+  std::uint64_t version() const { return version_; }
 
   /// The inflation cost for a distance d [m] to the nearest obstacle (see the header comment).
   std::uint8_t inflationCost(double distance) const;
@@ -111,6 +123,7 @@ class Costmap {
   std::vector<std::uint8_t> cost_by_squared_cells_;  // inflation cost indexed by squared cell distance
   // Cells whose obstacle state changed since the last re-inflation (bounding box).
   int dirty_x0_ = 0, dirty_y0_ = 0, dirty_x1_ = 0, dirty_y1_ = 0;
+  std::uint64_t version_ = 0;
   // Scratch for the distance transform.
   std::vector<double> edt_, edt_row_, edt_z_;
   std::vector<int> edt_v_;

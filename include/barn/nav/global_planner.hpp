@@ -3,11 +3,18 @@
 ///
 /// Each cell costs neutral_cost + cost_factor * (its costmap cost) to enter (NavFn's
 /// COST_NEUTRAL 50 and COST_FACTOR 0.8), times the step length (1 or sqrt 2 cells), so paths
-/// prefer the middle of gaps as much as the inflation says. Inscribed and lethal cells are
+/// keep away from obstacles as much as the inflation says. Inscribed and lethal cells are
 /// impassable; unknown cells too unless allow_unknown. Moves are 8-connected without cutting
 /// the corner of an impassable cell. The start cell may be impassable (a robot brushing an
 /// obstacle must still be able to leave); the goal may not.
+///
+/// Like NavFn, the search runs from the goal and yields a cost-to-goal field; the path from the
+/// start follows it downhill. The search stops once the start's cost is final, and the field
+/// is reused while the costmap and the goal are unchanged and the new start is settled, so
+/// replanning at 20 Hz between 10 Hz map updates mostly costs only the path extraction. Edge costs are rounded to integers (tenths of the NavFn unit) so the open
+/// list is a bucket queue (Dial's algorithm): exact Dijkstra on those integer costs.
 
+#include <cstdint>
 #include <vector>
 
 #include <Eigen/Core>
@@ -18,7 +25,7 @@
 namespace barn::nav {
 
 struct PlannerConfig {
-  double rate = 20.0;        // [Hz] replanning rate (BARN's move_base configs: 20)
+  double rate = 20.0;          // [Hz] replanning rate (BARN's move_base configs: 20)
   bool allow_unknown = false;  // NavFn allow_unknown
   double neutral_cost = 50.0;  // cost of entering a free cell
   double cost_factor = 0.8;    // weight of the costmap cost
@@ -34,24 +41,38 @@ void validate(const PlannerConfig& config, core::Errors& errors, const std::stri
 
 struct Plan {
   bool found = false;
-  std::vector<Eigen::Vector2d> path;  // [m] odom frame, start cell centre ... goal
-  double cost = 0.0;                  // Dijkstra cost of the cell path
+  std::vector<Eigen::Vector2d> path;  // [m] odom frame, start cell centre ... goal cell centre
+  std::int64_t cost = 0;              // total edge cost of the cell path (integer units)
 };
 
-/// Dijkstra from the start to the goal cell (stops when the goal is settled).
 class GlobalPlanner {
  public:
-  explicit GlobalPlanner(const PlannerConfig& config) : config_(config) {}
+  explicit GlobalPlanner(const PlannerConfig& config);
   Plan plan(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal);
 
-  /// The cost of entering a cell of costmap cost `c` (negative: impassable).
-  double cellCost(std::uint8_t c) const;
+  /// Integer cost of stepping into a cell of costmap cost `c` (straight or diagonal step);
+  /// negative if the cell cannot be entered. round(10 (neutral + factor c) length).
+  int stepCost(std::uint8_t c, bool diagonal) const;
+
+  /// Cells settled by the last field computation (for reports).
+  std::size_t lastExpanded() const { return last_expanded_; }
 
  private:
+  void computeField(const Costmap& costmap, CellIndex goal, CellIndex start);
+
   PlannerConfig config_;
-  // Scratch kept between plans.
-  std::vector<double> distance_;
-  std::vector<int> parent_;
+  std::vector<int> straight_cost_;  // by costmap cost (256 entries), -1 impassable
+  std::vector<int> diagonal_cost_;
+  // The cost-to-goal field and where it was computed.
+  std::vector<std::int64_t> field_;
+  std::vector<int> next_;           // flat index of the next cell toward the goal, -1 none
+  std::vector<char> settled_;       // cells whose field value is final
+  std::vector<std::uint8_t> cost_;  // scratch: the costmap's costs
+  std::vector<std::vector<int>> buckets_;  // scratch: Dial's bucket ring
+  std::uint64_t field_version_ = 0;
+  const Costmap* field_map_ = nullptr;
+  CellIndex field_goal_{-1, -1};
+  std::size_t last_expanded_ = 0;
 };
 
 }  // namespace barn::nav

@@ -14,6 +14,10 @@
 namespace barn::nav {
 
 struct NavStackConfig {
+  double footprint_length = 0.42;   // [m] BARN's costmap footprint 0.42 x 0.33 (x by y)
+  double footprint_width = 0.33;    // [m]
+  double footprint_padding = 0.1;   // [m] added on every side
+  bool footprint_clearing = true;   // free the cells under the padded footprint (costmap_2d)
   CostmapConfig global_costmap = defaultGlobalCostmap();
   CostmapConfig local_costmap = defaultLocalCostmap();
   double global_update_rate = 10.0;  // [Hz] (BARN: global 10, local 20)
@@ -21,11 +25,13 @@ struct NavStackConfig {
   PlannerConfig planner;
 
   template <class V> void visit(V& v) {
+    v("footprint_length", footprint_length); v("footprint_width", footprint_width);
+    v("footprint_padding", footprint_padding); v("footprint_clearing", footprint_clearing);
     v("global_costmap", global_costmap); v("local_costmap", local_costmap);
     v("global_update_rate", global_update_rate); v("local_update_rate", local_update_rate); v("planner", planner);
   }
 
-  /// BARN's corridor in the odom frame (start at the origin, goal 10 m ahead): 10 x 20 m.
+  /// BARN's corridor in the odom frame (start at the origin, goal 10 m ahead): 6 x 15 m.
   static CostmapConfig defaultGlobalCostmap();
   /// 10 x 10 m rolling window.
   static CostmapConfig defaultLocalCostmap();
@@ -43,6 +49,9 @@ class NavStack {
   /// Folds in the latest scan (once per scan, at the costmaps' rates) and replans when due.
   /// `sensor_pose` is the LiDAR's pose in the odom frame.
   void update(double time, const core::LaserScan& scan, const core::Pose2& sensor_pose, const core::Pose2& robot_pose);
+
+  /// The padded footprint's corners in the robot frame (counter-clockwise).
+  std::vector<Eigen::Vector2d> paddedFootprint() const;
 
   /// Forces a replan now (e.g. after a recovery cleared the costmaps).
   void replan(const core::Pose2& robot_pose);

@@ -1,0 +1,68 @@
+#pragma once
+/// The trained LfLH policy: its file format and inference.
+///
+/// File (`configs/policies/*.policy`, documented in configs/policies/README.md): a text header
+/// of `key: value` lines ending with the line `end_header`, then the weights as little-endian
+/// float32, blocks w1 b1 w2 b2 w3 b3, each matrix column-major (Eigen's order):
+///
+///     format: barnbench-lflh-policy
+///     version: 1
+///     architecture: 722-256-256-2
+///     ...
+///     end_header
+///     <payload_bytes bytes of float32>
+///
+/// Loading checks the magic, the version, every required key, the architecture against the
+/// input layout, the payload size and that every weight is finite, and throws an InputError
+/// naming the file and what mismatched.
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "barn/core/types.hpp"
+#include "barn/learning/mlp.hpp"
+
+namespace barn::learning {
+
+/// What the header says besides the weights.
+struct PolicyInfo {
+  int beams = 720;                 // [-] ranges in the input
+  double range_clip = 2.0;         // [m] ranges clipped to [0, range_clip], +inf -> range_clip
+  int hidden = 256;                // [-] units per hidden layer
+  std::string name;                // config name, e.g. lflh_1ms
+  std::uint64_t config_hash = 0;   // core::fnv1a64 of the effective training config
+  std::string trained;             // UTC date and time of training, ISO 8601
+  std::uint64_t seed = 0;          // training seed
+  int epochs = 0;                  // [-]
+  double train_loss = 0.0;         // final epoch, mean over samples of squared v and w error
+  double validation_loss = 0.0;
+  double mean_predictor_loss = 0.0;  // validation loss of always predicting the mean command
+};
+
+/// Writes a policy file (atomically).
+void writePolicyFile(const std::filesystem::path& path, const PolicyInfo& info, const MlpParameters<float>& weights);
+
+class Policy {
+ public:
+  Policy(PolicyInfo info, MlpParameters<float> weights);
+
+  /// Reads and checks a policy file; InputError naming the file and the mismatch.
+  static Policy load(const std::filesystem::path& path);
+
+  /// The command for one scan and the goal direction in the robot frame (x forward, y left;
+  /// normalised here, any length > 0). Ranges are clipped exactly as in training; +inf and NaN
+  /// read as range_clip. Throws InputError if the scan does not have info().beams ranges.
+  core::Twist act(const core::LaserScan& scan, const Eigen::Vector2d& goal_direction_robot_frame) const;
+
+  const PolicyInfo& info() const { return info_; }
+  const MlpParameters<float>& weights() const { return weights_; }
+
+ private:
+  PolicyInfo info_;
+  MlpParameters<float> weights_;
+};
+
+}  // namespace barn::learning

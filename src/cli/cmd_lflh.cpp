@@ -1,0 +1,159 @@
+// barn lflh collect|train: the LfLH pipeline (exploration logs, hallucinated demonstrations,
+// behaviour cloning into a policy file).
+
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <memory>
+
+#include "barn/core/text_io.hpp"
+#include "barn/learning/exploration.hpp"
+#include "barn/learning/hallucination.hpp"
+#include "barn/learning/lflh_config.hpp"
+#include "barn/learning/policy.hpp"
+#include "barn/learning/trainer.hpp"
+#include "barn/viz/line_plot.hpp"
+#include "commands.hpp"
+
+namespace barn::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct LflhOptions {
+  std::string config;
+  std::string out;
+  std::string data;
+  int epochs = 0;  // 0: the config's
+};
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+std::string utcNow() {
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &utc);
+  return text;
+}
+
+// `policy.policy` -> `policy.<suffix>` beside it.
+fs::path besidePolicy(const fs::path& policy, const std::string& suffix) {
+  fs::path path = policy;
+  path.replace_extension(suffix);
+  return path;
+}
+
+void runCollect(const LflhOptions& options) {
+  const learning::LflhConfig config = learning::readLflhConfig(options.config);
+  const auto start = std::chrono::steady_clock::now();
+  const learning::Recording recording = learning::collectExploration(config.collect, config.name);
+  const fs::path path = learning::recordingPath(options.out, config.name);
+  std::error_code ec;
+  fs::create_directories(options.out, ec);
+  if (ec) throw core::InputError(options.out + ": cannot create the folder: " + ec.message());
+  learning::writeRecording(path, recording);
+  const learning::ExplorationStats s = learning::explorationStats(recording);
+  std::printf("%s: %zu records (%.1f s at %.0f Hz) in %.1f s\n", path.string().c_str(), s.records, s.duration,
+              recording.rate, secondsSince(start));
+  std::printf("  cmd v %.2f..%.2f m/s (%.0f %% at the top speed), cmd w %.2f..%.2f rad/s\n", s.cmd_v_min, s.cmd_v_max,
+              100.0 * s.top_speed_share, s.cmd_w_min, s.cmd_w_max);
+  std::printf("  mean speed %.2f m/s, %.0f m driven\n", s.mean_speed, s.distance);
+}
+
+void runTrain(const LflhOptions& options) {
+  learning::LflhConfig config = learning::readLflhConfig(options.config);
+  if (options.epochs > 0) config.train.epochs = options.epochs;
+  const fs::path recording_path = learning::recordingPath(options.data, config.name);
+  const learning::Recording recording = learning::readRecording(recording_path);
+  if (recording.name != config.name || recording.collect_hash != learning::collectHash(config.collect))
+    throw core::InputError(recording_path.string() + ": recorded by '" + recording.name +
+                           "' with other collect settings than " + options.config +
+                           " (collect_hash differs); run `barn lflh collect` with this config again");
+
+  const auto start = std::chrono::steady_clock::now();
+  const learning::Dataset data = learning::buildDataset(recording, config.hallucination, config.train.range_clip);
+  std::vector<std::size_t> train_columns, validation_columns;
+  learning::splitDataset(data, config.train.validation_share, train_columns, validation_columns);
+  std::printf("hallucinated %zu demonstrations from %zu records in %.1f s: %zu training, %zu validation\n", data.size(),
+              recording.records.size(), secondsSince(start), train_columns.size(), validation_columns.size());
+
+  const auto train_start = std::chrono::steady_clock::now();
+  const learning::TrainingResult result =
+      learning::trainPolicy(data, config.train, [&](const learning::EpochLoss& e) {
+        std::printf("epoch %4d/%d  train %.5f  validation %.5f  %7.1f s\n", e.epoch, config.train.epochs, e.train,
+                    e.validation, e.seconds);
+        std::fflush(stdout);
+      });
+  const double mean_predictor = result.mean_predictor_loss;
+  const double train_seconds = secondsSince(train_start);
+
+  learning::PolicyInfo info;
+  info.beams = data.beams;
+  info.range_clip = config.train.range_clip;
+  info.hidden = config.train.hidden;
+  info.name = config.name;
+  info.config_hash = learning::configHash(config);
+  info.trained = utcNow();
+  info.seed = config.train.seed;
+  info.epochs = config.train.epochs;
+  info.train_loss = result.history.back().train;
+  info.validation_loss = result.history.back().validation;
+  info.mean_predictor_loss = mean_predictor;
+  const fs::path out(options.out);
+  if (out.has_parent_path()) fs::create_directories(out.parent_path());
+  learning::writePolicyFile(out, info, result.weights);
+  const fs::path csv = besidePolicy(out, ".loss.csv");
+  core::writeFileAtomic(csv, learning::lossCsv(result));
+
+  viz::LinePlot plot;
+  std::string title = config.name + " validation loss";
+  for (char& c : title) c = c == '_' ? ' ' : c;  // the plot font has no underscore
+  plot.title = title;
+  plot.x_label = "epoch";
+  plot.y_label = "loss  mean squared v and w error";
+  viz::LineSeries train_series{"train", {}, {}}, validation_series{"validation", {}, {}};
+  for (const learning::EpochLoss& e : result.history) {
+    train_series.x.push_back(e.epoch);
+    train_series.y.push_back(e.train);
+    validation_series.x.push_back(e.epoch);
+    validation_series.y.push_back(e.validation);
+  }
+  plot.series = {validation_series, train_series};
+  plot.references = {{"predicting the mean command", mean_predictor}};
+  const fs::path png = besidePolicy(out, ".loss.png");
+  viz::renderLinePlotPng(plot, png);
+
+  std::printf("trained %d epochs in %.1f s: train %.5f, validation %.5f, mean predictor %.5f (validation / mean %.3f)\n",
+              config.train.epochs, train_seconds, info.train_loss, info.validation_loss, mean_predictor,
+              info.validation_loss / mean_predictor);
+  std::printf("wrote %s, %s, %s\n", out.string().c_str(), csv.string().c_str(), png.string().c_str());
+}
+
+}  // namespace
+
+void addLflhCommand(CLI::App& app, CommandContext&) {
+  CLI::App* cmd = app.add_subcommand("lflh", "LfLH: collect exploration data, train a policy on hallucinated obstacles");
+  cmd->require_subcommand(1);
+  auto options = std::make_shared<LflhOptions>();
+
+  CLI::App* collect = cmd->add_subcommand("collect", "Drive the simulated Jackal randomly in open space and log it");
+  collect->add_option("--config", options->config, "LfLH config, e.g. configs/lflh/1ms.yaml")->required();
+  collect->add_option("--out", options->out, "Data folder (writes exploration_<name>.csv)")->required();
+  collect->callback([options] { runCollect(*options); });
+
+  CLI::App* train = cmd->add_subcommand("train", "Hallucinate obstacles around the log and train the policy");
+  train->add_option("--config", options->config, "LfLH config, e.g. configs/lflh/1ms.yaml")->required();
+  train->add_option("--data", options->data, "Data folder written by `barn lflh collect`")->required();
+  train->add_option("--out", options->out, "Policy file, e.g. configs/policies/lflh_1ms.policy (.loss.csv/.loss.png beside)")
+      ->required();
+  train->add_option("--epochs", options->epochs, "Override train.epochs (part of the recorded config hash)")
+      ->check(CLI::Range(1, 100000));
+  train->callback([options] { runTrain(*options); });
+}
+
+}  // namespace barn::cli

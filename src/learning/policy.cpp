@@ -1,0 +1,249 @@
+#include "barn/learning/policy.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <map>
+#include <sstream>
+#include <vector>
+
+#include "barn/core/errors.hpp"
+#include "barn/core/text_io.hpp"
+
+namespace barn::learning {
+
+namespace {
+
+constexpr const char* kFormat = "barnbench-lflh-policy";
+constexpr int kVersion = 1;
+constexpr const char* kEndHeader = "end_header";
+// Fixed descriptions: part of the contract, so a file written for another input or output
+// convention fails to load instead of driving the robot backwards.
+constexpr const char* kActivation = "relu";
+constexpr const char* kInput = "ranges[beams] clipped to [0, range_clip] (+inf -> range_clip), goal_x, goal_y";
+constexpr const char* kGoal = "unit vector to the local goal in the robot frame, x forward, y left";
+constexpr const char* kOutput = "v [m/s], w [rad/s]";
+constexpr const char* kLayout = "float32 little-endian; w1 b1 w2 b2 w3 b3; matrices column-major";
+
+// Keys in file order; all are required.
+const std::vector<std::string>& headerKeys() {
+  static const std::vector<std::string> keys = {
+      "format", "version", "architecture", "activation", "input", "beams", "range_clip", "goal", "output",
+      "layout", "payload_bytes", "name", "config_hash", "trained", "seed", "epochs", "train_loss",
+      "validation_loss", "mean_predictor_loss"};
+  return keys;
+}
+
+std::string hex(std::uint64_t value) {
+  std::ostringstream out;
+  out << "0x" << std::hex << value;
+  return out.str();
+}
+
+std::uint32_t toLittle(std::uint32_t bits) {
+  if constexpr (std::endian::native == std::endian::little) return bits;
+  else return ((bits & 0xFFu) << 24) | ((bits & 0xFF00u) << 8) | ((bits >> 8) & 0xFF00u) | (bits >> 24);
+}
+
+}  // namespace
+
+void writePolicyFile(const std::filesystem::path& path, const PolicyInfo& info, const MlpParameters<float>& weights) {
+  const std::size_t payload = 4 * weights.count();
+  std::string text;
+  const auto line = [&](const char* key, const std::string& value) { text += std::string(key) + ": " + value + "\n"; };
+  line("format", kFormat);
+  line("version", std::to_string(kVersion));
+  line("architecture", std::to_string(weights.inputs()) + "-" + std::to_string(weights.hidden()) + "-" +
+                           std::to_string(weights.hidden()) + "-" + std::to_string(weights.outputs()));
+  line("activation", kActivation);
+  line("input", kInput);
+  line("beams", std::to_string(info.beams));
+  line("range_clip", core::formatDouble(info.range_clip));
+  line("goal", kGoal);
+  line("output", kOutput);
+  line("layout", kLayout);
+  line("payload_bytes", std::to_string(payload));
+  line("name", info.name);
+  line("config_hash", hex(info.config_hash));
+  line("trained", info.trained);
+  line("seed", std::to_string(info.seed));
+  line("epochs", std::to_string(info.epochs));
+  line("train_loss", core::formatDouble(info.train_loss));
+  line("validation_loss", core::formatDouble(info.validation_loss));
+  line("mean_predictor_loss", core::formatDouble(info.mean_predictor_loss));
+  text += kEndHeader;
+  text += '\n';
+  const std::size_t header = text.size();
+  text.resize(header + payload);
+  char* out = text.data() + header;
+  const_cast<MlpParameters<float>&>(weights).forEachBlock([&](const char*, float* data, Eigen::Index size) {
+    for (Eigen::Index i = 0; i < size; ++i) {
+      const std::uint32_t bits = toLittle(std::bit_cast<std::uint32_t>(data[i]));
+      std::memcpy(out, &bits, 4);
+      out += 4;
+    }
+  });
+  core::writeFileAtomic(path, text);
+}
+
+Policy::Policy(PolicyInfo info, MlpParameters<float> weights) : info_(std::move(info)), weights_(std::move(weights)) {
+  if (weights_.inputs() != info_.beams + 2 || weights_.outputs() != 2 || weights_.hidden() != info_.hidden)
+    throw core::InputError("policy '" + info_.name + "': weights of shape " + std::to_string(weights_.inputs()) + "-" +
+                           std::to_string(weights_.hidden()) + "-" + std::to_string(weights_.outputs()) +
+                           " do not match beams + 2 inputs, hidden " + std::to_string(info_.hidden) + ", 2 outputs");
+}
+
+Policy Policy::load(const std::filesystem::path& path) {
+  const std::string file = core::readTextFile(path);
+  const std::string where = path.string() + ": ";
+  const auto fail = [&](const std::string& message) { throw core::InputError(where + message); };
+
+  // Header: "key: value" lines up to end_header.
+  std::map<std::string, std::string> header;
+  std::vector<std::string> order;
+  std::size_t pos = 0;
+  bool ended = false;
+  while (pos < file.size()) {
+    const std::size_t eol = file.find('\n', pos);
+    if (eol == std::string::npos) break;
+    const std::string line = file.substr(pos, eol - pos);
+    pos = eol + 1;
+    if (order.empty() && line != std::string("format: ") + kFormat)
+      fail(std::string("wrong magic: the first line must be 'format: ") + kFormat + "' (not an LfLH policy file)");
+    if (line == kEndHeader) {
+      ended = true;
+      break;
+    }
+    const auto colon = line.find(": ");
+    if (colon == std::string::npos) fail("header line '" + line.substr(0, 60) + "': expected 'key: value'");
+    const std::string key = line.substr(0, colon);
+    if (header.count(key)) fail("header: duplicate key '" + key + "'");
+    header[key] = line.substr(colon + 2);
+    order.push_back(key);
+  }
+  if (order.empty()) fail(std::string("wrong magic: the first line must be 'format: ") + kFormat + "' (not an LfLH policy file)");
+  if (!ended) fail(std::string("truncated header: no '") + kEndHeader + "' line");
+  for (const std::string& key : order) {
+    if (std::find(headerKeys().begin(), headerKeys().end(), key) == headerKeys().end()) fail("header: unknown key '" + key + "'");
+  }
+  for (const std::string& key : headerKeys()) {
+    if (!header.count(key)) fail("header: missing key '" + key + "'");
+  }
+  const auto integer = [&](const std::string& key, long long lo, long long hi) {
+    const std::string& text = header[key];
+    long long value = 0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (ec != std::errc() || end != text.data() + text.size() || value < lo || value > hi)
+      fail("header: " + key + " '" + text + "': expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    return value;
+  };
+  const auto number = [&](const std::string& key) {
+    double value = 0.0;
+    if (!core::parseDouble(header[key], value) || !std::isfinite(value)) fail("header: " + key + " '" + header[key] + "': expected a number");
+    return value;
+  };
+  const auto exact = [&](const std::string& key, const std::string& expected) {
+    if (header[key] != expected) fail("header: " + key + " is '" + header[key] + "', expected '" + expected + "'");
+  };
+  if (integer("version", 0, 1000000) != kVersion)
+    fail("unsupported version " + header["version"] + " (this build reads version " + std::to_string(kVersion) + ")");
+  exact("activation", kActivation);
+  exact("input", kInput);
+  exact("goal", kGoal);
+  exact("output", kOutput);
+  exact("layout", kLayout);
+
+  PolicyInfo info;
+  info.beams = static_cast<int>(integer("beams", 1, 100000));
+  info.range_clip = number("range_clip");
+  if (!(info.range_clip > 0.0)) fail("header: range_clip must be > 0");
+  info.name = header["name"];
+  {
+    std::string text = header["config_hash"];
+    const char* begin = text.data() + (text.rfind("0x", 0) == 0 ? 2 : 0);
+    const auto [end, ec] = std::from_chars(begin, text.data() + text.size(), info.config_hash, 16);
+    if (ec != std::errc() || end != text.data() + text.size()) fail("header: config_hash '" + text + "': expected hexadecimal");
+  }
+  info.trained = header["trained"];
+  info.seed = static_cast<std::uint64_t>(integer("seed", 0, std::numeric_limits<long long>::max()));
+  info.epochs = static_cast<int>(integer("epochs", 0, 100000000));
+  info.train_loss = number("train_loss");
+  info.validation_loss = number("validation_loss");
+  info.mean_predictor_loss = number("mean_predictor_loss");
+
+  // Architecture "inputs-hidden-hidden-outputs" against the input layout.
+  int sizes[4] = {0, 0, 0, 0};
+  {
+    const std::string& text = header["architecture"];
+    const char* p = text.data();
+    const char* end = text.data() + text.size();
+    for (int k = 0; k < 4; ++k) {
+      const auto [next, ec] = std::from_chars(p, end, sizes[k]);
+      if (ec != std::errc() || sizes[k] < 1 || (k < 3 ? (next == end || *next != '-') : next != end))
+        fail("header: architecture '" + text + "': expected inputs-hidden-hidden-outputs, e.g. 722-256-256-2");
+      p = next + 1;
+    }
+  }
+  if (sizes[0] != info.beams + 2)
+    fail("wrong shape: architecture " + header["architecture"] + " has " + std::to_string(sizes[0]) +
+         " inputs, the input layout needs beams + 2 = " + std::to_string(info.beams + 2));
+  if (sizes[1] != sizes[2] || sizes[1] > 4096)
+    fail("wrong shape: architecture " + header["architecture"] + ": both hidden layers must have the same size (<= 4096)");
+  if (sizes[3] != 2) fail("wrong shape: architecture " + header["architecture"] + " has " + std::to_string(sizes[3]) + " outputs, expected 2 (v, w)");
+  info.hidden = sizes[1];
+
+  MlpParameters<float> weights = MlpParameters<float>::zeros(sizes[0], sizes[1], sizes[3]);
+  const std::size_t expected = 4 * weights.count();
+  if (static_cast<std::size_t>(integer("payload_bytes", 0, std::numeric_limits<long long>::max())) != expected)
+    fail("wrong shape: payload_bytes " + header["payload_bytes"] + " does not match architecture " +
+         header["architecture"] + " (" + std::to_string(expected) + " bytes)");
+  const std::size_t available = file.size() - pos;
+  if (available < expected)
+    fail("truncated: expected " + std::to_string(expected) + " bytes of weights, found " + std::to_string(available));
+  if (available > expected)
+    fail(std::to_string(available - expected) + " bytes after the weights (expected exactly " + std::to_string(expected) + ")");
+  const char* in = file.data() + pos;
+  std::string bad_block;
+  weights.forEachBlock([&](const char* name, float* data, Eigen::Index size) {
+    for (Eigen::Index i = 0; i < size; ++i) {
+      std::uint32_t bits;
+      std::memcpy(&bits, in, 4);
+      in += 4;
+      data[i] = std::bit_cast<float>(toLittle(bits));
+      if (!std::isfinite(data[i]) && bad_block.empty()) bad_block = name;
+    }
+  });
+  if (!bad_block.empty()) fail("weights: block " + bad_block + " holds a non-finite value");
+  return Policy(std::move(info), std::move(weights));
+}
+
+core::Twist Policy::act(const core::LaserScan& scan, const Eigen::Vector2d& goal_direction_robot_frame) const {
+  const int beams = info_.beams;
+  if (scan.ranges.size() != static_cast<std::size_t>(beams))
+    throw core::InputError("policy '" + info_.name + "' expects " + std::to_string(beams) + " beams, the scan has " +
+                           std::to_string(scan.ranges.size()));
+  // The same arithmetic as encodeInput() in training: clip in double, then round to float.
+  Eigen::VectorXf x(beams + 2);
+  const double clip = info_.range_clip;
+  for (int i = 0; i < beams; ++i) {
+    const double r = scan.ranges[static_cast<std::size_t>(i)];
+    x[i] = static_cast<float>(std::isnan(r) ? clip : std::clamp(r, 0.0, clip));
+  }
+  const double norm = goal_direction_robot_frame.norm();
+  const Eigen::Vector2d unit = norm > 0.0 ? Eigen::Vector2d(goal_direction_robot_frame / norm) : Eigen::Vector2d::UnitX();
+  x[beams] = static_cast<float>(unit.x());
+  x[beams + 1] = static_cast<float>(unit.y());
+  // Same order of operations as Mlp::forward (product, then bias), so the two agree bit for bit.
+  Eigen::VectorXf h1 = weights_.w1 * x;
+  h1 = (h1 + weights_.b1).cwiseMax(0.0f);
+  Eigen::VectorXf h2 = weights_.w2 * h1;
+  h2 = (h2 + weights_.b2).cwiseMax(0.0f);
+  Eigen::Vector2f y = weights_.w3 * h2;
+  y += weights_.b3;
+  return {static_cast<double>(y[0]), static_cast<double>(y[1])};
+}
+
+}  // namespace barn::learning

@@ -1,0 +1,107 @@
+// `barn lflh collect|train` end to end on a tiny configuration, and its bad-input exits.
+//
+// Exit codes (src/cli/main.cpp): 0 ok, 1 the run failed, 2 bad usage or bad input.
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <random>
+#include <string>
+
+#include "barn/core/text_io.hpp"
+#include "barn/learning/policy.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using testing::HasSubstr;
+
+const fs::path kBarn = fs::path(BARN_BINARY_DIR) / "barn";
+
+// 30 s of driving, every 4th record, a 16-unit network for 3 epochs: about a second.
+constexpr char kTinyConfig[] = R"(name: tiny
+collect: {duration: 30.0}
+hallucination: {stride: 4}
+train: {hidden: 16, epochs: 3}
+)";
+
+struct RunResult {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr
+};
+
+class BarnLflh : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::random_device device;
+    dir_ = fs::temp_directory_path() / ("barn_lflh_test_" + std::to_string(device()));
+    fs::create_directories(dir_);
+    barn::core::writeFileAtomic(dir_ / "tiny.yaml", kTinyConfig);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  RunResult run(const std::string& args) {
+    const fs::path capture = dir_ / "output.txt";
+    const std::string command = "'" + kBarn.string() + "' " + args + " > '" + capture.string() + "' 2>&1";
+    const int status = std::system(command.c_str());
+    RunResult result;
+    result.output = barn::core::readTextFile(capture);
+    if (status != -1 && WIFEXITED(status)) result.exit_code = WEXITSTATUS(status);
+    return result;
+  }
+  std::string path(const std::string& name) const { return "'" + (dir_ / name).string() + "'"; }
+
+  fs::path dir_;
+};
+
+TEST_F(BarnLflh, CollectThenTrainWritesALoadablePolicyWithItsLossCsvAndPlot) {
+  const RunResult collect = run("lflh collect --config " + path("tiny.yaml") + " --out " + path("data"));
+  ASSERT_EQ(collect.exit_code, 0) << collect.output;
+  EXPECT_THAT(collect.output, HasSubstr("1501 records (30.0 s at 50 Hz)"));  // 30 s * 50 Hz + 1
+  EXPECT_TRUE(fs::exists(dir_ / "data" / "exploration_tiny.csv"));
+
+  const RunResult train =
+      run("lflh train --config " + path("tiny.yaml") + " --data " + path("data") + " --out " + path("out/tiny.policy"));
+  ASSERT_EQ(train.exit_code, 0) << train.output;
+  EXPECT_THAT(train.output, HasSubstr("epoch    3/3"));
+  const barn::learning::Policy policy = barn::learning::Policy::load(dir_ / "out" / "tiny.policy");
+  EXPECT_EQ(policy.info().name, "tiny");
+  EXPECT_EQ(policy.info().hidden, 16);
+  EXPECT_EQ(policy.info().epochs, 3);
+  // Header line + 3 epochs.
+  const std::string csv = barn::core::readTextFile(dir_ / "out" / "tiny.loss.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 4);
+  EXPECT_EQ(barn::core::readTextFile(dir_ / "out" / "tiny.loss.png").substr(1, 3), "PNG");
+}
+
+TEST_F(BarnLflh, BadConfigIsExitTwoNamingTheKey) {
+  barn::core::writeFileAtomic(dir_ / "bad.yaml", "name: tiny\ntrain: {epochz: 3}\n");
+  const RunResult result = run("lflh collect --config " + path("bad.yaml") + " --out " + path("data"));
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_THAT(result.output, HasSubstr("train.epochz: unknown key"));
+}
+
+TEST_F(BarnLflh, TrainingOnDataFromOtherCollectSettingsIsExitTwo) {
+  ASSERT_EQ(run("lflh collect --config " + path("tiny.yaml") + " --out " + path("data")).exit_code, 0);
+  std::string other = kTinyConfig;
+  other.replace(other.find("duration: 30.0"), 14, "duration: 40.0");
+  barn::core::writeFileAtomic(dir_ / "other.yaml", other);
+  const RunResult result =
+      run("lflh train --config " + path("other.yaml") + " --data " + path("data") + " --out " + path("x.policy"));
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_THAT(result.output, HasSubstr("collect_hash differs"));
+}
+
+TEST_F(BarnLflh, MissingRecordingIsExitTwoNamingTheFile) {
+  const RunResult result =
+      run("lflh train --config " + path("tiny.yaml") + " --data " + path("nowhere") + " --out " + path("x.policy"));
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_THAT(result.output, HasSubstr("exploration_tiny.csv"));
+}
+
+}  // namespace

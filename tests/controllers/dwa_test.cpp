@@ -1,0 +1,104 @@
+#include "barn/controllers/dwa.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+namespace barn::controllers {
+namespace {
+
+struct Segment {
+  Eigen::Vector2d a, b;  // robot frame [m]
+};
+
+// A 720-beam UST-10 scan from the sensor (at the robot centre here) against wall segments.
+core::LaserScan scanOf(const std::vector<Segment>& walls) {
+  const sim::LidarConfig lidar;
+  core::LaserScan scan;
+  scan.angle_min = lidar.angle_min;
+  scan.angle_increment = lidar.angleIncrement();
+  scan.range_min = lidar.range_min;
+  scan.range_max = lidar.range_max;
+  for (int i = 0; i < lidar.beams; ++i) {
+    const double angle = lidar.angle_min + i * lidar.angleIncrement();
+    const Eigen::Vector2d u(std::cos(angle), std::sin(angle));
+    double best = std::numeric_limits<double>::infinity();
+    for (const auto& w : walls) {
+      // Solve t u = a + s (b - a), t > 0, s in [0, 1].
+      const Eigen::Vector2d e = w.b - w.a;
+      const double det = u.x() * (-e.y()) - u.y() * (-e.x());
+      if (std::abs(det) < 1e-12) continue;
+      const double t = (w.a.x() * (-e.y()) - w.a.y() * (-e.x())) / det;
+      const double s = (u.x() * w.a.y() - u.y() * w.a.x()) / det;
+      if (t > 0 && s >= 0 && s <= 1) best = std::min(best, t);
+    }
+    scan.ranges.push_back(best);
+  }
+  return scan;
+}
+
+// The robot at the odom origin facing +x, goal 6 m ahead; a few ticks so the costmaps and the
+// plan settle on the scan. Returns the last command.
+core::Twist commandFor(const core::LaserScan& scan, DwaConfig config = {}) {
+  config.nav.global_costmap.origin_x = -3.0;
+  config.nav.global_costmap.origin_y = -3.0;
+  config.nav.global_costmap.width = 10.0;
+  config.nav.global_costmap.height = 6.0;
+  DwaController dwa(config);
+  EpisodeInfo info;
+  info.goal = {6.0, 0.0};
+  info.lidar.mount_x = 0.0;  // the scans above are taken from the robot centre
+  dwa.reset(info);
+  Observation obs;
+  obs.scan = &scan;
+  obs.goal = info.goal;
+  core::Twist cmd;
+  for (int tick = 0; tick < 3; ++tick) {
+    obs.time = 0.05 * tick;
+    core::LaserScan stamped = scan;
+    stamped.stamp = obs.time;
+    obs.scan = &stamped;
+    cmd = dwa.act(obs);
+  }
+  return cmd;
+}
+
+TEST(Dwa, DrivesStraightAtFullSpeedInTheOpen) {
+  const core::Twist cmd = commandFor(scanOf({}));
+  // The window from rest is [0.1, min(0.5, 0 + 10 * 0.05)] = [0.1, 0.5]; the goal is straight
+  // ahead, so the fastest straight sample wins.
+  EXPECT_NEAR(cmd.linear, 0.5, 1e-9);
+  EXPECT_NEAR(cmd.angular, 0.0, 0.2);
+}
+
+TEST(Dwa, DoesNotDriveIntoAWallAhead) {
+  // A wall across the whole front 0.45 m ahead: the slowest forward roll-out (0.1 m/s for 2 s
+  // = 0.2 m) would put the padded footprint's front edge (0.21 + 0.1 = 0.31 m) 0.06 m into it.
+  const core::Twist cmd = commandFor(scanOf({{{0.45, -3.0}, {0.45, 3.0}}}));
+  EXPECT_LE(cmd.linear, 0.0 + 1e-9);
+}
+
+TEST(Dwa, TurnsLeftIntoAGapToTheLeft) {
+  // A wall ahead at 1.2 m with a 1.2 m gap on the left (y in [0.4, 1.6]) and walls boxing the
+  // right side: the plan goes through the gap, so the robot turns left.
+  const std::vector<Segment> walls = {
+      {{1.2, -3.0}, {1.2, 0.4}},   // ahead, blocking the right and the centre
+      {{1.2, 1.6}, {1.2, 3.0}},    // ahead, left of the gap
+      {{-1.0, -0.8}, {1.2, -0.8}}, // right side
+  };
+  const core::Twist cmd = commandFor(scanOf(walls));
+  EXPECT_GT(cmd.angular, 0.2);
+}
+
+TEST(Dwa, RejectsUnknownConfigKeysAndBadValues) {
+  DwaConfig config;
+  config.max_vel_x = -1.0;
+  core::Errors errors;
+  validate(config, errors, "dwa");
+  ASSERT_FALSE(errors.empty());
+  EXPECT_NE(errors.messages().front().find("dwa.max_vel_x"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace barn::controllers

@@ -1,0 +1,141 @@
+#include "barn/learning/exploration.hpp"
+
+#include <cmath>
+#include <filesystem>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "barn/core/config.hpp"
+#include "barn/core/text_io.hpp"
+
+namespace barn::learning {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+CollectConfig shortDrive() {
+  CollectConfig c;
+  c.duration = 20.0;
+  return c;
+}
+
+fs::path tempDir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("barn_exploration_test_" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+TEST(Exploration, RecordsAtFiftyHertzWithCommandsInsideTheLimits) {
+  const Recording r = collectExploration(shortDrive(), "short");
+  // 20 s at 50 Hz, both ends included: 1001 records.
+  ASSERT_EQ(r.records.size(), 1001u);
+  EXPECT_DOUBLE_EQ(r.rate, 50.0);
+  EXPECT_NEAR(r.records.back().t, 20.0, 1e-9);
+  for (const MotionRecord& m : r.records) {
+    EXPECT_GE(m.command.linear, 0.0);
+    EXPECT_LE(m.command.linear, 1.0);
+    EXPECT_LE(std::abs(m.command.angular), 1.3);
+  }
+  // The robot drives: about the mean command speed (> 0.3 m/s) times 20 s.
+  const ExplorationStats s = explorationStats(r);
+  EXPECT_GT(s.distance, 6.0);
+}
+
+TEST(Exploration, CommandsChangeSmoothlyAtTwentyFiveHertz) {
+  const CollectConfig c = shortDrive();
+  const Recording r = collectExploration(c, "short");
+  for (std::size_t k = 1; k < r.records.size(); ++k) {
+    const double dv = std::abs(r.records[k].command.linear - r.records[k - 1].command.linear);
+    const double dw = std::abs(r.records[k].command.angular - r.records[k - 1].command.angular);
+    // One command per 2 records (0.04 s): at most 2 m/s^2 * 0.04 s = 0.08 m/s and 4 * 0.04 = 0.16 rad/s.
+    EXPECT_LE(dv, 0.08 + 1e-12);
+    EXPECT_LE(dw, 0.16 + 1e-12);
+    if (k % 2 == 1) {
+      EXPECT_EQ(dv, 0.0);
+      EXPECT_EQ(dw, 0.0);
+    }
+  }
+}
+
+TEST(Exploration, SameSeedGivesTheSameDriveBitForBit) {
+  const Recording a = collectExploration(shortDrive(), "a");
+  const Recording b = collectExploration(shortDrive(), "a");
+  ASSERT_EQ(a.records.size(), b.records.size());
+  for (std::size_t k = 0; k < a.records.size(); ++k) {
+    EXPECT_EQ(a.records[k].pose.x, b.records[k].pose.x);
+    EXPECT_EQ(a.records[k].pose.yaw, b.records[k].pose.yaw);
+    EXPECT_EQ(a.records[k].command.angular, b.records[k].command.angular);
+  }
+  CollectConfig other = shortDrive();
+  other.seed = 2;
+  EXPECT_NE(collectExploration(other, "a").records[500].pose.x, a.records[500].pose.x);
+}
+
+TEST(Exploration, RecordingFileRoundTripsExactly) {
+  const Recording r = collectExploration(shortDrive(), "short");
+  const fs::path path = recordingPath(tempDir("roundtrip"), "short");
+  writeRecording(path, r);
+  const Recording back = readRecording(path);
+  EXPECT_EQ(back.name, "short");
+  EXPECT_EQ(back.collect_hash, collectHash(shortDrive()));
+  ASSERT_EQ(back.records.size(), r.records.size());
+  for (std::size_t k = 0; k < r.records.size(); ++k) {
+    EXPECT_EQ(back.records[k].pose.y, r.records[k].pose.y);
+    EXPECT_EQ(back.records[k].vy, r.records[k].vy);
+    EXPECT_EQ(back.records[k].command.linear, r.records[k].command.linear);
+  }
+}
+
+TEST(Exploration, MalformedRecordingNamesTheFileAndLine) {
+  const fs::path dir = tempDir("malformed");
+  const auto errorOf = [&](const std::string& text) {
+    core::writeFileAtomic(dir / "r.csv", text);
+    try {
+      readRecording(dir / "r.csv");
+    } catch (const core::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string header = "# barnbench lflh exploration 1\n# name: x\n# collect_hash: 0x1f\n# rate: 50\nt,x,y,yaw,v,vy,w,cmd_v,cmd_w\n";
+  EXPECT_THAT(errorOf("t,x\n"), HasSubstr("r.csv:1: not an LfLH recording"));
+  EXPECT_THAT(errorOf(header + "0,0,0,0,0,0,0,0,0\n0,0,0,0,0,0,0,0\n"), HasSubstr("r.csv:7: expected 9"));
+  EXPECT_THAT(errorOf(header + "0,0,0,0,0,0,0,0,0\n0,0,0,0,0,0,0,0,0,0\n"), HasSubstr("r.csv:7: column 9"));
+  EXPECT_THAT(errorOf(header + "0,0,0,0,abc,0,0,0,0\n"), HasSubstr("r.csv:6: column 5: expected a finite number"));
+  EXPECT_THAT(errorOf(header + "0,0,0,0,0,0,0,0,0\n"), HasSubstr("fewer than 2 records"));
+}
+
+TEST(LflhConfig, UnknownKeysAndBadValuesAreReportedWithTheirPath) {
+  const auto errorOf = [](const std::string& yaml) {
+    try {
+      LflhConfig c = core::readConfig<LflhConfig>(core::ConfigNode::parseString(yaml, "lflh.yaml"));
+      core::Errors errors("lflh.yaml");
+      validate(c, errors);
+      errors.throwIfAny();
+    } catch (const core::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(errorOf("name: x\ncollect: {max_speed: 2.0}\n"), "no error");
+  EXPECT_THAT(errorOf("train: {epochz: 3}\n"), HasSubstr("train.epochz: unknown key"));
+  EXPECT_THAT(errorOf("collect: {max_speed: 3.0}\n"), HasSubstr("collect.max_speed: must be in"));
+  EXPECT_THAT(errorOf("hallucination: {clearance_min: 0.2, clearance_max: 0.1}\n"), HasSubstr("hallucination.clearance_max"));
+  EXPECT_THAT(errorOf("train: {batch_size: 0}\n"), HasSubstr("train.batch_size"));
+}
+
+TEST(LflhConfig, ShippedConfigsLoadAndDifferInSpeed) {
+  const LflhConfig slow = readLflhConfig(std::string(BARN_SOURCE_DIR) + "/configs/lflh/1ms.yaml");
+  const LflhConfig fast = readLflhConfig(std::string(BARN_SOURCE_DIR) + "/configs/lflh/2ms.yaml");
+  EXPECT_EQ(slow.name, "lflh_1ms");
+  EXPECT_EQ(fast.name, "lflh_2ms");
+  EXPECT_EQ(slow.collect.max_speed, 1.0);
+  EXPECT_EQ(fast.collect.max_speed, 2.0);
+  EXPECT_NE(configHash(slow), configHash(fast));
+}
+
+}  // namespace
+}  // namespace barn::learning

@@ -1,0 +1,181 @@
+#include "barn/learning/policy.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <limits>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "barn/core/text_io.hpp"
+#include "barn/learning/hallucination.hpp"
+#include "barn/learning/lflh_config.hpp"
+
+namespace barn::learning {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+fs::path tempDir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("barn_policy_test_" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+// A 722-8-8-2 network with random weights.
+MlpParameters<float> smallWeights() {
+  Mlp<float> net(722, 8, 2);
+  core::Rng rng(5);
+  net.initialise(rng);
+  return net.parameters();
+}
+
+PolicyInfo smallInfo() {
+  PolicyInfo info;
+  info.hidden = 8;
+  info.name = "small";
+  info.config_hash = 0xabcdef0123456789ull;
+  info.trained = "2026-01-01T00:00:00Z";
+  info.seed = 3;
+  info.epochs = 10;
+  info.train_loss = 0.125;
+  info.validation_loss = 0.25;
+  info.mean_predictor_loss = 0.5;
+  return info;
+}
+
+core::LaserScan scanOf(const std::vector<double>& ranges) {
+  core::LaserScan scan;
+  scan.ranges = ranges;
+  return scan;
+}
+
+TEST(PolicyFile, RoundTripKeepsEveryWeightAndHeaderField) {
+  const fs::path path = tempDir("roundtrip") / "small.policy";
+  writePolicyFile(path, smallInfo(), smallWeights());
+  const Policy policy = Policy::load(path);
+  EXPECT_EQ(policy.weights().w1, smallWeights().w1);
+  EXPECT_EQ(policy.weights().b3, smallWeights().b3);
+  EXPECT_EQ(policy.info().config_hash, 0xabcdef0123456789ull);
+  EXPECT_EQ(policy.info().name, "small");
+  EXPECT_EQ(policy.info().trained, "2026-01-01T00:00:00Z");
+  EXPECT_EQ(policy.info().validation_loss, 0.25);
+  EXPECT_EQ(policy.info().range_clip, 2.0);
+  // Header + (722*8 + 8 + 8*8 + 8 + 8*2 + 2) * 4 = header + 5874 * 4 = header + 23496 bytes.
+  const std::string text = core::readTextFile(path);
+  EXPECT_EQ(text.size() - (text.find("end_header\n") + 11), 23496u);
+}
+
+// Every way a file can be wrong, each with the message that names it.
+class PolicyLoadErrors : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = tempDir("errors");
+    writePolicyFile(dir_ / "good.policy", smallInfo(), smallWeights());
+    good_ = core::readTextFile(dir_ / "good.policy");
+  }
+  std::string errorOf(const std::string& content) {
+    const fs::path path = dir_ / "bad.policy";
+    core::writeFileAtomic(path, content);
+    try {
+      Policy::load(path);
+    } catch (const core::InputError& e) {
+      return e.what();
+    }
+    return "no error";
+  }
+  std::string replaced(const std::string& from, const std::string& to) {
+    std::string text = good_;
+    text.replace(text.find(from), from.size(), to);
+    return text;
+  }
+  fs::path dir_;
+  std::string good_;
+};
+
+TEST_F(PolicyLoadErrors, WrongMagic) {
+  EXPECT_THAT(errorOf("PK\x03\x04 a zip file\n"), HasSubstr("bad.policy: wrong magic"));
+  EXPECT_THAT(errorOf(replaced("format: barnbench-lflh-policy", "format: something-else")), HasSubstr("wrong magic"));
+  EXPECT_THAT(errorOf(""), HasSubstr("wrong magic"));
+}
+
+TEST_F(PolicyLoadErrors, TruncatedWeightsOrHeader) {
+  EXPECT_THAT(errorOf(good_.substr(0, good_.size() - 4)), HasSubstr("truncated: expected 23496 bytes of weights, found 23492"));
+  EXPECT_THAT(errorOf(good_.substr(0, good_.find("end_header"))), HasSubstr("truncated header"));
+  EXPECT_THAT(errorOf(good_ + "xx"), HasSubstr("2 bytes after the weights"));
+}
+
+TEST_F(PolicyLoadErrors, WrongShape) {
+  EXPECT_THAT(errorOf(replaced("architecture: 722-8-8-2", "architecture: 362-8-8-2")),
+              HasSubstr("wrong shape: architecture 362-8-8-2 has 362 inputs, the input layout needs beams + 2 = 722"));
+  EXPECT_THAT(errorOf(replaced("architecture: 722-8-8-2", "architecture: 722-8-8-3")), HasSubstr("3 outputs, expected 2"));
+  EXPECT_THAT(errorOf(replaced("architecture: 722-8-8-2", "architecture: 722-16-16-2")),
+              HasSubstr("wrong shape: payload_bytes 23496 does not match architecture 722-16-16-2"));
+  EXPECT_THAT(errorOf(replaced("architecture: 722-8-8-2", "architecture: 722x8")), HasSubstr("expected inputs-hidden-hidden-outputs"));
+}
+
+TEST_F(PolicyLoadErrors, HeaderContractFields) {
+  EXPECT_THAT(errorOf(replaced("version: 1", "version: 2")), HasSubstr("unsupported version 2"));
+  EXPECT_THAT(errorOf(replaced("activation: relu", "activation: tanh")), HasSubstr("activation is 'tanh', expected 'relu'"));
+  EXPECT_THAT(errorOf(replaced("output: v [m/s], w [rad/s]", "output: w, v")), HasSubstr("header: output"));
+  EXPECT_THAT(errorOf(replaced("seed: 3\n", "")), HasSubstr("missing key 'seed'"));
+  EXPECT_THAT(errorOf(replaced("seed: 3\n", "seed: 3\ncolour: red\n")), HasSubstr("unknown key 'colour'"));
+  EXPECT_THAT(errorOf(replaced("range_clip: 2", "range_clip: two")), HasSubstr("range_clip 'two': expected a number"));
+}
+
+TEST_F(PolicyLoadErrors, NonFiniteWeight) {
+  std::string text = good_;
+  const std::size_t payload = text.find("end_header\n") + 11;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::memcpy(text.data() + payload + 4 * (722 * 8 + 8), &nan, 4);  // w2[0]
+  EXPECT_THAT(errorOf(text), HasSubstr("block w2 holds a non-finite value"));
+}
+
+TEST(PolicyLoad, MissingFileNamesIt) {
+  EXPECT_THROW(Policy::load("/nonexistent/x.policy"), core::InputError);
+}
+
+TEST(Policy, ActClipsLikeTrainingAndMatchesTheNetwork) {
+  const Policy policy(smallInfo(), smallWeights());
+  std::vector<double> ranges(720, std::numeric_limits<double>::infinity());
+  for (std::size_t i = 0; i < 720; i += 3) ranges[i] = 0.01 * static_cast<double>(i % 400);
+  // The network on the training encoding of the same scan and goal.
+  Mlp<float> net(smallWeights());
+  Eigen::MatrixXf x(722, 1);
+  encodeInput(ranges, {1.0, 2.0}, 2.0, x.data());
+  const Eigen::MatrixXf& y = net.forward(x);
+  const core::Twist twist = policy.act(scanOf(ranges), {1.0, 2.0});
+  EXPECT_NEAR(twist.linear, y(0, 0), 1e-6);
+  EXPECT_NEAR(twist.angular, y(1, 0), 1e-6);
+  // Any goal length: only the direction counts. A range beyond the clip is the clip.
+  EXPECT_EQ(policy.act(scanOf(ranges), {10.0, 20.0}).angular, twist.angular);
+  std::vector<double> farther = ranges;
+  farther[1] = 25.0;  // was +inf: both read as 2.0
+  EXPECT_EQ(policy.act(scanOf(farther), {1.0, 2.0}).linear, twist.linear);
+}
+
+TEST(Policy, ScanWithTheWrongBeamCountIsAnInputError) {
+  const Policy policy(smallInfo(), smallWeights());
+  EXPECT_THROW(policy.act(scanOf(std::vector<double>(360, 1.0)), {1.0, 0.0}), core::InputError);
+}
+
+// CI never retrains: it loads the committed weights and checks they belong to the configs.
+TEST(ShippedPolicies, LoadAndMatchTheirTrainingConfigs) {
+  for (const std::string name : {"1ms", "2ms"}) {
+    const fs::path file = fs::path(BARN_SOURCE_DIR) / "configs" / "policies" / ("lflh_" + name + ".policy");
+    const Policy policy = Policy::load(file);
+    const LflhConfig config = readLflhConfig(fs::path(BARN_SOURCE_DIR) / "configs" / "lflh" / (name + ".yaml"));
+    EXPECT_EQ(policy.info().config_hash, configHash(config)) << file << " was trained with another config";
+    EXPECT_EQ(policy.info().hidden, 256);
+    EXPECT_LT(policy.info().validation_loss, policy.info().mean_predictor_loss);
+    // Open space straight ahead: drive forward, barely turn.
+    const core::Twist twist = policy.act(scanOf(std::vector<double>(720, std::numeric_limits<double>::infinity())), {1.0, 0.0});
+    EXPECT_GT(twist.linear, 0.3) << name;
+    EXPECT_LT(std::abs(twist.angular), 0.5) << name;
+  }
+}
+
+}  // namespace
+}  // namespace barn::learning

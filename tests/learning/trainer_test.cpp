@@ -1,0 +1,89 @@
+#include "barn/learning/trainer.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+namespace barn::learning {
+namespace {
+
+// A tiny pipeline: 120 s of driving at 1 m/s, every 4th record (~1,450 demonstrations), a
+// 32-unit network.
+const Dataset& tinyData() {
+  static const Dataset data = [] {
+    CollectConfig collect;
+    collect.duration = 120.0;
+    HallucinationConfig hallucination;
+    hallucination.stride = 4;
+    return buildDataset(collectExploration(collect, "tiny"), hallucination, 2.0);
+  }();
+  return data;
+}
+
+TrainConfig tinyTraining() {
+  TrainConfig c;
+  c.hidden = 32;
+  c.epochs = 20;
+  c.learning_rate = 1e-3;
+  return c;
+}
+
+TEST(Trainer, TinyConfigurationTrainsInAFewSecondsAndItsLossFalls) {
+  const auto start = std::chrono::steady_clock::now();
+  const TrainingResult result = trainPolicy(tinyData(), tinyTraining());
+
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ASSERT_EQ(result.history.size(), 20u);
+  // Both losses fall: the last five epochs against the first (the training loss by 30 %).
+  double train_end = 0.0, validation_end = 0.0;
+  for (std::size_t e = 15; e < 20; ++e) {
+    train_end += result.history[e].train / 5.0;
+    validation_end += result.history[e].validation / 5.0;
+  }
+  EXPECT_LT(train_end, 0.7 * result.history.front().train);
+  EXPECT_LT(validation_end, result.history.front().validation);
+  EXPECT_GT(result.validation_columns, 0u);
+}
+
+TEST(Trainer, SameSeedGivesIdenticalWeightsAnotherSeedDoesNot) {
+  TrainConfig config = tinyTraining();
+  config.epochs = 3;
+  const TrainingResult a = trainPolicy(tinyData(), config);
+  const TrainingResult b = trainPolicy(tinyData(), config);
+  EXPECT_EQ(a.weights.w1, b.weights.w1);
+  EXPECT_EQ(a.weights.w3, b.weights.w3);
+  EXPECT_EQ(a.weights.b3, b.weights.b3);
+  EXPECT_EQ(a.history.back().validation, b.history.back().validation);
+  config.seed = 4;
+  EXPECT_NE(trainPolicy(tinyData(), config).weights.w1, a.weights.w1);
+}
+
+TEST(Trainer, ValidationIsTheLastTenthInTimeAndTrainingNeverLooksIntoIt) {
+  std::vector<std::size_t> train, validation;
+  splitDataset(tinyData(), 0.1, train, validation);
+  // 120 s at 50 Hz = 6001 records; the boundary is floor(0.9 * 6001) = 5400.
+  ASSERT_EQ(tinyData().record_count, 6001u);
+  for (std::size_t c : validation) EXPECT_GE(tinyData().records[c], 5400u);
+  for (std::size_t c : train) EXPECT_LT(tinyData().records[c] + tinyData().lookahead, 5400u);
+  // Records 5300..5396 (every 4th: 25) look 100 records ahead into the validation part.
+  std::size_t dropped = 0;
+  for (std::size_t c = 0; c < tinyData().size(); ++c) dropped += tinyData().records[c] >= 5300 && tinyData().records[c] < 5400;
+  EXPECT_EQ(dropped, 25u);
+  EXPECT_EQ(train.size() + validation.size() + dropped, tinyData().size());
+}
+
+TEST(Trainer, TooLittleDataIsAnInputError) {
+  TrainConfig config = tinyTraining();
+  config.batch_size = 4000;
+  EXPECT_THROW(trainPolicy(tinyData(), config), core::InputError);
+}
+
+TEST(Trainer, LossCsvHasOneRowPerEpoch) {
+  TrainingResult result;
+  result.mean_predictor_loss = 0.5;
+  result.history = {{1, 0.4, 0.45, 1.0}, {2, 0.3, 0.35, 2.0}};
+  EXPECT_EQ(lossCsv(result),
+            "epoch,train_loss,validation_loss,mean_predictor_loss,seconds\n1,0.4,0.45,0.5,1\n2,0.3,0.35,0.5,2\n");
+}
+
+}  // namespace
+}  // namespace barn::learning
