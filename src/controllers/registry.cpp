@@ -1,6 +1,8 @@
 #include "barn/controllers/registry.hpp"
 
 #include "barn/controllers/dwa.hpp"
+#include "barn/controllers/inventec.hpp"
+#include "barn/controllers/lflh.hpp"
 #include "barn/controllers/pure_pursuit.hpp"
 #include "barn/controllers/straight.hpp"
 
@@ -29,11 +31,31 @@ Entry entry(const char* type) {
           }};
 }
 
+// A controller that runs a learned policy: the policy file (resolved against the config file's
+// folder) is loaded once here and shared, read-only, by every episode's controller.
+template <class Config, class ControllerType>
+Entry policyEntry(const char* type) {
+  return {type, [type](const core::ConfigNode& block, std::string& effective) -> ControllerFactory {
+            Config config = core::readConfig<Config>(block);
+            config.policy = resolvePolicyPath(config.policy, block.source());
+            core::Errors errors;
+            validate(config, errors, block.where());
+            errors.throwIfAny();
+            auto policy = std::make_shared<const learning::Policy>(learning::Policy::load(config.policy));
+            core::ConfigWriter writer(2);
+            config.visit(writer);
+            effective = std::string("type: ") + type + "\n" + type + ":\n" + writer.text();
+            return [config, policy] { return std::make_unique<ControllerType>(config, policy); };
+          }};
+}
+
 const std::vector<Entry>& entries() {
   static const std::vector<Entry> kEntries = {
       entry<StraightConfig, StraightController>("straight"),
       entry<PurePursuitConfig, PurePursuitController>("pure_pursuit"),
       entry<DwaConfig, DwaController>("dwa"),
+      policyEntry<LflhConfig, LflhController>("lflh"),
+      policyEntry<InventecConfig, InventecController>("inventec"),
   };
   return kEntries;
 }
