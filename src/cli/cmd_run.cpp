@@ -186,6 +186,98 @@ void printRecordSummary(const fs::path& dir, const bench::RunManifest& m, const 
 }
 
 
+// Runs what is left of the session's record and completes it; 0 complete, 1 interrupted or
+// an episode ended in error.
+int executeSession(Session& session, const SessionOptions& options) {
+  bench::RunManifest& m = session.manifest;
+  if (m.complete) {
+    std::printf("%s is already complete\n", session.dir.c_str());
+    printRecordSummary(session.dir, m, session.worlds);
+    return 0;
+  }
+  session.spec.worlds = session.worlds;
+  session.spec.trials = m.trials;
+  session.spec.seed = m.seed;
+  session.spec.jobs = options.jobs;
+  session.spec.record_trajectories = options.trajectories;
+  session.spec.selected = pendingEpisodes(session);
+  const std::size_t total_of_record = session.previous.size() + session.spec.selected->size();
+  const int threads = options.jobs > 0 ? options.jobs : static_cast<int>(std::max(1L, ::sysconf(_SC_NPROCESSORS_ONLN)));
+
+  m.barnbench_version = BARN_VERSION;
+  m.git_commit = gitCommit();
+  m.host = hostName();
+  m.threads = threads;
+  if (m.started.empty()) m.started = utcNow();
+  m.episodes_total = total_of_record;
+  m.episodes_done = session.previous.size();
+  // The journal is rewritten from the rows that survived (an interrupted write may have left
+  // half a line), then appended to as episodes finish.
+  std::string journal = bench::episodesCsvHeader();
+  for (const auto& r : session.previous) journal += bench::episodeCsvRow(r);
+  core::writeFilesAtomic(session.dir, {{bench::kManifestFile, bench::formatManifest(m)}, {bench::kJournalFile, journal}});
+  std::ofstream journal_out(session.dir / bench::kJournalFile, std::ios::app | std::ios::binary);
+
+  std::printf("running %s: %zu worlds x %d trials = %zu episodes%s on %d threads -> %s\n", m.controller.c_str(),
+              session.worlds.size(), m.trials, total_of_record,
+              m.shard_count ? (" (shard " + std::to_string(m.shard_index) + "/" + std::to_string(m.shard_count) + ")").c_str() : "",
+              threads, session.dir.c_str());
+  if (!session.previous.empty()) std::printf("resuming: %zu episodes already finished\n", session.previous.size());
+  std::fflush(stdout);
+
+  g_interrupted.store(false);
+  std::signal(SIGINT, onInterrupt);
+  std::signal(SIGTERM, onInterrupt);  // Slurm's time limit and preemption
+  ProgressReporter progress(total_of_record, session.previous.size(), ::isatty(STDOUT_FILENO));
+  std::vector<core::FileContent> trajectories;
+  const auto t0 = std::chrono::steady_clock::now();
+  session.spec.stop = &g_interrupted;
+  std::size_t finished_here = 0;
+  std::vector<bench::EpisodeResult> results =
+      bench::runBatch(session.spec, [&](const bench::EpisodeResult& r, std::size_t, std::size_t) {
+        journal_out << bench::episodeCsvRow(r);
+        journal_out.flush();
+        if (options.trajectories)
+          trajectories.push_back({"world_" + std::to_string(r.world_id) + "_trial_" + std::to_string(r.trial) + ".csv",
+                                  bench::trajectoryCsv(r)});
+        progress.update(r.outcome == bench::Outcome::Success, r.sim_time);
+        if (options.stop_after > 0 && ++finished_here >= options.stop_after) g_interrupted.store(true);
+      });
+  progress.finish();
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
+  journal_out.close();
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  m.wall_time_s += wall;
+  double sim_time_here = 0.0;
+  for (const auto& r : results) sim_time_here += r.sim_time;
+  if (options.trajectories) core::writeFilesAtomic(session.dir / "trajectories", trajectories);
+
+  results.insert(results.end(), session.previous.begin(), session.previous.end());
+  if (results.size() < total_of_record) {
+    m.episodes_done = results.size();
+    core::writeFileAtomic(session.dir / bench::kManifestFile, bench::formatManifest(m));
+    std::printf("interrupted: %zu of %zu episodes finished and kept; finish with: barn run --resume %s\n",
+                results.size(), total_of_record, session.dir.c_str());
+    return 1;
+  }
+  bench::writeCompleteRecord(session.dir, m, results, session.worlds);
+  printRecordSummary(session.dir, m, session.worlds);
+  std::printf("  performance: wall %.2f s, simulated %.1f s, %.0f simulated s per wall s (%.0f per core, %d threads)\n",
+              wall, sim_time_here, sim_time_here / wall, sim_time_here / wall / threads, threads);
+  std::printf("wrote %s\n", session.dir.c_str());
+  for (const auto& r : results)
+    if (r.outcome == bench::Outcome::Error) return 1;
+  return 0;
+}
+
+int runRecordFolder(const fs::path& dir, const SessionOptions& options) {
+  RunOptions resume;
+  resume.resume = dir.string();
+  Session session = resumedSession(resume);
+  return executeSession(session, options);
+}
+
 void addRunCommand(CLI::App& app, CommandContext& context) {
   auto options = std::make_shared<RunOptions>();
   CLI::App* cmd = app.add_subcommand("run", "Run a controller on worlds x trials in parallel and score it as BARN does");
@@ -214,86 +306,11 @@ void addRunCommand(CLI::App& app, CommandContext& context) {
                                      !options->shard.empty() || !options->out.empty()))
       throw core::InputError("run: --resume takes its settings from the record; give only --jobs (and --stop-after) with it");
     Session session = options->resume.empty() ? freshSession(*options) : resumedSession(*options);
-    bench::RunManifest& m = session.manifest;
-    if (m.complete) {
-      std::printf("%s is already complete\n", session.dir.c_str());
-      printRecordSummary(session.dir, m, session.worlds);
-      return;
-    }
-    session.spec.worlds = session.worlds;
-    session.spec.trials = m.trials;
-    session.spec.seed = m.seed;
-    session.spec.jobs = options->jobs;
-    session.spec.record_trajectories = options->trajectories;
-    session.spec.selected = pendingEpisodes(session);
-    const std::size_t total_of_record = session.previous.size() + session.spec.selected->size();
-    const int threads = options->jobs > 0 ? options->jobs : static_cast<int>(std::max(1L, ::sysconf(_SC_NPROCESSORS_ONLN)));
-
-    m.barnbench_version = BARN_VERSION;
-    m.git_commit = gitCommit();
-    m.host = hostName();
-    m.threads = threads;
-    if (m.started.empty()) m.started = utcNow();
-    m.episodes_total = total_of_record;
-    m.episodes_done = session.previous.size();
-    // The journal is rewritten from the rows that survived (an interrupted write may have left
-    // half a line), then appended to as episodes finish.
-    std::string journal = bench::episodesCsvHeader();
-    for (const auto& r : session.previous) journal += bench::episodeCsvRow(r);
-    core::writeFilesAtomic(session.dir, {{bench::kManifestFile, bench::formatManifest(m)}, {bench::kJournalFile, journal}});
-    std::ofstream journal_out(session.dir / bench::kJournalFile, std::ios::app | std::ios::binary);
-
-    std::printf("running %s: %zu worlds x %d trials = %zu episodes%s on %d threads -> %s\n", m.controller.c_str(),
-                session.worlds.size(), m.trials, total_of_record,
-                m.shard_count ? (" (shard " + std::to_string(m.shard_index) + "/" + std::to_string(m.shard_count) + ")").c_str() : "",
-                threads, session.dir.c_str());
-    if (!session.previous.empty()) std::printf("resuming: %zu episodes already finished\n", session.previous.size());
-    std::fflush(stdout);
-
-    g_interrupted.store(false);
-    std::signal(SIGINT, onInterrupt);
-    std::signal(SIGTERM, onInterrupt);  // Slurm's time limit and preemption
-    ProgressReporter progress(total_of_record, session.previous.size(), ::isatty(STDOUT_FILENO));
-    std::vector<core::FileContent> trajectories;
-    const auto t0 = std::chrono::steady_clock::now();
-    session.spec.stop = &g_interrupted;
-    std::size_t finished_here = 0;
-    std::vector<bench::EpisodeResult> results =
-        bench::runBatch(session.spec, [&](const bench::EpisodeResult& r, std::size_t, std::size_t) {
-          journal_out << bench::episodeCsvRow(r);
-          journal_out.flush();
-          if (options->trajectories)
-            trajectories.push_back({"world_" + std::to_string(r.world_id) + "_trial_" + std::to_string(r.trial) + ".csv",
-                                    bench::trajectoryCsv(r)});
-          progress.update(r.outcome == bench::Outcome::Success, r.sim_time);
-          if (options->stop_after > 0 && ++finished_here >= options->stop_after) g_interrupted.store(true);
-        });
-    progress.finish();
-    std::signal(SIGINT, SIG_DFL);
-    std::signal(SIGTERM, SIG_DFL);
-    journal_out.close();
-    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    m.wall_time_s += wall;
-    double sim_time_here = 0.0;
-    for (const auto& r : results) sim_time_here += r.sim_time;
-    if (options->trajectories) core::writeFilesAtomic(session.dir / "trajectories", trajectories);
-
-    results.insert(results.end(), session.previous.begin(), session.previous.end());
-    if (results.size() < total_of_record) {
-      m.episodes_done = results.size();
-      core::writeFileAtomic(session.dir / bench::kManifestFile, bench::formatManifest(m));
-      std::printf("interrupted: %zu of %zu episodes finished and kept; finish with: barn run --resume %s\n",
-                  results.size(), total_of_record, session.dir.c_str());
-      context.exit_code = 1;
-      return;
-    }
-    bench::writeCompleteRecord(session.dir, m, results, session.worlds);
-    printRecordSummary(session.dir, m, session.worlds);
-    std::printf("  performance: wall %.2f s, simulated %.1f s, %.0f simulated s per wall s (%.0f per core, %d threads)\n",
-                wall, sim_time_here, sim_time_here / wall, sim_time_here / wall / threads, threads);
-    std::printf("wrote %s\n", session.dir.c_str());
-    for (const auto& r : results)
-      if (r.outcome == bench::Outcome::Error) context.exit_code = 1;
+    SessionOptions session_options;
+    session_options.jobs = options->jobs;
+    session_options.trajectories = options->trajectories;
+    session_options.stop_after = options->stop_after;
+    context.exit_code = executeSession(session, session_options);
   });
 }
 

@@ -23,6 +23,19 @@ void addRunCommand(CLI::App& app, CommandContext& context);
 void addMergeCommand(CLI::App& app, CommandContext& context);
 void addLflhCommand(CLI::App& app, CommandContext& context);
 
+void addRegressCommand(CLI::App& app, CommandContext& context);
+
+/// How a run session executes.
+struct SessionOptions {
+  int jobs = 0;                 // threads; 0 = all cores
+  bool trajectories = false;    // write trajectories/
+  std::size_t stop_after = 0;   // stop after this many episodes (0 = never)
+};
+
+/// Runs the pending episodes of the record in `dir` (its manifest.yaml must exist; a fresh
+/// record has no journal yet) and completes it. 0 complete, 1 interrupted or an episode error.
+int runRecordFolder(const std::filesystem::path& dir, const SessionOptions& options);
+
 /// Prints a complete record's summary table and difficulty breakdown.
 void printRecordSummary(const std::filesystem::path& dir, const bench::RunManifest& manifest,
                         const std::vector<core::WorldSpec>& worlds);

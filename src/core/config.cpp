@@ -160,6 +160,12 @@ void ConfigNode::set(const std::string& dotted_key, const std::string& value_tex
   }
 }
 
+std::string ConfigNode::toYaml() const {
+  YAML::Emitter out;
+  out << impl_->node;
+  return std::string(out.c_str()) + "\n";
+}
+
 std::string ConfigNode::where(std::string_view key) const {
   std::string full = path_;
   if (!key.empty()) full = full.empty() ? std::string(key) : full + "." + std::string(key);

@@ -58,6 +58,9 @@ class ConfigNode {
   /// needed: command-line overrides for runs and sweeps.
   void set(const std::string& dotted_key, const std::string& value_text);
 
+  /// The node as YAML text (block style).
+  std::string toYaml() const;
+
   const std::string& path() const { return path_; }      // "" for the root
   const std::string& source() const { return source_; }  // file name or label
   /// "file: key.path" for error messages.

@@ -1,0 +1,147 @@
+// barn regress: rerun the committed reference runs and fail on a score or success drop.
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "barn/bench/report.hpp"
+#include "barn/bench/results_io.hpp"
+#include "barn/bench/run_record.hpp"
+#include "barn/core/config.hpp"
+#include "barn/core/errors.hpp"
+#include "barn/core/text_io.hpp"
+#include "commands.hpp"
+#include "repo_paths.hpp"
+
+namespace barn::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RegressOptions {
+  std::string baseline;
+  std::vector<std::string> controllers;
+  double tolerance = 0.005;
+  double success_tolerance = 0.0;
+  std::vector<std::string> overrides;
+  bool update = false;
+  int jobs = 0;
+  std::string work;
+};
+
+struct Row {
+  std::string name;
+  bench::RunSummary before, after;
+  bool identical = false;
+  bool failed = false;
+};
+
+// The reference records: one folder per controller run, each with a complete manifest.
+std::vector<fs::path> referenceRecords(const fs::path& baseline, const std::vector<std::string>& only) {
+  std::error_code ec;
+  if (!fs::is_directory(baseline, ec)) throw core::InputError(baseline.string() + ": no such baseline folder");
+  std::vector<fs::path> records;
+  for (const auto& entry : fs::directory_iterator(baseline, ec))
+    if (entry.is_directory() && fs::exists(entry.path() / bench::kManifestFile)) records.push_back(entry.path());
+  std::sort(records.begin(), records.end());
+  if (!only.empty()) {
+    std::vector<fs::path> selected;
+    for (const auto& name : only) {
+      const fs::path record = baseline / name;
+      if (!fs::exists(record / bench::kManifestFile))
+        throw core::InputError(baseline.string() + ": no reference run '" + name + "'");
+      selected.push_back(record);
+    }
+    records = selected;
+  }
+  if (records.empty()) throw core::InputError(baseline.string() + ": holds no reference runs (folders with manifest.yaml)");
+  return records;
+}
+
+}  // namespace
+
+void addRegressCommand(CLI::App& app, CommandContext& context) {
+  auto options = std::make_shared<RegressOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "regress", "Rerun the reference runs in the baseline and fail if a score or success rate dropped");
+  cmd->add_option("--baseline", options->baseline, "Baseline folder (one record per controller)")
+      ->default_str("results/baseline");
+  cmd->add_option("--controllers", options->controllers, "Only these reference runs (folder names)")->delimiter(',');
+  cmd->add_option("--tolerance", options->tolerance, "Allowed drop of the score")->capture_default_str()->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--success-tolerance", options->success_tolerance, "Allowed drop of the success rate")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--set", options->overrides,
+                  "Override a controller config key for the rerun, KEY=VALUE (e.g. inventec.safety.fi_offset=0)");
+  cmd->add_flag("--update", options->update, "Rewrite the baseline with the reruns (after an intended change)");
+  cmd->add_option("--jobs", options->jobs, "Threads (0 = all cores)")->check(CLI::Range(0, 4096));
+  cmd->add_option("--work", options->work, "Folder for the reruns (default results/regress)");
+  cmd->callback([options, &context] {
+    const fs::path baseline = options->baseline.empty() ? repoPath("results") / "baseline" : fs::path(options->baseline);
+    const fs::path work = options->work.empty() ? repoPath("results") / "regress" : fs::path(options->work);
+    std::vector<Row> rows;
+    for (const fs::path& record : referenceRecords(baseline, options->controllers)) {
+      bench::RunManifest manifest = bench::readManifest(record / bench::kManifestFile);
+      if (!manifest.complete) throw core::InputError(record.string() + ": the reference run is not complete");
+      // The rerun: the same experiment, from scratch, in a fresh record.
+      bench::RunManifest rerun = manifest;
+      if (!options->overrides.empty()) {
+        core::ConfigNode node = core::ConfigNode::parseString(rerun.controller_config, record.string() + " controller_config");
+        for (const auto& item : options->overrides) {
+          const auto eq = item.find('=');
+          if (eq == std::string::npos || eq == 0) throw core::InputError("--set '" + item + "': expected KEY=VALUE");
+          node.set(item.substr(0, eq), item.substr(eq + 1));
+        }
+        rerun.controller_config = node.toYaml();
+      }
+      rerun.complete = false;
+      rerun.episodes_done = 0;
+      rerun.wall_time_s = 0.0;
+      rerun.started.clear();
+      rerun.worlds_folder = manifest.worlds_folder;
+      if (!fs::exists(rerun.worlds_folder)) rerun.worlds_folder = (repoPath("worlds")).string();
+      const fs::path dir = work / record.filename();
+      std::error_code ec;
+      fs::remove_all(dir, ec);
+      core::writeFilesAtomic(dir, {{bench::kManifestFile, bench::formatManifest(rerun)}});
+      std::printf("== %s: rerunning %s\n", record.filename().c_str(), manifest.worlds_spec.c_str());
+      std::fflush(stdout);
+      SessionOptions session;
+      session.jobs = options->jobs;
+      runRecordFolder(dir, session);
+
+      Row row;
+      row.name = record.filename().string();
+      row.before = bench::summarise(bench::readEpisodesCsv(record / bench::kEpisodesFile));
+      row.after = bench::summarise(bench::readEpisodesCsv(dir / bench::kEpisodesFile));
+      row.identical = core::readTextFile(record / bench::kEpisodesFile) == core::readTextFile(dir / bench::kEpisodesFile);
+      row.failed = row.after.score < row.before.score - options->tolerance - 1e-12 ||
+                   row.after.success_rate < row.before.success_rate - options->success_tolerance - 1e-12;
+      rows.push_back(row);
+      if (options->update) {
+        for (const char* file : {bench::kManifestFile, bench::kEpisodesFile, bench::kSummaryFile})
+          fs::copy_file(dir / file, record / file, fs::copy_options::overwrite_existing);
+      }
+    }
+    std::printf("\nregression check against %s (tolerance: score %.4f, success %.4f)\n", baseline.c_str(),
+                options->tolerance, options->success_tolerance);
+    std::printf("  %-18s %9s %9s %9s  %8s %8s  %-9s %s\n", "run", "score", "now", "delta", "success", "now", "episodes",
+                "status");
+    bool any_failed = false;
+    for (const Row& r : rows) {
+      std::printf("  %-18s %9.4f %9.4f %+9.4f  %8.3f %8.3f  %-9s %s\n", r.name.c_str(), r.before.score, r.after.score,
+                  r.after.score - r.before.score, r.before.success_rate, r.after.success_rate,
+                  r.identical ? "identical" : "differ", r.failed ? "FAIL" : "ok");
+      any_failed = any_failed || r.failed;
+    }
+    if (options->update) std::printf("baseline updated: %s\n", baseline.c_str());
+    if (any_failed && !options->update) {
+      std::printf("REGRESSION: a score or success rate dropped beyond the tolerance\n");
+      context.exit_code = 1;
+    }
+  });
+}
+
+}  // namespace barn::cli
