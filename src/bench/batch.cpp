@@ -18,37 +18,49 @@ std::vector<std::size_t> shardEpisodes(std::size_t total, int index, int count) 
 }
 
 std::vector<EpisodeResult> runBatch(const BatchSpec& spec, const ProgressCallback& progress) {
-  sim::prepareForThreads();
-  // Shared, immutable per-world data, built once before the parallel region.
-  std::vector<sim::ObstacleField> fields;
-  fields.reserve(spec.worlds.size());
-  for (const auto& world : spec.worlds) fields.push_back(sim::ObstacleField::fromWorld(world));
+  MultiProgressCallback multi;
+  if (progress) multi = [&](std::size_t, const EpisodeResult& r, std::size_t done, std::size_t total) { progress(r, done, total); };
+  return runBatches({&spec}, multi).front();
+}
 
-  const std::size_t trials = static_cast<std::size_t>(spec.trials);
-  std::vector<std::size_t> indices;
-  if (spec.selected) {
-    indices = *spec.selected;
-  } else {
-    for (std::size_t i = 0; i < spec.worlds.size() * trials; ++i) indices.push_back(i);
+std::vector<std::vector<EpisodeResult>> runBatches(const std::vector<const BatchSpec*>& specs,
+                                                   const MultiProgressCallback& progress) {
+  sim::prepareForThreads();
+  // Shared, immutable per-world data, built once per batch before the parallel region.
+  std::vector<std::vector<sim::ObstacleField>> fields(specs.size());
+  // One flat list of (batch, episode index) for the pool.
+  std::vector<std::pair<std::size_t, std::size_t>> jobs;
+  for (std::size_t b = 0; b < specs.size(); ++b) {
+    const BatchSpec& spec = *specs[b];
+    for (const auto& world : spec.worlds) fields[b].push_back(sim::ObstacleField::fromWorld(world));
+    const std::size_t trials = static_cast<std::size_t>(spec.trials);
+    if (spec.selected) {
+      for (std::size_t i : *spec.selected) jobs.emplace_back(b, i);
+    } else {
+      for (std::size_t i = 0; i < spec.worlds.size() * trials; ++i) jobs.emplace_back(b, i);
+    }
   }
-  const long total = static_cast<long>(indices.size());
-  std::vector<EpisodeResult> results(indices.size());
-  std::vector<char> ran(indices.size(), 0);
+  const long total = static_cast<long>(jobs.size());
+  std::vector<EpisodeResult> results(jobs.size());
+  std::vector<char> ran(jobs.size(), 0);
   std::size_t done = 0;
-  const int threads = spec.jobs > 0 ? spec.jobs : omp_get_max_threads();
+  const BatchSpec& first = *specs.front();
+  const int threads = first.jobs > 0 ? first.jobs : omp_get_max_threads();
 
   // Dynamic schedule: episode lengths vary from seconds to the 100 s timeout.
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
   for (long k = 0; k < total; ++k) {
-    if (spec.stop && spec.stop->load()) continue;
-    const std::size_t index = indices[static_cast<std::size_t>(k)];
+    if (first.stop && first.stop->load()) continue;
+    const auto [b, index] = jobs[static_cast<std::size_t>(k)];
+    const BatchSpec& spec = *specs[b];
+    const std::size_t trials = static_cast<std::size_t>(spec.trials);
     const std::size_t w = index / trials;
     const int trial = static_cast<int>(index % trials);
     const core::WorldSpec& world = spec.worlds[w];
     EpisodeResult result;
     try {
       auto controller = spec.make_controller();
-      result = runEpisode(world, fields[w], *controller, spec.episode, episodeSeed(spec.seed, world.id, trial),
+      result = runEpisode(world, fields[b][w], *controller, spec.episode, episodeSeed(spec.seed, world.id, trial),
                           spec.record_trajectories);
     } catch (const std::exception& e) {
       result.world_id = world.id;
@@ -62,12 +74,12 @@ std::vector<EpisodeResult> runBatch(const BatchSpec& spec, const ProgressCallbac
 #pragma omp critical(barn_batch_progress)
     {
       ++done;
-      if (progress) progress(results[static_cast<std::size_t>(k)], done, static_cast<std::size_t>(total));
+      if (progress) progress(b, results[static_cast<std::size_t>(k)], done, static_cast<std::size_t>(total));
     }
   }
-  std::vector<EpisodeResult> finished;
+  std::vector<std::vector<EpisodeResult>> finished(specs.size());
   for (std::size_t k = 0; k < results.size(); ++k)
-    if (ran[k]) finished.push_back(std::move(results[k]));
+    if (ran[k]) finished[jobs[k].first].push_back(std::move(results[k]));
   return finished;
 }
 

@@ -8,7 +8,9 @@
 
 #include <CLI/CLI.hpp>
 
+#include "barn/bench/episode.hpp"
 #include "barn/bench/run_record.hpp"
+#include "barn/core/config.hpp"
 
 namespace barn::cli {
 
@@ -35,6 +37,12 @@ struct SessionOptions {
 /// Runs the pending episodes of the record in `dir` (its manifest.yaml must exist; a fresh
 /// record has no journal yet) and completes it. 0 complete, 1 interrupted or an episode error.
 int runRecordFolder(const std::filesystem::path& dir, const SessionOptions& options);
+
+/// The controller config `barn run` would use: --config FILE, else
+/// configs/controllers/NAME.yaml, else the type NAME with its defaults.
+core::ConfigNode controllerConfigFor(const std::string& controller, const std::string& config_file);
+/// The validated simulation config (default configs/sim/barn.yaml), protocol overridden if given.
+bench::EpisodeConfig episodeConfigFor(const std::string& sim_config, const std::string& protocol);
 
 /// Prints a complete record's summary table and difficulty breakdown.
 void printRecordSummary(const std::filesystem::path& dir, const bench::RunManifest& manifest,

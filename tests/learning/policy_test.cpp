@@ -170,10 +170,16 @@ TEST(ShippedPolicies, LoadAndMatchTheirTrainingConfigs) {
     EXPECT_EQ(policy.info().config_hash, configHash(config)) << file << " was trained with another config";
     EXPECT_EQ(policy.info().hidden, 256);
     EXPECT_LT(policy.info().validation_loss, policy.info().mean_predictor_loss);
-    // Open space straight ahead: drive forward, barely turn.
-    const core::Twist twist = policy.act(scanOf(std::vector<double>(720, std::numeric_limits<double>::infinity())), {1.0, 0.0});
-    EXPECT_GT(twist.linear, 0.3) << name;
-    EXPECT_LT(std::abs(twist.angular), 0.5) << name;
+    // Goal ahead: drive forward, and steer away from a circle (r 0.3 m) 1 m ahead and 0.3 m
+    // to one side: right (w < 0) when it is on the left, left when it is on the right.
+    const sim::LidarConfig lidar;
+    const core::Twist open = policy.act(scanOf(renderScan({}, lidar, nullptr)), {1.0, 0.0});
+    const core::Twist left = policy.act(scanOf(renderScan({makeObstacle({1.0, 0.3}, 0.3, 0.3, 0.0)}, lidar, nullptr)), {1.0, 0.0});
+    const core::Twist right = policy.act(scanOf(renderScan({makeObstacle({1.0, -0.3}, 0.3, 0.3, 0.0)}, lidar, nullptr)), {1.0, 0.0});
+    EXPECT_GT(open.linear, 0.5) << name;
+    EXPECT_LT(left.angular, -0.2) << name;
+    EXPECT_GT(right.angular, 0.2) << name;
+    EXPECT_GT(left.linear, 0.3) << name;
   }
 }
 

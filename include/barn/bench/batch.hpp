@@ -45,4 +45,14 @@ using ProgressCallback = std::function<void(const EpisodeResult& finished, std::
 /// skipped because `stop` was set are missing from the result.
 std::vector<EpisodeResult> runBatch(const BatchSpec& spec, const ProgressCallback& progress = {});
 
+/// Called after each finished episode of a multi-batch, with the index of its batch.
+using MultiProgressCallback =
+    std::function<void(std::size_t batch, const EpisodeResult& finished, std::size_t done, std::size_t total)>;
+
+/// Runs the episodes of several batches (e.g. the cells of a parameter sweep) in one parallel
+/// pool, so no core idles at the end of a batch. The stop flag and thread count of the first
+/// batch apply to all. Results per batch, ordered as runBatch orders them.
+std::vector<std::vector<EpisodeResult>> runBatches(const std::vector<const BatchSpec*>& specs,
+                                                   const MultiProgressCallback& progress = {});
+
 }  // namespace barn::bench

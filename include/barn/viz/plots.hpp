@@ -1,0 +1,113 @@
+#pragma once
+/// Figures for papers and reports, as PNG files: a heat map of a 2-parameter sweep, a per-world
+/// bar chart, and trajectories overlaid on a world picture. White background, labelled axes, a
+/// title; text uses the built-in stroke font (printable ASCII but "$ & @ \ ^ ` { } ~").
+///
+/// Every function throws core::InputError "<png>: ..." naming the problem if the input cannot
+/// be drawn (see each function) and "<png>: cannot write PNG: ..." if the file cannot be
+/// written. Text widths below are those of the stroke font (textWidth in stroke_font.hpp).
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "barn/core/protocol.hpp"
+#include "barn/core/world.hpp"
+
+namespace barn::viz {
+
+// ---------------------------------------------------------------------------
+// Heat map
+
+/// A table of values over two swept parameters, one cell per (row, column).
+struct HeatMap {
+  std::string title;                        // e.g. "BARN score (barn2023)"
+  std::string x_label;                      // column parameter, e.g. "safety.fi_offset [m]"
+  std::string y_label;                      // row parameter, e.g. "max_speed [m/s]"
+  std::vector<std::string> x_ticks;         // (n_cols) column values as text
+  std::vector<std::string> y_ticks;         // (n_rows) row values as text; row 0 at the top
+  std::vector<std::vector<double>> values;  // (n_rows x n_cols) [row][column]; NaN = missing
+  bool higher_is_better = true;             // best cell = the max (true) or the min (false)
+  std::string value_format = "%.3f";        // cell text: one %[+][.N]f/e/g/% conversion, plus text
+};
+
+/// Draws `map` as coloured cells (viridis, from the smallest finite value, dark, to the largest,
+/// yellow) with each value printed in the cell, a colour bar with its min and max labels, missing
+/// cells grey and hatched, and the best cell outlined with a star in its corner.
+///
+/// Layout [px]: cells are cell_w x 48 with cell_w = max(80, widest cell or x tick text at 14 px
+/// + 16); left of them a band of 40 + max(48, widest y tick at 14 px + 16) for the y label and
+/// ticks; right of them a band of 64 + max(56, widest colour-bar label at 13 px) for the colour
+/// bar; 60 above (title), 76 below (x ticks and label). So
+///   width  = max(left band + n_cols * cell_w + right band, title width at 20 px + 48)
+///   height = 136 + 48 * n_rows
+/// e.g. 704 x 376 px for 6 columns, 5 rows and short texts ("0.123", "1.5").
+/// Throws InputError if there are no rows or no columns, the number of y ticks is not the number
+/// of rows, a row's length is not the number of x ticks, value_format is not as above, or an image
+/// side exceeds 32767 px.
+void renderHeatMapPng(const HeatMap& map, const std::filesystem::path& png);
+
+// ---------------------------------------------------------------------------
+// Per-world bar chart
+
+/// One bar per world, in the given order (e.g. easiest to hardest).
+struct WorldBars {
+  std::string title;                    // e.g. "inventec_fi: score per world"
+  std::string y_label;                  // e.g. "score"
+  std::string x_label;                  // e.g. "worlds, easiest to hardest (by tortuosity)"
+  std::vector<std::string> labels;      // (n) world ids as text, in plotting order
+  std::vector<double> values;           // (n) bar heights; NaN = no bar
+  double y_max = 0.0;                   // top of the y axis; 0 = automatic (5 % above the data)
+  std::vector<double> reference_lines;  // y values drawn as labelled horizontal dashed lines
+};
+
+/// Draws `bars` as a bar chart; the y axis starts at 0 (or the smallest value, if negative).
+/// Only every k-th bar gets a tick label, k in 1, 2, 5, 10, 20, 25, 50, 100, ... the smallest
+/// that leaves 8 px between neighbouring labels.
+///
+/// Layout [px]: the plot area is plot_w = max(720, 4 * n) wide and 320 tall, with margins 72
+/// left, 56 right (reference-line labels), 56 top and 72 bottom, so
+///   width  = max(plot_w + 128, title width at 20 px + 48)
+///   height = 448
+/// e.g. 1328 x 448 px for 300 worlds.
+/// Throws InputError if there are no bars, labels and values differ in length, y_max is negative
+/// or not finite, or the image is wider than 32767 px.
+void renderWorldBarsPng(const WorldBars& bars, const std::filesystem::path& png);
+
+// ---------------------------------------------------------------------------
+// Trajectories on a world
+
+/// One recorded robot pose.
+struct TrajectoryPoint {
+  double x = 0.0;     // [m] world frame
+  double y = 0.0;     // [m] world frame
+  std::string state;  // controller state at this point (e.g. "forward"); empty = none
+};
+
+/// One trial's path through the world.
+struct TrajectoryOverlay {
+  std::string label;                     // legend text, e.g. "trial 0"
+  std::vector<TrajectoryPoint> points;   // in time order; non-finite points break the line
+  bool collided = false;                 // draw a red X at the collision point
+  double collision_x = 0.0;              // [m] world frame, if collided
+  double collision_y = 0.0;              // [m] world frame, if collided
+};
+
+/// Draws the world as renderWorldPng does (cells, cylinders, start pose, goal; the A* path thin
+/// and light), then each trajectory as a polyline whose segments take the colour of their start
+/// point's state, a red X at each collision, and a legend on the right: the states, the
+/// trajectories (one dash pattern each, when there is more than one or a label is set), the A*
+/// path and the collision mark. State colours come from a fixed colour-blind-safe palette
+/// (Okabe-Ito), assigned to state names in order of first appearance across all trajectories
+/// (cycling after 7); points without a state are dark grey.
+///
+/// Layout: the world picture of renderWorldPng at the same scale plus a 2.0 m legend band:
+///   width  = lround((x_max - x_min + 2 * 0.6 + 2.0) * pixels_per_metre)  [px]
+///   height = lround((y_max - y_min + 2 * 0.6) * pixels_per_metre)        [px]
+/// e.g. 924 x 1824 px for either preset at 120 px/m.
+/// Throws InputError if pixels_per_metre is not positive or an image side exceeds 32767 px.
+void renderTrajectoriesPng(const core::WorldSpec& world, const core::Protocol& protocol,
+                           const std::vector<TrajectoryOverlay>& trajectories,
+                           const std::filesystem::path& png, double pixels_per_metre = 120.0);
+
+}  // namespace barn::viz

@@ -1,0 +1,243 @@
+// Executing run records: the shared core of barn run, regress and sweep.
+
+#include "run_session.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <unistd.h>
+
+#include "barn/bench/report.hpp"
+#include "barn/bench/results_io.hpp"
+#include "barn/core/errors.hpp"
+#include "barn/core/text_io.hpp"
+#include "progress.hpp"
+#include "run_environment.hpp"
+
+namespace barn::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Set by SIGINT: the batch starts no new episode, running ones finish and are kept. A signal
+// handler can only reach a global; this is the one mutable global of barnbench.
+std::atomic<bool> g_interrupted{false};
+
+extern "C" void onInterrupt(int signal) {
+  g_interrupted.store(true);
+  std::signal(signal, SIG_DFL);  // a second Ctrl-C kills at once
+}
+
+// Episode indices of the record still to run.
+std::vector<std::size_t> pendingEpisodes(const Session& session) {
+  const std::size_t total = session.worlds.size() * static_cast<std::size_t>(session.manifest.trials);
+  std::vector<std::size_t> mine;
+  if (session.manifest.shard_count > 0) {
+    mine = bench::shardEpisodes(total, session.manifest.shard_index, session.manifest.shard_count);
+  } else {
+    for (std::size_t i = 0; i < total; ++i) mine.push_back(i);
+  }
+  std::vector<char> finished(total, 0);
+  std::map<int, std::size_t> position;
+  for (std::size_t i = 0; i < session.worlds.size(); ++i) position.emplace(session.worlds[i].id, i);
+  for (const auto& r : session.previous) {
+    if (!position.count(r.world_id) || r.trial < 0 || r.trial >= session.manifest.trials) continue;
+    finished[position.at(r.world_id) * static_cast<std::size_t>(session.manifest.trials) + static_cast<std::size_t>(r.trial)] = 1;
+  }
+  std::vector<std::size_t> pending;
+  for (std::size_t i : mine)
+    if (!finished[i]) pending.push_back(i);
+  return pending;
+}
+
+}  // namespace
+
+bench::EpisodeConfig validatedEpisodeConfig(const core::ConfigNode& node, const std::string& where) {
+  bench::EpisodeConfig config = core::readConfig<bench::EpisodeConfig>(node);
+  core::Errors errors(where);
+  bench::validate(config, errors);
+  errors.throwIfAny();
+  return config;
+}
+
+Session newSession(const std::string& controller_name, const core::ConfigNode& controller_config,
+                   const bench::EpisodeConfig& episode, const bench::LoadedWorlds& loaded,
+                   const std::string& worlds_spec, int trials, std::uint64_t seed, int shard_index, int shard_count,
+                   const fs::path& dir) {
+  Session session;
+  session.dir = dir;
+  if (fs::exists(session.dir / bench::kManifestFile))
+    throw core::InputError(session.dir.string() + ": already holds a run; finish it with --resume " +
+                           session.dir.string() + " or choose another --out");
+  session.spec.make_controller = controllers::makeControllerFactory(controller_config);
+  session.spec.episode = episode;
+  bench::RunManifest& m = session.manifest;
+  m.controller = controller_name;
+  m.controller_config = controllers::effectiveControllerConfig(controller_config);
+  m.episode_config = core::writeConfig(episode);
+  m.worlds_spec = worlds_spec;
+  m.worlds_folder = loaded.folder.string();
+  for (const auto& w : loaded.worlds) m.world_ids.push_back(w.id);
+  m.worlds_digest = bench::worldsDigest(loaded.worlds);
+  m.trials = trials;
+  m.seed = seed;
+  m.shard_index = shard_index;
+  m.shard_count = shard_count;
+  session.worlds = loaded.worlds;
+  return session;
+}
+
+Session resumedSession(const fs::path& dir) {
+  Session session;
+  session.dir = dir;
+  session.manifest = bench::readManifest(session.dir / bench::kManifestFile);
+  const bench::RunManifest& m = session.manifest;
+  session.spec.make_controller =
+      controllers::makeControllerFactory(core::ConfigNode::parseString(m.controller_config, "manifest controller_config"));
+  session.spec.episode = validatedEpisodeConfig(core::ConfigNode::parseString(m.episode_config, "manifest episode_config"),
+                                                (session.dir / bench::kManifestFile).string());
+  session.worlds = bench::loadManifestWorlds(m);
+  if (!m.complete) {
+    session.previous = bench::readEpisodesCsv(session.dir / bench::kJournalFile, true);
+  }
+  return session;
+}
+
+void printRecordSummary(const fs::path& dir, const bench::RunManifest& m, const std::vector<core::WorldSpec>& worlds) {
+  const std::vector<bench::EpisodeResult> results = bench::readEpisodesCsv(dir / bench::kEpisodesFile);
+  const bench::RunSummary summary = bench::summarise(results);
+  const std::string protocol =
+      core::readConfig<bench::EpisodeConfig>(core::ConfigNode::parseString(m.episode_config, "manifest")).protocol;
+  std::printf("%s", bench::summaryTable(summary, m.controller + " on " + m.worlds_spec + " x " + std::to_string(m.trials) +
+                                                     " trials (" + protocol + ")").c_str());
+  std::printf("%s", bench::breakdownTable(bench::difficultyBreakdown(results, worlds)).c_str());
+}
+
+
+int executeSessions(const std::vector<Session*>& sessions, const SessionOptions& options, bool print_summaries) {
+  const int threads = options.jobs > 0 ? options.jobs : static_cast<int>(std::max(1L, ::sysconf(_SC_NPROCESSORS_ONLN)));
+  std::vector<Session*> pending_sessions;
+  std::vector<std::ofstream> journals(sessions.size());
+  std::size_t total = 0, already = 0;
+  for (std::size_t b = 0; b < sessions.size(); ++b) {
+    Session& session = *sessions[b];
+    bench::RunManifest& m = session.manifest;
+    if (m.complete) continue;
+    session.spec.worlds = session.worlds;
+    session.spec.trials = m.trials;
+    session.spec.seed = m.seed;
+    session.spec.jobs = options.jobs;
+    session.spec.record_trajectories = options.trajectories;
+    session.spec.selected = pendingEpisodes(session);
+    m.barnbench_version = BARN_VERSION;
+    m.git_commit = gitCommit();
+    m.host = hostName();
+    m.threads = threads;
+    if (m.started.empty()) m.started = utcNow();
+    m.episodes_total = session.previous.size() + session.spec.selected->size();
+    m.episodes_done = session.previous.size();
+    total += m.episodes_total;
+    already += session.previous.size();
+    // The journal is rewritten from the rows that survived (an interrupted write may have left
+    // half a line), then appended to as episodes finish.
+    std::string journal = bench::episodesCsvHeader();
+    for (const auto& r : session.previous) journal += bench::episodeCsvRow(r);
+    core::writeFilesAtomic(session.dir, {{bench::kManifestFile, bench::formatManifest(m)}, {bench::kJournalFile, journal}});
+    journals[b].open(session.dir / bench::kJournalFile, std::ios::app | std::ios::binary);
+  }
+  std::vector<const bench::BatchSpec*> specs;
+  std::vector<std::size_t> batch_session;
+  for (std::size_t b = 0; b < sessions.size(); ++b) {
+    if (sessions[b]->manifest.complete) {
+      std::printf("%s is already complete\n", sessions[b]->dir.c_str());
+      if (print_summaries) printRecordSummary(sessions[b]->dir, sessions[b]->manifest, sessions[b]->worlds);
+      continue;
+    }
+    specs.push_back(&sessions[b]->spec);
+    batch_session.push_back(b);
+  }
+  if (specs.empty()) return 0;
+
+  if (sessions.size() == 1) {
+    const Session& s = *sessions.front();
+    const bench::RunManifest& m = s.manifest;
+    std::printf("running %s: %zu worlds x %d trials = %zu episodes%s on %d threads -> %s\n", m.controller.c_str(),
+                s.worlds.size(), m.trials, m.episodes_total,
+                m.shard_count ? (" (shard " + std::to_string(m.shard_index) + "/" + std::to_string(m.shard_count) + ")").c_str() : "",
+                threads, s.dir.c_str());
+  } else {
+    std::printf("running %zu records, %zu episodes in one pool on %d threads\n", specs.size(), total, threads);
+  }
+  if (already > 0) std::printf("resuming: %zu episodes already finished\n", already);
+  std::fflush(stdout);
+
+  g_interrupted.store(false);
+  std::signal(SIGINT, onInterrupt);
+  std::signal(SIGTERM, onInterrupt);  // Slurm's time limit and preemption
+  const_cast<bench::BatchSpec*>(specs.front())->stop = &g_interrupted;
+  ProgressReporter progress(total, already, ::isatty(STDOUT_FILENO));
+  std::vector<std::vector<core::FileContent>> trajectories(sessions.size());
+  const auto t0 = std::chrono::steady_clock::now();
+  std::size_t finished_here = 0;
+  std::vector<std::vector<bench::EpisodeResult>> results =
+      bench::runBatches(specs, [&](std::size_t batch, const bench::EpisodeResult& r, std::size_t, std::size_t) {
+        const std::size_t b = batch_session[batch];
+        journals[b] << bench::episodeCsvRow(r);
+        journals[b].flush();
+        if (options.trajectories)
+          trajectories[b].push_back({"world_" + std::to_string(r.world_id) + "_trial_" + std::to_string(r.trial) + ".csv",
+                                     bench::trajectoryCsv(r)});
+        progress.update(r.outcome == bench::Outcome::Success, r.sim_time);
+        if (options.stop_after > 0 && ++finished_here >= options.stop_after) g_interrupted.store(true);
+      });
+  progress.finish();
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
+  for (auto& j : journals) if (j.is_open()) j.close();
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  int status = 0;
+  double sim_time_here = 0.0;
+  bool interrupted = false;
+  for (std::size_t batch = 0; batch < specs.size(); ++batch) {
+    Session& session = *sessions[batch_session[batch]];
+    bench::RunManifest& m = session.manifest;
+    std::vector<bench::EpisodeResult>& mine = results[batch];
+    for (const auto& r : mine) sim_time_here += r.sim_time;
+    m.wall_time_s += wall / static_cast<double>(specs.size());
+    if (options.trajectories) core::writeFilesAtomic(session.dir / "trajectories", trajectories[batch_session[batch]]);
+    mine.insert(mine.end(), session.previous.begin(), session.previous.end());
+    if (mine.size() < m.episodes_total) {
+      m.episodes_done = mine.size();
+      core::writeFileAtomic(session.dir / bench::kManifestFile, bench::formatManifest(m));
+      interrupted = true;
+      continue;
+    }
+    bench::writeCompleteRecord(session.dir, m, mine, session.worlds);
+    if (print_summaries) printRecordSummary(session.dir, m, session.worlds);
+    for (const auto& r : mine)
+      if (r.outcome == bench::Outcome::Error) status = 1;
+  }
+  std::printf("  performance: wall %.2f s, simulated %.1f s, %.0f simulated s per wall s (%.0f per core, %d threads)\n",
+              wall, sim_time_here, sim_time_here / wall, sim_time_here / wall / threads, threads);
+  if (interrupted) {
+    for (Session* s : sessions)
+      if (!s->manifest.complete && fs::exists(s->dir / bench::kJournalFile))
+        std::printf("interrupted: finish with: barn run --resume %s\n", s->dir.c_str());
+    return 1;
+  }
+  if (sessions.size() == 1) std::printf("wrote %s\n", sessions.front()->dir.c_str());
+  return status;
+}
+
+int runRecordFolder(const fs::path& dir, const SessionOptions& options) {
+  Session session = resumedSession(dir);
+  return executeSessions({&session}, options, true);
+}
+
+}  // namespace barn::cli

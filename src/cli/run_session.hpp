@@ -1,0 +1,42 @@
+#pragma once
+/// A run record being executed (fresh, resumed, or one cell of a sweep), and executing several
+/// of them in one parallel pool. The CLI's run, regress and sweep commands share this.
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "barn/bench/batch.hpp"
+#include "barn/bench/run_record.hpp"
+#include "barn/bench/world_selection.hpp"
+#include "barn/core/config.hpp"
+#include "commands.hpp"
+
+namespace barn::cli {
+
+struct Session {
+  std::filesystem::path dir;                   // the record folder
+  bench::RunManifest manifest;
+  std::vector<core::WorldSpec> worlds;
+  bench::BatchSpec spec;
+  std::vector<bench::EpisodeResult> previous;  // finished in earlier sessions (resume)
+};
+
+/// Reads and validates the robot, LiDAR, physics and protocol config.
+bench::EpisodeConfig validatedEpisodeConfig(const core::ConfigNode& node, const std::string& where);
+
+/// A new record in `dir` (which must not hold one): everything validated, nothing written yet.
+Session newSession(const std::string& controller_name, const core::ConfigNode& controller_config,
+                   const bench::EpisodeConfig& episode, const bench::LoadedWorlds& worlds,
+                   const std::string& worlds_spec, int trials, std::uint64_t seed, int shard_index, int shard_count,
+                   const std::filesystem::path& dir);
+
+/// The record in `dir`, to finish (its manifest and journal read back).
+Session resumedSession(const std::filesystem::path& dir);
+
+/// Runs what is left of every session's record in one parallel pool (Ctrl-C keeps what has
+/// finished) and completes each record. 0 all complete, 1 interrupted or an episode error.
+int executeSessions(const std::vector<Session*>& sessions, const SessionOptions& options, bool print_summaries);
+
+}  // namespace barn::cli

@@ -1,0 +1,133 @@
+#pragma once
+// Drawing helpers shared by the PNG renderers (world pictures, trajectory overlays, plots):
+// Cairo ownership, colours, number formatting, PNG output, and the layers of a BARN world
+// picture in the world frame. Private to barn_viz; the layout rules are documented in
+// barn/viz/world_render.hpp and barn/viz/plots.hpp.
+
+#include <cairo.h>
+
+#include <charconv>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "barn/core/grid.hpp"
+#include "barn/core/protocol.hpp"
+#include "barn/core/world.hpp"
+
+namespace barn::viz::detail {
+
+// ---------------------------------------------------------------------------
+// Colours, Cairo objects, output
+
+struct Rgb {
+  double r;  // [0, 1]
+  double g;  // [0, 1]
+  double b;  // [0, 1]
+};
+
+inline constexpr Rgb kCellColour{0.86, 0.86, 0.86};
+inline constexpr Rgb kObstacleColour{0.648, 0.192, 0.192};
+inline constexpr Rgb kWallColour{0.152, 0.379, 0.720};
+inline constexpr Rgb kPathColour{0.10, 0.60, 0.25};
+inline constexpr Rgb kInkColour{0.10, 0.10, 0.10};  // start, goal, text, scale bar
+
+/// Cairo refuses image surfaces larger than this on either side. [px]
+inline constexpr int kMaxImageSide = 32767;
+
+void setColour(cairo_t* cr, const Rgb& c);
+
+struct SurfaceDeleter {
+  void operator()(cairo_surface_t* surface) const { cairo_surface_destroy(surface); }
+};
+struct ContextDeleter {
+  void operator()(cairo_t* cr) const { cairo_destroy(cr); }
+};
+using SurfacePtr = std::unique_ptr<cairo_surface_t, SurfaceDeleter>;
+using ContextPtr = std::unique_ptr<cairo_t, ContextDeleter>;
+
+/// An ARGB32 image surface and its context; every object is released on all paths.
+struct Canvas {
+  SurfacePtr surface;
+  ContextPtr context;
+  cairo_t* cr() const { return context.get(); }
+};
+
+/// A white (width x height) px canvas. Throws std::runtime_error naming `where` if Cairo
+/// cannot create it.
+Canvas createCanvas(int width, int height, const std::string& where);
+
+/// Checks the context for drawing errors (std::runtime_error) and writes the PNG; throws
+/// core::InputError "<where>: cannot write PNG: ..." if the file cannot be written.
+void writePng(const Canvas& canvas, const std::string& where);
+
+/// `value` in the given format; to_chars, not printf, so the process locale cannot turn the
+/// decimal point into a comma.
+std::string formatNumber(double value, std::chars_format format, int precision);
+
+/// Adds a closed circle to the current path without joining it to the previous point.
+void addCircle(cairo_t* cr, const Eigen::Vector2d& centre, double radius);
+
+// ---------------------------------------------------------------------------
+// World pictures (see barn/viz/world_render.hpp for the layout)
+
+/// Corridor box: outer edges of the containment walls and the last field column. [m]
+inline constexpr double kCorridorMinX = -4.5;  // [m]
+inline constexpr double kCorridorMaxX = 0.0;   // [m]
+inline constexpr double kCorridorMinY = 0.0;   // [m]
+inline constexpr double kCorridorMaxY = 9.6;   // [m]
+inline constexpr double kWorldMargin = 0.6;    // [m] on every side; holds the title and scale bar
+
+/// The world-frame rectangle shown in the image, before the margin is added. [m]
+struct ViewBox {
+  double min_x;  // [m]
+  double max_x;  // [m]
+  double min_y;  // [m]
+  double max_y;  // [m]
+};
+
+/// Corridor plus goal disc, so a protocol with a farther goal still fits in the picture.
+ViewBox viewBox(const core::Protocol& protocol);
+
+/// Image size of a world picture: the view box plus the margins, plus `extra_width` metres on
+/// the right. Throws core::InputError naming `where` if pixels_per_metre is not positive or a
+/// side is outside 1 ... kMaxImageSide px.
+struct ImageSize {
+  int width;   // [px]
+  int height;  // [px]
+};
+ImageSize worldImageSize(const ViewBox& view, double pixels_per_metre, double extra_width,
+                         const std::string& where);
+
+/// World metres to pixels with y flipped, so the robot drives up the page.
+cairo_matrix_t worldToPixels(const ViewBox& view, double pixels_per_metre);
+
+/// How the A* reference path is drawn.
+struct PathStyle {
+  Rgb colour = kPathColour;
+  double width = 0.03;        // [m] line width
+  double dot_radius = 0.035;  // [m] dot on each path cell; 0 = no dots
+};
+
+// Layers, drawn in world coordinates (metres, y up; see worldToPixels).
+void drawOccupiedCells(cairo_t* cr, const core::Grid& grid);
+void drawCylinders(cairo_t* cr, const core::Grid& grid, bool show_containment);
+void drawPath(cairo_t* cr, const std::vector<core::Cell>& path, const core::Protocol& protocol,
+              const PathStyle& style);
+void drawStartPose(cairo_t* cr, const core::Protocol& protocol);
+void drawGoal(cairo_t* cr, const core::Protocol& protocol);
+
+/// "world <id>  fill <pct>  smooth <n>  OT <s> s".
+std::string worldTitle(const core::WorldSpec& world, const core::Protocol& protocol);
+
+/// Title in the top margin (device pixels), shrunk to fit between the side margins of a
+/// `width_px` wide picture.
+void drawWorldTitle(cairo_t* cr, const std::string& title, double pixels_per_metre,
+                    double width_px);
+
+/// A 1 m scale bar starting at (left_px, baseline_px), device pixels.
+void drawScaleBar(cairo_t* cr, double left_px, double baseline_px, double pixels_per_metre);
+
+}  // namespace barn::viz::detail
