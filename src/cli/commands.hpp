@@ -26,6 +26,7 @@ void addMergeCommand(CLI::App& app, CommandContext& context);
 void addLflhCommand(CLI::App& app, CommandContext& context);
 
 void addRegressCommand(CLI::App& app, CommandContext& context);
+void addSweepCommand(CLI::App& app, CommandContext& context);
 
 /// How a run session executes.
 struct SessionOptions {

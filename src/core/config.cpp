@@ -49,6 +49,14 @@ ConfigNode ConfigNode::child(std::string_view key) const {
   return result;
 }
 
+ConfigNode ConfigNode::element(std::size_t index) const {
+  ConfigNode result;
+  result.source_ = source_;
+  result.path_ = path_ + "[" + std::to_string(index) + "]";
+  if (impl_->node && impl_->node.IsSequence() && index < impl_->node.size()) result.impl_->node = impl_->node[index];
+  return result;
+}
+
 std::vector<std::string> ConfigNode::keys() const {
   std::vector<std::string> keys;
   if (!isMap()) return keys;
@@ -127,6 +135,17 @@ bool ConfigNode::read(std::vector<double>& value) const {
     double v = 0.0;
     if (!scalarText(item, text) || !parseDouble(text, v) || !std::isfinite(v)) return false;
     parsed.push_back(v);
+  }
+  value = std::move(parsed);
+  return true;
+}
+
+bool ConfigNode::read(std::vector<std::string>& value) const {
+  if (!impl_->node || !impl_->node.IsSequence()) return false;
+  std::vector<std::string> parsed;
+  for (const auto& item : impl_->node) {
+    if (!item.IsScalar()) return false;
+    parsed.push_back(item.Scalar());
   }
   value = std::move(parsed);
   return true;

@@ -44,6 +44,8 @@ class ConfigNode {
   bool isMap() const;
   bool has(std::string_view key) const;
   ConfigNode child(std::string_view key) const;
+  /// Element `index` of a sequence (a null node past the end or if this is not a sequence).
+  ConfigNode element(std::size_t index) const;
   std::vector<std::string> keys() const;  // in file order, duplicates included
 
   /// Scalar reads; false if the node is not a scalar of that type.
@@ -53,6 +55,7 @@ class ConfigNode {
   bool read(bool& value) const;
   bool read(std::string& value) const;
   bool read(std::vector<double>& value) const;
+  bool read(std::vector<std::string>& value) const;
 
   /// Sets `dotted_key` ("safety.fi.offset") to the YAML scalar `value_text`, creating maps as
   /// needed: command-line overrides for runs and sweeps.

@@ -1,0 +1,796 @@
+#include "barn/viz/plots.hpp"
+
+#include <cairo.h>
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <numbers>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "barn/core/errors.hpp"
+#include "drawing.hpp"
+#include "stroke_font.hpp"
+
+namespace barn::viz {
+namespace {
+
+using detail::drawText;
+using detail::Rgb;
+using detail::setColour;
+using detail::textWidth;
+
+// ---------------------------------------------------------------------------
+// Style shared by the charts (device pixels)
+
+constexpr Rgb kInk{0.10, 0.10, 0.10};
+constexpr Rgb kMutedInk{0.40, 0.40, 0.40};  // reference-line labels, legend headers
+constexpr Rgb kGridLine{0.90, 0.90, 0.90};
+constexpr Rgb kMissingFill{0.93, 0.93, 0.93};
+constexpr Rgb kMissingHatch{0.70, 0.70, 0.70};
+constexpr Rgb kBarColour{0.12, 0.47, 0.71};
+
+constexpr double kTitleSize = 20.0;  // [px]
+constexpr double kLabelSize = 16.0;  // [px] axis labels
+constexpr double kTickSize = 14.0;   // [px] heat-map ticks and cell values
+constexpr double kSmallSize = 13.0;  // [px] colour bar, bar-chart ticks, legends
+
+// Glyphs sit on the baseline; digits and capitals are 6/8 of the font size tall, so this
+// baseline offset centres such text on a given y.
+double centredBaseline(double y, double size) { return y + 0.375 * size; }
+
+void drawCentred(cairo_t* cr, const std::string& text, double centre_x, double baseline,
+                 double size) {
+  drawText(cr, text, centre_x - 0.5 * textWidth(text, size), baseline, size);
+}
+
+void drawRightAligned(cairo_t* cr, const std::string& text, double right_x, double baseline,
+                      double size) {
+  drawText(cr, text, right_x - textWidth(text, size), baseline, size);
+}
+
+/// Text reading bottom to top, centred on (x, centre_y), with its baseline at x.
+void drawVertical(cairo_t* cr, const std::string& text, double baseline_x, double centre_y,
+                  double size) {
+  cairo_save(cr);
+  cairo_translate(cr, baseline_x, centre_y + 0.5 * textWidth(text, size));
+  cairo_rotate(cr, -0.5 * std::numbers::pi);
+  drawText(cr, text, 0.0, 0.0, size);
+  cairo_restore(cr);
+}
+
+/// A title centred over [left, right], kept inside the image's side margins when it is wider.
+void drawTitle(cairo_t* cr, const std::string& title, double left, double right, double image_width,
+               double baseline) {
+  const double width = textWidth(title, kTitleSize);
+  const double x = std::clamp(0.5 * (left + right - width), 24.0, std::max(24.0, image_width - 24.0 - width));
+  setColour(cr, kInk);
+  drawText(cr, title, x, baseline, kTitleSize);
+}
+
+/// Image side [px] rounded up, or InputError if Cairo cannot make an image that large.
+int imageSide(double side, const std::string& what, const std::string& where) {
+  if (!(side >= 1.0 && side <= detail::kMaxImageSide)) {
+    throw core::InputError(where + ": " + what + " of " +
+                           detail::formatNumber(side, std::chars_format::fixed, 0) +
+                           " px is out of range (1 ... " + std::to_string(detail::kMaxImageSide) +
+                           " px)");
+  }
+  return static_cast<int>(std::ceil(side));
+}
+
+// ---------------------------------------------------------------------------
+// Heat map
+
+// Viridis (matplotlib), sampled at 9 evenly spaced points. Linear interpolation between them
+// stays within about 1 % of the full 256-entry table, and the map stays perceptually uniform,
+// ordered in lightness and readable in grey scale and with colour-vision deficiencies.
+constexpr std::array<Rgb, 9> kViridis{{{0.267, 0.005, 0.329},
+                                       {0.279, 0.175, 0.483},
+                                       {0.230, 0.322, 0.546},
+                                       {0.173, 0.448, 0.558},
+                                       {0.128, 0.567, 0.551},
+                                       {0.153, 0.681, 0.502},
+                                       {0.369, 0.789, 0.383},
+                                       {0.678, 0.864, 0.190},
+                                       {0.993, 0.906, 0.144}}};
+
+Rgb viridis(double t) {
+  t = std::clamp(t, 0.0, 1.0) * (kViridis.size() - 1);
+  const std::size_t i = std::min(static_cast<std::size_t>(t), kViridis.size() - 2);
+  const double f = t - static_cast<double>(i);
+  const Rgb& a = kViridis[i];
+  const Rgb& b = kViridis[i + 1];
+  return {a.r + f * (b.r - a.r), a.g + f * (b.g - a.g), a.b + f * (b.b - a.b)};
+}
+
+/// WCAG relative luminance of an sRGB colour, [0, 1].
+double luminance(const Rgb& c) {
+  const auto linear = [](double v) {
+    return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
+  };
+  return 0.2126 * linear(c.r) + 0.7152 * linear(c.g) + 0.0722 * linear(c.b);
+}
+
+// Heat-map layout [px]; plots.hpp documents the resulting image size.
+constexpr double kCellMinWidth = 80.0;
+constexpr double kCellHeight = 48.0;
+constexpr double kCellPadding = 16.0;        // widest text + this = cell width, if over the min
+constexpr double kYLabelBand = 40.0;         // left of the y ticks
+constexpr double kYTickMinBand = 48.0;
+constexpr double kBarBandFixed = 64.0;       // gap 24 + bar 18 + gap 8 + pad 14
+constexpr double kBarLabelMinWidth = 56.0;
+constexpr double kHeatTop = 60.0;
+constexpr double kHeatBottom = 76.0;
+
+/// value_format parsed: the text around one printf-style conversion. Parsed rather than handed
+/// to snprintf, so a "%s" or "%d" cannot read a double as something else, and to_chars keeps
+/// the decimal point a point in every locale.
+struct ValueFormat {
+  std::string prefix;
+  std::string suffix;
+  std::chars_format format = std::chars_format::fixed;
+  int precision = 6;
+  bool plus = false;
+  bool upper = false;  // %E, %G
+};
+
+std::optional<ValueFormat> parseValueFormat(const std::string& text) {
+  ValueFormat parsed;
+  bool converted = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    std::string& out = converted ? parsed.suffix : parsed.prefix;
+    if (text[i] != '%') {
+      out += text[i];
+      continue;
+    }
+    if (++i == text.size()) return std::nullopt;
+    if (text[i] == '%') {
+      out += '%';
+      continue;
+    }
+    if (converted) return std::nullopt;  // a second conversion
+    if (text[i] == '+') {
+      parsed.plus = true;
+      ++i;
+    }
+    if (i < text.size() && text[i] == '.') {
+      parsed.precision = 0;
+      std::size_t digits = 0;
+      while (++i < text.size() && text[i] >= '0' && text[i] <= '9' && digits < 2) {
+        parsed.precision = 10 * parsed.precision + (text[i] - '0');
+        ++digits;
+      }
+    }
+    if (i == text.size()) return std::nullopt;
+    switch (text[i]) {
+      case 'f': case 'F': parsed.format = std::chars_format::fixed; break;
+      case 'e': case 'E': parsed.format = std::chars_format::scientific; break;
+      case 'g': case 'G': parsed.format = std::chars_format::general; break;
+      default: return std::nullopt;
+    }
+    parsed.upper = text[i] == 'E' || text[i] == 'G';
+    converted = true;
+  }
+  if (!converted) return std::nullopt;
+  return parsed;
+}
+
+std::string formatValue(const ValueFormat& f, double value) {
+  std::string number = detail::formatNumber(value, f.format, f.precision);
+  if (f.upper) {
+    for (char& c : number) c = c == 'e' ? 'E' : c;
+  }
+  if (f.plus && !std::signbit(value)) number.insert(number.begin(), '+');
+  return f.prefix + number + f.suffix;
+}
+
+/// Five-pointed star centred on (x, y), outer radius r, filled white and outlined in ink.
+void drawStar(cairo_t* cr, double x, double y, double r) {
+  for (int k = 0; k < 10; ++k) {
+    const double angle = -0.5 * std::numbers::pi + k * std::numbers::pi / 5.0;
+    const double radius = k % 2 == 0 ? r : 0.45 * r;
+    const double px = x + radius * std::cos(angle);
+    const double py = y + radius * std::sin(angle);
+    if (k == 0) cairo_move_to(cr, px, py);
+    else cairo_line_to(cr, px, py);
+  }
+  cairo_close_path(cr);
+  cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
+  cairo_fill_preserve(cr);
+  setColour(cr, kInk);
+  cairo_set_line_width(cr, 1.3);
+  cairo_set_line_join(cr, CAIRO_LINE_JOIN_MITER);
+  cairo_stroke(cr);
+}
+
+/// Light grey with diagonal hatching: the look of a missing value.
+void drawMissing(cairo_t* cr, double x, double y, double w, double h) {
+  cairo_save(cr);
+  cairo_rectangle(cr, x, y, w, h);
+  setColour(cr, kMissingFill);
+  cairo_fill_preserve(cr);
+  cairo_clip(cr);
+  const double spacing = 8.0;
+  for (double d = -h; d < w; d += spacing) {
+    cairo_move_to(cr, x + d, y + h);
+    cairo_line_to(cr, x + d + h, y);
+  }
+  setColour(cr, kMissingHatch);
+  cairo_set_line_width(cr, 1.0);
+  cairo_stroke(cr);
+  cairo_restore(cr);
+}
+
+// ---------------------------------------------------------------------------
+// Bar chart
+
+constexpr double kBarsMinPlotWidth = 720.0;
+constexpr double kBarsPitch = 4.0;  // [px] per bar before the plot grows past the minimum
+constexpr double kBarsPlotHeight = 320.0;
+constexpr double kBarsLeft = 72.0, kBarsRight = 56.0, kBarsTop = 56.0, kBarsBottom = 72.0;
+
+/// Tick spacing of 1, 2 or 5 x 10^k giving at most about `target` intervals over `span`.
+double niceStep(double span, int target) {
+  const double raw = span / target;
+  const double power = std::pow(10.0, std::floor(std::log10(raw)));
+  for (double m : {1.0, 2.0, 5.0}) {
+    if (m * power >= raw * (1.0 - 1e-9)) return m * power;
+  }
+  return 10.0 * power;
+}
+
+/// Tick value rounded to the step's precision, "-0" shown as "0".
+std::string tickText(double value, double step) {
+  const int decimals = std::max(0, static_cast<int>(-std::floor(std::log10(step) + 1e-9)));
+  return detail::formatNumber(std::abs(value) < 1e-9 * step ? 0.0 : value,
+                              std::chars_format::fixed, decimals);
+}
+
+/// Smallest label stride in 1, 2, 5, 10, 20, 25, 50, 100, 200, 250, 500, ... with `gap` px
+/// between neighbouring labels of width up to `label_width`.
+std::size_t labelStride(double pitch, double label_width, double gap) {
+  for (std::size_t scale = 1;; scale *= 10) {
+    for (std::size_t m : {1, 2, 5, 10, 20, 25, 50}) {
+      if (m >= 10 && scale > 1) continue;  // 10, 20, 25, 50 only in the first decade
+      const std::size_t k = m * scale;
+      if (k * pitch >= label_width + gap) return k;
+    }
+    if (scale > std::numeric_limits<std::size_t>::max() / 100) return scale * 10;
+  }
+}
+
+// ---------------------------------------------------------------------------
+// Trajectories
+
+constexpr double kLegendBand = 2.0;          // [m] right of the world picture
+constexpr double kTrajectoryWidth = 0.035;   // [m]
+constexpr double kLegendText = 0.15;         // [m] font size
+constexpr double kLegendRow = 0.30;          // [m] between legend rows
+constexpr double kLegendSwatch = 0.40;       // [m] line length of a legend entry
+constexpr Rgb kNoStateColour{0.30, 0.30, 0.30};
+constexpr Rgb kCollisionColour{0.86, 0.0, 0.0};
+
+// Okabe and Ito's colour-blind-safe qualitative palette, without black (the ink) and with
+// yellow last (weak on white). Vermillion sits late too: it is the nearest to the obstacles'
+// red and the collision marks.
+constexpr std::array<Rgb, 7> kStatePalette{{{0.902, 0.624, 0.000},   // orange
+                                            {0.337, 0.706, 0.914},   // sky blue
+                                            {0.000, 0.620, 0.451},   // bluish green
+                                            {0.800, 0.475, 0.655},   // reddish purple
+                                            {0.000, 0.447, 0.698},   // blue
+                                            {0.835, 0.369, 0.000},   // vermillion
+                                            {0.941, 0.894, 0.259}}};  // yellow
+
+// Dash patterns that tell trajectories apart; the colour is taken by the state. [m] on, off
+struct DashPattern {
+  std::array<double, 4> dashes;
+  int count;  // 0 = solid
+};
+constexpr std::array<DashPattern, 4> kDashPatterns{{{{0.0, 0.0, 0.0, 0.0}, 0},
+                                                    {{0.20, 0.10, 0.0, 0.0}, 2},
+                                                    {{0.0, 0.09, 0.0, 0.0}, 2},
+                                                    {{0.22, 0.09, 0.0, 0.09}, 4}}};
+
+void setDash(cairo_t* cr, const DashPattern& pattern, double offset) {
+  cairo_set_dash(cr, pattern.dashes.data(), pattern.count, offset);
+}
+
+/// An X of half-size `half`, in the current (world) coordinates, over a white halo.
+void drawCollisionMark(cairo_t* cr, double x, double y, double half, double width) {
+  cairo_move_to(cr, x - half, y - half);
+  cairo_line_to(cr, x + half, y + half);
+  cairo_move_to(cr, x - half, y + half);
+  cairo_line_to(cr, x + half, y - half);
+  cairo_set_dash(cr, nullptr, 0, 0.0);
+  cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
+  cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
+  cairo_set_line_width(cr, 2.2 * width);
+  cairo_stroke_preserve(cr);
+  setColour(cr, kCollisionColour);
+  cairo_set_line_width(cr, width);
+  cairo_stroke(cr);
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------
+// Heat map
+
+void renderHeatMapPng(const HeatMap& map, const std::filesystem::path& png) {
+  const std::string where = png.string();
+  const std::size_t rows = map.values.size();
+  const std::size_t cols = map.x_ticks.size();
+  if (rows == 0) throw core::InputError(where + ": heat map has no rows (values is empty)");
+  if (cols == 0) throw core::InputError(where + ": heat map has no columns (x_ticks is empty)");
+  if (map.y_ticks.size() != rows) {
+    throw core::InputError(where + ": heat map has " + std::to_string(rows) + " rows of values but " +
+                           std::to_string(map.y_ticks.size()) + " y_ticks");
+  }
+  for (std::size_t r = 0; r < rows; ++r) {
+    if (map.values[r].size() != cols) {
+      throw core::InputError(where + ": heat map row " + std::to_string(r) + " has " +
+                             std::to_string(map.values[r].size()) + " values but there are " +
+                             std::to_string(cols) + " x_ticks");
+    }
+  }
+  const std::optional<ValueFormat> format = parseValueFormat(map.value_format);
+  if (!format) {
+    throw core::InputError(where + ": value_format '" + map.value_format +
+                           "' must hold one %f, %e or %g conversion (optionally %+.Nf)");
+  }
+
+  // Range and best value over the finite cells.
+  double lo = std::numeric_limits<double>::infinity();
+  double hi = -lo;
+  for (const std::vector<double>& row : map.values) {
+    for (double v : row) {
+      if (!std::isfinite(v)) continue;
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
+  }
+  const bool any_finite = std::isfinite(lo);
+  const double best = map.higher_is_better ? hi : lo;
+  bool any_missing = false;
+
+  // Layout: widths of the texts decide the cell width and the side bands.
+  double widest_cell = 0.0;
+  for (const std::string& tick : map.x_ticks) widest_cell = std::max(widest_cell, textWidth(tick, kTickSize));
+  for (const std::vector<double>& row : map.values) {
+    for (double v : row) {
+      if (std::isfinite(v)) widest_cell = std::max(widest_cell, textWidth(formatValue(*format, v), kTickSize));
+      else any_missing = true;
+    }
+  }
+  double widest_y_tick = 0.0;
+  for (const std::string& tick : map.y_ticks) widest_y_tick = std::max(widest_y_tick, textWidth(tick, kTickSize));
+  const std::string lo_text = any_finite ? formatValue(*format, lo) : "";
+  const std::string hi_text = any_finite ? formatValue(*format, hi) : "";
+  const double bar_label_width = std::max(textWidth(lo_text, kSmallSize), textWidth(hi_text, kSmallSize));
+
+  const double cell_w = std::max(kCellMinWidth, widest_cell + kCellPadding);
+  const double left_band = kYLabelBand + std::max(kYTickMinBand, widest_y_tick + 16.0);
+  const double right_band = kBarBandFixed + std::max(kBarLabelMinWidth, bar_label_width);
+  const double grid_w = static_cast<double>(cols) * cell_w;
+  const double grid_h = static_cast<double>(rows) * kCellHeight;
+  const int width = imageSide(std::max(left_band + grid_w + right_band, textWidth(map.title, kTitleSize) + 48.0),
+                              "heat map width", where);
+  const int height = imageSide(kHeatTop + grid_h + kHeatBottom, "heat map height", where);
+
+  const detail::Canvas canvas = detail::createCanvas(width, height, where);
+  cairo_t* cr = canvas.cr();
+  const double gx = left_band, gy = kHeatTop;  // top-left corner of the grid
+
+  // Cells, value texts, then thin white separators.
+  for (std::size_t r = 0; r < rows; ++r) {
+    for (std::size_t c = 0; c < cols; ++c) {
+      const double x = gx + static_cast<double>(c) * cell_w;
+      const double y = gy + static_cast<double>(r) * kCellHeight;
+      const double v = map.values[r][c];
+      if (!std::isfinite(v)) {
+        drawMissing(cr, x, y, cell_w, kCellHeight);
+        continue;
+      }
+      const Rgb colour = viridis(hi > lo ? (v - lo) / (hi - lo) : 0.5);
+      setColour(cr, colour);
+      cairo_rectangle(cr, x, y, cell_w, kCellHeight);
+      cairo_fill(cr);
+      // Black on light cells, white on dark ones: 0.18 is where both contrast ratios match.
+      if (luminance(colour) > 0.18) cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
+      else cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
+      drawCentred(cr, formatValue(*format, v), x + 0.5 * cell_w,
+                  centredBaseline(y + 0.5 * kCellHeight, kTickSize), kTickSize);
+    }
+  }
+  cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
+  cairo_set_line_width(cr, 1.5);
+  for (std::size_t c = 1; c < cols; ++c) {
+    cairo_move_to(cr, gx + static_cast<double>(c) * cell_w, gy);
+    cairo_line_to(cr, gx + static_cast<double>(c) * cell_w, gy + grid_h);
+  }
+  for (std::size_t r = 1; r < rows; ++r) {
+    cairo_move_to(cr, gx, gy + static_cast<double>(r) * kCellHeight);
+    cairo_line_to(cr, gx + grid_w, gy + static_cast<double>(r) * kCellHeight);
+  }
+  cairo_stroke(cr);
+
+  // Best cells (every cell attaining the best value): a thick ink outline inside the cell,
+  // lined in white so it also reads on the darkest cells, and a star in the top-right corner.
+  if (any_finite) {
+    for (std::size_t r = 0; r < rows; ++r) {
+      for (std::size_t c = 0; c < cols; ++c) {
+        if (map.values[r][c] != best) continue;
+        const double x = gx + static_cast<double>(c) * cell_w;
+        const double y = gy + static_cast<double>(r) * kCellHeight;
+        cairo_set_line_join(cr, CAIRO_LINE_JOIN_MITER);
+        cairo_rectangle(cr, x + 5.0, y + 5.0, cell_w - 10.0, kCellHeight - 10.0);
+        cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
+        cairo_set_line_width(cr, 1.5);
+        cairo_stroke(cr);
+        cairo_rectangle(cr, x + 2.0, y + 2.0, cell_w - 4.0, kCellHeight - 4.0);
+        setColour(cr, kInk);
+        cairo_set_line_width(cr, 4.0);
+        cairo_stroke(cr);
+        drawStar(cr, x + cell_w - 12.0, y + 12.5, 6.5);
+      }
+    }
+  }
+
+  // Ticks and axis labels.
+  setColour(cr, kInk);
+  for (std::size_t c = 0; c < cols; ++c) {
+    drawCentred(cr, map.x_ticks[c], gx + (static_cast<double>(c) + 0.5) * cell_w, gy + grid_h + 22.0, kTickSize);
+  }
+  for (std::size_t r = 0; r < rows; ++r) {
+    drawRightAligned(cr, map.y_ticks[r], gx - 10.0,
+                     centredBaseline(gy + (static_cast<double>(r) + 0.5) * kCellHeight, kTickSize), kTickSize);
+  }
+  const double x_label_width = textWidth(map.x_label, kLabelSize);
+  drawText(cr, map.x_label,
+           std::clamp(gx + 0.5 * grid_w - 0.5 * x_label_width, 8.0, std::max(8.0, width - 8.0 - x_label_width)),
+           gy + grid_h + 56.0, kLabelSize);
+  drawVertical(cr, map.y_label, 28.0, gy + 0.5 * grid_h, kLabelSize);
+  drawTitle(cr, map.title, gx, gx + grid_w, width, 36.0);
+
+  // Colour bar: the same anchors as a Cairo gradient (also linear in sRGB), max at the top.
+  const double bx = gx + grid_w + 24.0, bw = 18.0;
+  cairo_pattern_t* gradient = cairo_pattern_create_linear(0.0, gy + grid_h, 0.0, gy);
+  for (std::size_t i = 0; i < kViridis.size(); ++i) {
+    cairo_pattern_add_color_stop_rgb(gradient, static_cast<double>(i) / (kViridis.size() - 1),
+                                     kViridis[i].r, kViridis[i].g, kViridis[i].b);
+  }
+  cairo_rectangle(cr, bx, gy, bw, grid_h);
+  cairo_set_source(cr, gradient);
+  cairo_fill(cr);
+  cairo_pattern_destroy(gradient);
+  setColour(cr, kInk);
+  cairo_set_line_width(cr, 1.0);
+  cairo_rectangle(cr, bx + 0.5, gy + 0.5, bw - 1.0, grid_h - 1.0);
+  cairo_stroke(cr);
+  if (any_finite) {
+    cairo_move_to(cr, bx + bw, gy + 0.5);
+    cairo_line_to(cr, bx + bw + 4.0, gy + 0.5);
+    cairo_move_to(cr, bx + bw, gy + grid_h - 0.5);
+    cairo_line_to(cr, bx + bw + 4.0, gy + grid_h - 0.5);
+    cairo_stroke(cr);
+    drawText(cr, hi_text, bx + bw + 7.0, centredBaseline(gy + 0.5, kSmallSize), kSmallSize);
+    drawText(cr, lo_text, bx + bw + 7.0, centredBaseline(gy + grid_h - 0.5, kSmallSize), kSmallSize);
+  }
+
+  // Key below the colour bar: the best-cell star, and the missing-value look if there is one.
+  if (any_finite) {
+    drawStar(cr, bx + 7.0, gy + grid_h + 17.0, 6.5);
+    setColour(cr, kInk);
+    drawText(cr, "best", bx + 20.0, centredBaseline(gy + grid_h + 17.0, kSmallSize), kSmallSize);
+  }
+  if (any_missing) {
+    drawMissing(cr, bx, gy + grid_h + 33.0, 14.0, 14.0);
+    setColour(cr, kInk);
+    drawText(cr, "missing", bx + 20.0, centredBaseline(gy + grid_h + 40.0, kSmallSize), kSmallSize);
+  }
+
+  detail::writePng(canvas, where);
+}
+
+// ---------------------------------------------------------------------------
+// Bar chart
+
+void renderWorldBarsPng(const WorldBars& bars, const std::filesystem::path& png) {
+  const std::string where = png.string();
+  const std::size_t n = bars.values.size();
+  if (bars.labels.size() != n) {
+    throw core::InputError(where + ": bar chart has " + std::to_string(bars.labels.size()) + " labels but " +
+                           std::to_string(n) + " values");
+  }
+  if (n == 0) throw core::InputError(where + ": bar chart has no bars (labels and values are empty)");
+  if (!std::isfinite(bars.y_max) || bars.y_max < 0.0) {
+    throw core::InputError(where + ": y_max must be 0 (automatic) or positive (got " +
+                           detail::formatNumber(bars.y_max, std::chars_format::general, 6) + ")");
+  }
+
+  // y range: from 0 (or below, for negative values) to y_max or 5 % above the data.
+  double lo = 0.0;
+  double top = -std::numeric_limits<double>::infinity();
+  for (double v : bars.values) {
+    if (!std::isfinite(v)) continue;
+    lo = std::min(lo, v);
+    top = std::max(top, v);
+  }
+  for (double y : bars.reference_lines) {
+    if (!std::isfinite(y)) continue;
+    lo = std::min(lo, y);
+    top = std::max(top, y);
+  }
+  double hi = bars.y_max;
+  if (hi == 0.0) hi = std::isfinite(top) ? top + 0.05 * (top - lo) : 1.0;
+  if (!(hi > lo)) hi = lo + 1.0;
+
+  const double plot_w = std::max(kBarsMinPlotWidth, kBarsPitch * static_cast<double>(n));
+  const int width = imageSide(std::max(plot_w + kBarsLeft + kBarsRight, textWidth(bars.title, kTitleSize) + 48.0),
+                              "bar chart width", where);
+  const int height = static_cast<int>(kBarsTop + kBarsPlotHeight + kBarsBottom);
+  const detail::Canvas canvas = detail::createCanvas(width, height, where);
+  cairo_t* cr = canvas.cr();
+
+  const double left = kBarsLeft, right = kBarsLeft + plot_w;
+  const double plot_top = kBarsTop, plot_bottom = kBarsTop + kBarsPlotHeight;
+  const auto py = [&](double y) { return plot_bottom - (y - lo) / (hi - lo) * kBarsPlotHeight; };
+  const double pitch = plot_w / static_cast<double>(n);
+
+  // Horizontal grid and y ticks.
+  const double step = niceStep(hi - lo, 6);
+  cairo_set_line_width(cr, 1.0);
+  for (double y = std::ceil(lo / step - 1e-9) * step; y <= hi + 1e-9 * step; y += step) {
+    const double yp = std::round(py(y)) + 0.5;
+    setColour(cr, kGridLine);
+    cairo_move_to(cr, left, yp);
+    cairo_line_to(cr, right, yp);
+    cairo_stroke(cr);
+    setColour(cr, kInk);
+    cairo_move_to(cr, left - 5.0, yp);
+    cairo_line_to(cr, left, yp);
+    cairo_stroke(cr);
+    drawRightAligned(cr, tickText(y, step), left - 8.0, centredBaseline(py(y), kSmallSize), kSmallSize);
+  }
+
+  // Bars, clipped to the plot area (a fixed y_max may cut the tallest). Edges on whole pixels
+  // keep 300 narrow bars crisp; a 20 % gap separates them once they are 4 px apart.
+  cairo_save(cr);
+  cairo_rectangle(cr, left, plot_top, plot_w, kBarsPlotHeight);
+  cairo_clip(cr);
+  const double gap = pitch >= 4.0 ? std::max(1.0, 0.2 * pitch) : 0.0;
+  const double base = py(std::clamp(0.0, lo, hi));
+  for (std::size_t i = 0; i < n; ++i) {
+    const double v = bars.values[i];
+    if (!std::isfinite(v)) continue;
+    const double x0 = std::round(left + static_cast<double>(i) * pitch + 0.5 * gap);
+    const double x1 = std::round(left + static_cast<double>(i + 1) * pitch - 0.5 * gap);
+    const double y0 = std::round(std::clamp(py(v), plot_top - 1.0, plot_bottom + 1.0));
+    cairo_rectangle(cr, x0, std::min(y0, std::round(base)), std::max(1.0, x1 - x0), std::abs(std::round(base) - y0));
+  }
+  setColour(cr, kBarColour);
+  cairo_fill(cr);
+
+  // Reference lines over the bars, labelled with their value right of the plot.
+  const double dashes[] = {6.0, 4.0};
+  cairo_set_dash(cr, dashes, 2, 0.0);
+  cairo_set_line_width(cr, 1.5);
+  setColour(cr, kInk);
+  for (double y : bars.reference_lines) {
+    if (!std::isfinite(y) || y < lo || y > hi) continue;
+    cairo_move_to(cr, left, py(y));
+    cairo_line_to(cr, right, py(y));
+  }
+  cairo_stroke(cr);
+  cairo_set_dash(cr, nullptr, 0, 0.0);
+  cairo_restore(cr);
+  setColour(cr, kMutedInk);
+  for (double y : bars.reference_lines) {
+    if (!std::isfinite(y) || y < lo || y > hi) continue;
+    drawText(cr, detail::formatNumber(y, std::chars_format::general, 4), right + 6.0,
+             centredBaseline(py(y), kSmallSize), kSmallSize);
+  }
+
+  // Axes: left spine and the zero line.
+  setColour(cr, kInk);
+  cairo_set_line_width(cr, 1.0);
+  cairo_move_to(cr, left - 0.5, plot_top);
+  cairo_line_to(cr, left - 0.5, plot_bottom);
+  cairo_move_to(cr, left - 0.5, std::round(base) + 0.5);
+  cairo_line_to(cr, right, std::round(base) + 0.5);
+  cairo_stroke(cr);
+
+  // x tick labels every `stride` bars, under the bar's centre.
+  double widest = 0.0;
+  for (const std::string& label : bars.labels) widest = std::max(widest, textWidth(label, kSmallSize));
+  const std::size_t stride = labelStride(pitch, widest, 8.0);
+  for (std::size_t i = 0; i < n; i += stride) {
+    const double x = std::round(left + (static_cast<double>(i) + 0.5) * pitch) + 0.5;
+    cairo_move_to(cr, x, plot_bottom);
+    cairo_line_to(cr, x, plot_bottom + 4.0);
+    cairo_stroke(cr);
+    drawCentred(cr, bars.labels[i], x, plot_bottom + 20.0, kSmallSize);
+  }
+
+  const double x_label_width = textWidth(bars.x_label, kLabelSize);
+  drawText(cr, bars.x_label,
+           std::clamp(0.5 * (left + right - x_label_width), 8.0, std::max(8.0, width - 8.0 - x_label_width)),
+           plot_bottom + 54.0, kLabelSize);
+  drawVertical(cr, bars.y_label, 22.0, 0.5 * (plot_top + plot_bottom), kLabelSize);
+  drawTitle(cr, bars.title, left, right, width, 34.0);
+
+  detail::writePng(canvas, where);
+}
+
+// ---------------------------------------------------------------------------
+// Trajectories on a world
+
+void renderTrajectoriesPng(const core::WorldSpec& world, const core::Protocol& protocol,
+                           const std::vector<TrajectoryOverlay>& trajectories,
+                           const std::filesystem::path& png, double pixels_per_metre) {
+  const std::string where = png.string();
+  const double ppm = pixels_per_metre;
+  const detail::ViewBox view = detail::viewBox(protocol);
+  const detail::ImageSize size = detail::worldImageSize(view, ppm, kLegendBand, where);
+  const double map_width_px = (view.max_x - view.min_x + 2.0 * detail::kWorldMargin) * ppm;
+
+  // State colours in order of first appearance across all trajectories.
+  std::vector<std::string> states;
+  bool any_stateless = false;
+  bool any_collision = false;
+  for (const TrajectoryOverlay& trajectory : trajectories) {
+    any_collision = any_collision || trajectory.collided;
+    for (const TrajectoryPoint& point : trajectory.points) {
+      if (point.state.empty()) any_stateless = true;
+      else if (std::find(states.begin(), states.end(), point.state) == states.end()) states.push_back(point.state);
+    }
+  }
+  const auto stateColour = [&](const std::string& state) {
+    if (state.empty()) return kNoStateColour;
+    const auto it = std::find(states.begin(), states.end(), state);
+    return kStatePalette[static_cast<std::size_t>(it - states.begin()) % kStatePalette.size()];
+  };
+
+  const detail::Canvas canvas = detail::createCanvas(size.width, size.height, where);
+  cairo_t* cr = canvas.cr();
+
+  // The world as renderWorldPng draws it, with the A* path thin and light (a reference, not
+  // the subject).
+  const cairo_matrix_t world_to_px = detail::worldToPixels(view, ppm);
+  cairo_save(cr);
+  cairo_set_matrix(cr, &world_to_px);
+  detail::drawOccupiedCells(cr, world.grid);
+  detail::drawCylinders(cr, world.grid, true);
+  const detail::PathStyle path_style{{0.55, 0.80, 0.60}, 0.02, 0.0};
+  detail::drawPath(cr, world.path, protocol, path_style);
+  detail::drawGoal(cr, protocol);
+  detail::drawStartPose(cr, protocol);
+
+  // Trajectories, clipped to the map. Each run of points in one state is one polyline that
+  // ends at the next run's first point, so the line has no gaps and dashes run on across runs.
+  cairo_rectangle(cr, view.min_x - detail::kWorldMargin, view.min_y - detail::kWorldMargin,
+                  view.max_x - view.min_x + 2.0 * detail::kWorldMargin,
+                  view.max_y - view.min_y + 2.0 * detail::kWorldMargin);
+  cairo_clip(cr);
+  cairo_set_line_width(cr, kTrajectoryWidth);
+  cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
+  cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
+  const auto finite = [](const TrajectoryPoint& p) { return std::isfinite(p.x) && std::isfinite(p.y); };
+  for (std::size_t t = 0; t < trajectories.size(); ++t) {
+    const std::vector<TrajectoryPoint>& points = trajectories[t].points;
+    const DashPattern& pattern = kDashPatterns[t % kDashPatterns.size()];
+    double travelled = 0.0;  // [m] along the drawn line, for the dash phase
+    std::size_t i = 0;
+    while (i < points.size()) {
+      if (!finite(points[i])) {
+        ++i;
+        continue;
+      }
+      std::size_t end = i + 1;  // one past the run's last point
+      while (end < points.size() && finite(points[end]) && points[end].state == points[i].state) ++end;
+      const std::size_t last = end < points.size() && finite(points[end]) ? end : end - 1;
+      setDash(cr, pattern, travelled);
+      cairo_move_to(cr, points[i].x, points[i].y);
+      for (std::size_t k = i + 1; k <= last; ++k) {
+        cairo_line_to(cr, points[k].x, points[k].y);
+        travelled += std::hypot(points[k].x - points[k - 1].x, points[k].y - points[k - 1].y);
+      }
+      if (last == i) cairo_line_to(cr, points[i].x, points[i].y);  // a lone point: a round dot
+      setColour(cr, stateColour(points[i].state));
+      cairo_stroke(cr);
+      i = end;
+    }
+  }
+  for (const TrajectoryOverlay& trajectory : trajectories) {
+    if (trajectory.collided && std::isfinite(trajectory.collision_x) && std::isfinite(trajectory.collision_y)) {
+      drawCollisionMark(cr, trajectory.collision_x, trajectory.collision_y, 0.13, 0.045);
+    }
+  }
+  cairo_restore(cr);
+
+  detail::drawWorldTitle(cr, detail::worldTitle(world, protocol), ppm, map_width_px);
+  detail::drawScaleBar(cr, detail::kWorldMargin * ppm,
+                       (view.max_y - view.min_y + 1.5 * detail::kWorldMargin) * ppm, ppm);
+
+  // Legend in the band right of the map, in device pixels; sizes scale with the map.
+  const double text_size = kLegendText * ppm;
+  const double row = kLegendRow * ppm;
+  const double x0 = map_width_px;
+  const double text_x = x0 + (kLegendSwatch + 0.12) * ppm;
+  const double text_room = size.width - text_x - 0.15 * ppm;
+  double y = (detail::kWorldMargin + 0.2) * ppm;
+  const auto entryText = [&](const std::string& text, const Rgb& colour) {
+    const double fit = std::min(text_size, text_size * text_room / std::max(1e-9, textWidth(text, text_size)));
+    setColour(cr, colour);
+    drawText(cr, text, text_x, centredBaseline(y, fit) - 0.125 * fit, fit);  // centred on x-height
+  };
+  const auto swatch = [&](const Rgb& colour, const DashPattern& pattern) {
+    cairo_move_to(cr, x0, y);
+    cairo_line_to(cr, x0 + kLegendSwatch * ppm, y);
+    setColour(cr, colour);
+    cairo_set_line_width(cr, kTrajectoryWidth * ppm);
+    cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
+    std::array<double, 4> dashes = pattern.dashes;
+    for (double& d : dashes) d *= ppm;
+    cairo_set_dash(cr, dashes.data(), pattern.count, 0.0);
+    cairo_stroke(cr);
+    cairo_set_dash(cr, nullptr, 0, 0.0);
+  };
+  const auto header = [&](const std::string& text) {
+    setColour(cr, kMutedInk);
+    drawText(cr, text, x0, centredBaseline(y, text_size) - 0.125 * text_size, text_size);
+    y += row;
+  };
+
+  if (!states.empty()) {
+    header("state");
+    for (const std::string& state : states) {
+      swatch(stateColour(state), kDashPatterns[0]);
+      entryText(state, kInk);
+      y += row;
+    }
+    if (any_stateless) {
+      swatch(kNoStateColour, kDashPatterns[0]);
+      entryText("no state", kInk);
+      y += row;
+    }
+    y += 0.5 * row;
+  }
+  const bool label_trajectories =
+      trajectories.size() > 1 ||
+      std::any_of(trajectories.begin(), trajectories.end(), [](const TrajectoryOverlay& t) { return !t.label.empty(); });
+  if (label_trajectories) {
+    header("trajectory");
+    for (std::size_t t = 0; t < trajectories.size(); ++t) {
+      swatch(kInk, kDashPatterns[t % kDashPatterns.size()]);
+      entryText(trajectories[t].label.empty() ? "trajectory " + std::to_string(t) : trajectories[t].label, kInk);
+      y += row;
+    }
+    y += 0.5 * row;
+  }
+  cairo_move_to(cr, x0, y);
+  cairo_line_to(cr, x0 + kLegendSwatch * ppm, y);
+  setColour(cr, path_style.colour);
+  cairo_set_line_width(cr, path_style.width * ppm);
+  cairo_stroke(cr);
+  entryText("A* path", kInk);
+  y += row;
+  if (any_collision) {
+    cairo_save(cr);
+    cairo_translate(cr, x0 + 0.5 * kLegendSwatch * ppm, y);
+    cairo_scale(cr, ppm, ppm);
+    drawCollisionMark(cr, 0.0, 0.0, 0.09, 0.045);
+    cairo_restore(cr);
+    entryText("collision", kInk);
+  }
+
+  detail::writePng(canvas, where);
+}
+
+}  // namespace barn::viz

@@ -1,0 +1,5 @@
+#include "barn/viz/plots.hpp"
+
+#include <gtest/gtest.h>
+
+TEST(Placeholder, Builds) {}
