@@ -27,6 +27,7 @@ void addLflhCommand(CLI::App& app, CommandContext& context);
 
 void addRegressCommand(CLI::App& app, CommandContext& context);
 void addSweepCommand(CLI::App& app, CommandContext& context);
+void addPlotCommand(CLI::App& app, CommandContext& context);
 
 /// How a run session executes.
 struct SessionOptions {

@@ -252,16 +252,17 @@ std::string tickText(double value, double step) {
                               std::chars_format::fixed, decimals);
 }
 
-/// Smallest label stride in 1, 2, 5, 10, 20, 25, 50, 100, 200, 250, 500, ... with `gap` px
-/// between neighbouring labels of width up to `label_width`.
+/// Smallest label stride in 1, 2, 5, 10, 20, 25, 50, 100, 200, 250, 500, ... that leaves `gap`
+/// px between neighbouring labels up to `label_width` px wide, with bars `pitch` px apart.
 std::size_t labelStride(double pitch, double label_width, double gap) {
+  const double needed = label_width + gap;  // [px]
+  for (std::size_t k : {1, 2, 5}) {
+    if (static_cast<double>(k) * pitch >= needed) return k;
+  }
   for (std::size_t scale = 1;; scale *= 10) {
-    for (std::size_t m : {1, 2, 5, 10, 20, 25, 50}) {
-      if (m >= 10 && scale > 1) continue;  // 10, 20, 25, 50 only in the first decade
-      const std::size_t k = m * scale;
-      if (k * pitch >= label_width + gap) return k;
+    for (std::size_t m : {10, 20, 25, 50}) {
+      if (static_cast<double>(m * scale) * pitch >= needed) return m * scale;
     }
-    if (scale > std::numeric_limits<std::size_t>::max() / 100) return scale * 10;
   }
 }
 
@@ -429,7 +430,7 @@ void renderHeatMapPng(const HeatMap& map, const std::filesystem::path& png) {
         const double x = gx + static_cast<double>(c) * cell_w;
         const double y = gy + static_cast<double>(r) * kCellHeight;
         cairo_set_line_join(cr, CAIRO_LINE_JOIN_MITER);
-        cairo_rectangle(cr, x + 5.0, y + 5.0, cell_w - 10.0, kCellHeight - 10.0);
+        cairo_rectangle(cr, x + 4.5, y + 4.5, cell_w - 9.0, kCellHeight - 9.0);
         cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
         cairo_set_line_width(cr, 1.5);
         cairo_stroke(cr);
@@ -437,7 +438,7 @@ void renderHeatMapPng(const HeatMap& map, const std::filesystem::path& png) {
         setColour(cr, kInk);
         cairo_set_line_width(cr, 4.0);
         cairo_stroke(cr);
-        drawStar(cr, x + cell_w - 12.0, y + 12.5, 6.5);
+        drawStar(cr, x + cell_w - 14.0, y + 14.0, 6.0);
       }
     }
   }
@@ -479,8 +480,8 @@ void renderHeatMapPng(const HeatMap& map, const std::filesystem::path& png) {
     cairo_move_to(cr, bx + bw, gy + grid_h - 0.5);
     cairo_line_to(cr, bx + bw + 4.0, gy + grid_h - 0.5);
     cairo_stroke(cr);
-    drawText(cr, hi_text, bx + bw + 7.0, centredBaseline(gy + 0.5, kSmallSize), kSmallSize);
-    drawText(cr, lo_text, bx + bw + 7.0, centredBaseline(gy + grid_h - 0.5, kSmallSize), kSmallSize);
+    drawText(cr, hi_text, bx + bw + 8.0, centredBaseline(gy + 0.5, kSmallSize), kSmallSize);
+    drawText(cr, lo_text, bx + bw + 8.0, centredBaseline(gy + grid_h - 0.5, kSmallSize), kSmallSize);
   }
 
   // Key below the colour bar: the best-cell star, and the missing-value look if there is one.

@@ -1,5 +1,437 @@
 #include "barn/viz/plots.hpp"
 
+#include <cairo/cairo.h>  // only to read pixels back; barn_viz links Cairo
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iterator>
+#include <limits>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-TEST(Placeholder, Builds) {}
+#include "barn/core/errors.hpp"
+#include "barn/core/protocol.hpp"
+#include "barn/core/world.hpp"
+#include "barn/core/world_file.hpp"
+#include "barn/viz/world_render.hpp"
+#include "viz/stroke_font.hpp"
+
+namespace barn::viz {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// ---------------------------------------------------------------------------
+// Reading the PNG back
+
+std::vector<unsigned char> readBytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+std::uint32_t bigEndian32(const std::vector<unsigned char>& bytes, std::size_t offset) {
+  return (std::uint32_t{bytes[offset]} << 24) | (std::uint32_t{bytes[offset + 1]} << 16) |
+         (std::uint32_t{bytes[offset + 2]} << 8) | std::uint32_t{bytes[offset + 3]};
+}
+
+struct Size {
+  long width;   // [px]
+  long height;  // [px]
+};
+
+/// Checks the PNG signature and returns the IHDR size.
+Size pngSize(const fs::path& png) {
+  const std::vector<unsigned char> bytes = readBytes(png);
+  const std::array<unsigned char, 8> signature = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+  EXPECT_GE(bytes.size(), 24u);
+  if (bytes.size() < 24) return {0, 0};
+  EXPECT_TRUE(std::equal(signature.begin(), signature.end(), bytes.begin())) << png;
+  EXPECT_EQ(std::string(bytes.begin() + 12, bytes.begin() + 16), "IHDR");
+  return {static_cast<long>(bigEndian32(bytes, 16)), static_cast<long>(bigEndian32(bytes, 20))};
+}
+
+struct Pixel {
+  int r, g, b;  // [0, 255]
+};
+
+/// The decoded image, for pixel checks.
+class Image {
+ public:
+  explicit Image(const fs::path& png)
+      : surface_(cairo_image_surface_create_from_png(png.string().c_str()), &cairo_surface_destroy) {}
+  bool ok() const { return cairo_surface_status(surface_.get()) == CAIRO_STATUS_SUCCESS; }
+  int width() const { return cairo_image_surface_get_width(surface_.get()); }
+  int height() const { return cairo_image_surface_get_height(surface_.get()); }
+  Pixel at(int x, int y) const {
+    const unsigned char* row =
+        cairo_image_surface_get_data(surface_.get()) + y * cairo_image_surface_get_stride(surface_.get());
+    std::uint32_t argb = 0;
+    std::memcpy(&argb, row + 4 * x, 4);  // native-endian 0xAARRGGBB, opaque here
+    return {static_cast<int>((argb >> 16) & 0xff), static_cast<int>((argb >> 8) & 0xff),
+            static_cast<int>(argb & 0xff)};
+  }
+  /// True if some pixel of the rectangle satisfies `test`.
+  bool any(int x0, int y0, int x1, int y1, const std::function<bool(Pixel)>& test) const {
+    for (int y = y0; y < y1; ++y) {
+      for (int x = x0; x < x1; ++x) {
+        if (test(at(x, y))) return true;
+      }
+    }
+    return false;
+  }
+
+ private:
+  std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)> surface_;
+};
+
+/// Matches an 8-bit colour against one given in [0, 1], within rounding.
+::testing::AssertionResult near(Pixel p, double r, double g, double b) {
+  const auto close = [](int v, double want) { return std::abs(v - want * 255.0) <= 2.0; };
+  if (close(p.r, r) && close(p.g, g) && close(p.b, b)) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "pixel (" << p.r << ", " << p.g << ", " << p.b << ") is not ("
+                                       << r * 255 << ", " << g * 255 << ", " << b * 255 << ")";
+}
+
+class PlotsTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    // Unique per test and per run, so parallel ctest jobs never share a file.
+    const std::string name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    const std::string tag = std::to_string(std::random_device{}());
+    png_ = fs::temp_directory_path() / ("barn_plots_" + name + "_" + tag + ".png");
+    unwritable_ = fs::temp_directory_path() / ("barn_plots_missing_" + tag) / "plot.png";
+  }
+  void TearDown() override {
+    std::error_code ignored;
+    fs::remove(png_, ignored);
+  }
+
+  /// Runs `render`, which must throw InputError mentioning every one of `parts`.
+  template <typename Render>
+  void expectInputError(Render render, const std::vector<std::string>& parts) {
+    try {
+      render();
+      ADD_FAILURE() << "no InputError";
+    } catch (const core::InputError& e) {
+      for (const std::string& part : parts) EXPECT_THAT(e.what(), HasSubstr(part));
+    }
+  }
+
+  fs::path png_;         // output of the test
+  fs::path unwritable_;  // in a directory that is never created
+};
+
+// ---------------------------------------------------------------------------
+// Heat map
+
+// 5 rows x 6 columns, value = 6 r + c (0 ... 29); the largest, 29, is missing, so the best
+// (highest) cell is (4, 4) with 28, and the lowest is (0, 0) with 0.
+HeatMap sweep() {
+  HeatMap map;
+  map.title = "BARN score (barn2023)";
+  map.x_label = "safety.fi_offset [m]";
+  map.y_label = "max_speed [m/s]";
+  map.x_ticks = {"0.00", "0.05", "0.10", "0.15", "0.20", "0.25"};
+  map.y_ticks = {"0.5", "1.0", "1.5", "2.0", "2.5"};
+  for (int r = 0; r < 5; ++r) {
+    map.values.emplace_back();
+    for (int c = 0; c < 6; ++c) map.values.back().push_back(6.0 * r + c);
+  }
+  map.values[4][5] = kNaN;
+  map.value_format = "%.1f";
+  return map;
+}
+
+// The layout of plots.hpp with texts narrower than the minimum bands: 88 px left of the grid,
+// 80 x 48 px cells, 120 px right of the grid, 60 above and 76 below.
+constexpr int kGridLeft = 88, kGridTop = 60, kCellW = 80, kCellH = 48;
+
+TEST_F(PlotsTest, HeatMapHasTheDocumentedSizeAndDrawsAMissingCell) {
+  renderHeatMapPng(sweep(), png_);
+  const Size size = pngSize(png_);
+  EXPECT_EQ(size.width, 88 + 6 * 80 + 120);  // 688
+  EXPECT_EQ(size.height, 60 + 5 * 48 + 76);  // 376
+
+  const Image image(png_);
+  ASSERT_TRUE(image.ok());
+  // The missing cell (4, 5) is grey only: fill and hatching, no viridis colour, no text.
+  const int x = kGridLeft + 5 * kCellW, y = kGridTop + 4 * kCellH;
+  EXPECT_FALSE(image.any(x + 3, y + 3, x + kCellW - 3, y + kCellH - 3, [](Pixel p) {
+    return p.r != p.g || p.g != p.b || p.r < 150;
+  }));
+  EXPECT_TRUE(image.any(x + 3, y + 3, x + kCellW - 3, y + kCellH - 3, [](Pixel p) { return p.r < 200; }));
+}
+
+TEST_F(PlotsTest, HeatMapColoursRunFromDarkViridisToYellowWithReadableText) {
+  renderHeatMapPng(sweep(), png_);
+  const Image image(png_);
+  ASSERT_TRUE(image.ok());
+  // Corners of the cells, away from the text: the smallest value takes viridis(0), the largest
+  // viridis(1).
+  EXPECT_TRUE(near(image.at(kGridLeft + 4, kGridTop + 4), 0.267, 0.005, 0.329));
+  EXPECT_TRUE(near(image.at(kGridLeft + 4 * kCellW + 40, kGridTop + 4 * kCellH + 44), 0.993, 0.906, 0.144));
+  // Text: white on the dark cell (0, 0), black on the bright cell (4, 3).
+  const auto centre = [&](int r, int c, const std::function<bool(Pixel)>& test) {
+    const int x = kGridLeft + c * kCellW, y = kGridTop + r * kCellH;
+    return image.any(x + 20, y + 14, x + kCellW - 20, y + kCellH - 14, test);
+  };
+  EXPECT_TRUE(centre(0, 0, [](Pixel p) { return p.r > 230 && p.g > 230 && p.b > 230; }));
+  EXPECT_FALSE(centre(0, 0, [](Pixel p) { return p.r < 30 && p.g < 30 && p.b < 30; }));
+  EXPECT_TRUE(centre(4, 3, [](Pixel p) { return p.r < 30 && p.g < 30 && p.b < 30; }));
+  EXPECT_FALSE(centre(4, 3, [](Pixel p) { return p.r > 230 && p.g > 230 && p.b > 230; }));
+}
+
+TEST_F(PlotsTest, HeatMapOutlinesTheBestCellByItsDirection) {
+  // The ink outline runs along the cell's inner edge, 0 ... 4 px in from its border.
+  const auto outlined = [&](int r, int c) {
+    const Image image(png_);
+    return near(image.at(kGridLeft + c * kCellW + 2, kGridTop + r * kCellH + kCellH / 2), 0.1, 0.1, 0.1);
+  };
+  HeatMap map = sweep();
+  renderHeatMapPng(map, png_);
+  EXPECT_TRUE(outlined(4, 4));
+  EXPECT_FALSE(outlined(0, 0));
+  EXPECT_FALSE(outlined(4, 3));
+
+  map.higher_is_better = false;
+  renderHeatMapPng(map, png_);
+  EXPECT_TRUE(outlined(0, 0));
+  EXPECT_FALSE(outlined(4, 4));
+}
+
+TEST_F(PlotsTest, HeatMapCellsWidenForLongValueTexts) {
+  HeatMap map = sweep();
+  map.value_format = "%.6f";
+  renderHeatMapPng(map, png_);
+  const double widest = detail::textWidth("28.000000", 14.0);  // 14 px: the cell text size
+  ASSERT_GT(widest + 16.0, 80.0);
+  const double cell_w = widest + 16.0;
+  // Colour-bar labels ("0.000000", "28.000000") are 13 px, narrower than the cells' 14 px text.
+  const double bar_band = 64.0 + std::max(56.0, detail::textWidth("28.000000", 13.0));
+  EXPECT_EQ(pngSize(png_).width, static_cast<long>(std::ceil(88.0 + 6.0 * cell_w + bar_band)));
+}
+
+TEST_F(PlotsTest, HeatMapRejectsEmptyAndRaggedInput) {
+  HeatMap map = sweep();
+  map.values.clear();
+  map.y_ticks.clear();
+  expectInputError([&] { renderHeatMapPng(map, png_); }, {png_.string(), "no rows"});
+
+  map = sweep();
+  map.x_ticks.clear();
+  expectInputError([&] { renderHeatMapPng(map, png_); }, {"no columns"});
+
+  map = sweep();
+  map.y_ticks.pop_back();
+  expectInputError([&] { renderHeatMapPng(map, png_); }, {"5 rows", "4 y_ticks"});
+
+  map = sweep();
+  map.values[2].pop_back();
+  expectInputError([&] { renderHeatMapPng(map, png_); }, {"row 2 has 5 values", "6 x_ticks"});
+
+  map = sweep();
+  map.value_format = "%d";
+  expectInputError([&] { renderHeatMapPng(map, png_); }, {"value_format '%d'"});
+  map.value_format = "%s";
+  expectInputError([&] { renderHeatMapPng(map, png_); }, {"value_format"});
+  map.value_format = "no conversion";
+  expectInputError([&] { renderHeatMapPng(map, png_); }, {"value_format"});
+  EXPECT_FALSE(fs::exists(png_));
+}
+
+TEST_F(PlotsTest, HeatMapAcceptsPrintfStyleFormats) {
+  HeatMap map = sweep();
+  for (const std::string format : {"%.3f", "%+.1f", "%.2e", "%g", "%.0f%%", "s = %.2f", "%.f", "%E"}) {
+    map.value_format = format;
+    EXPECT_NO_THROW(renderHeatMapPng(map, png_)) << format;
+  }
+}
+
+TEST_F(PlotsTest, HeatMapWithEveryValueMissingStillRenders) {
+  HeatMap map = sweep();
+  for (std::vector<double>& row : map.values) std::fill(row.begin(), row.end(), kNaN);
+  renderHeatMapPng(map, png_);
+  EXPECT_EQ(pngSize(png_).height, 376);
+}
+
+// ---------------------------------------------------------------------------
+// Bar chart
+
+WorldBars threeHundredWorlds() {
+  WorldBars bars;
+  bars.title = "inventec_fi: score per world";
+  bars.y_label = "score";
+  bars.x_label = "worlds, easiest to hardest (by tortuosity)";
+  for (int i = 0; i < 300; ++i) {
+    bars.labels.push_back(std::to_string((7 * i) % 300));
+    bars.values.push_back(0.45 - 0.001 * i);
+  }
+  bars.reference_lines = {0.25, 0.125};
+  return bars;
+}
+
+TEST_F(PlotsTest, BarChartHasTheDocumentedSize) {
+  renderWorldBarsPng(threeHundredWorlds(), png_);
+  Size size = pngSize(png_);
+  EXPECT_EQ(size.width, 4 * 300 + 128);  // 1328
+  EXPECT_EQ(size.height, 448);
+
+  WorldBars few = threeHundredWorlds();
+  few.labels.resize(12);
+  few.values.resize(12);
+  renderWorldBarsPng(few, png_);
+  size = pngSize(png_);
+  EXPECT_EQ(size.width, 720 + 128);  // the minimum plot width
+  EXPECT_EQ(size.height, 448);
+}
+
+TEST_F(PlotsTest, BarHeightsFollowTheYAxis) {
+  // Plot area: x from 72, y from 56 (top) to 376 (bottom); y_max = 1 puts 0.5 at y = 216.
+  WorldBars bars;
+  bars.labels = {"0", "1", "2"};
+  bars.values = {0.5, kNaN, 1.0};
+  bars.y_max = 1.0;
+  renderWorldBarsPng(bars, png_);
+  const Image image(png_);
+  ASSERT_TRUE(image.ok());
+  const int pitch = 240;  // 720 px / 3 bars
+  const auto bar_x = [&](int i) { return 72 + pitch * i + pitch / 2; };
+  const Pixel blue{31, 120, 181};  // (0.12, 0.47, 0.71)
+  const auto is_bar = [&](int x, int y) {
+    const Pixel p = image.at(x, y);
+    return std::abs(p.r - blue.r) <= 2 && std::abs(p.g - blue.g) <= 2 && std::abs(p.b - blue.b) <= 2;
+  };
+  EXPECT_TRUE(is_bar(bar_x(0), 220));
+  EXPECT_FALSE(is_bar(bar_x(0), 212));
+  EXPECT_FALSE(is_bar(bar_x(1), 370));  // NaN: no bar
+  EXPECT_TRUE(is_bar(bar_x(2), 60));
+}
+
+TEST_F(PlotsTest, BarChartRejectsEmptyOrMismatchedInput) {
+  WorldBars bars = threeHundredWorlds();
+  bars.labels.pop_back();
+  expectInputError([&] { renderWorldBarsPng(bars, png_); }, {png_.string(), "299 labels but 300 values"});
+
+  bars.labels.clear();
+  bars.values.clear();
+  expectInputError([&] { renderWorldBarsPng(bars, png_); }, {"no bars"});
+
+  bars = threeHundredWorlds();
+  bars.y_max = -1.0;
+  expectInputError([&] { renderWorldBarsPng(bars, png_); }, {"y_max"});
+
+  bars = threeHundredWorlds();
+  bars.labels.assign(9000, "1");
+  bars.values.assign(9000, 0.1);
+  expectInputError([&] { renderWorldBarsPng(bars, png_); }, {"out of range"});
+  EXPECT_FALSE(fs::exists(png_));
+}
+
+// ---------------------------------------------------------------------------
+// Trajectories
+
+// An empty field inside the corridor walls, with a straight A* path.
+core::WorldSpec emptyWorld() {
+  core::WorldSpec world;
+  world.id = 3;
+  world.grid = core::Grid(30, 30);
+  for (int c = 0; c < 30; ++c) {
+    world.grid.at(0, c) = 1;
+    world.grid.at(29, c) = 1;
+  }
+  world.start_cell = {15, 0};
+  world.goal_cell = {15, 29};
+  world.path = {{15, 0}, {15, 0}, {15, 1}, {15, 2}};
+  return world;
+}
+
+// barn2023 at 120 px/m: the view box is x [-4.5, 0], y [0, 14], so a world point maps to
+// ((x + 5.1) * 120, (14.6 - y) * 120) px.
+int pxX(double x) { return static_cast<int>(std::lround((x + 5.1) * 120.0)); }
+int pxY(double y) { return static_cast<int>(std::lround((14.6 - y) * 120.0)); }
+
+TEST_F(PlotsTest, TrajectoryOverlayIsTheWorldPictureWithALegendBand) {
+  const core::Protocol protocol = core::protocolPreset("barn2023");
+  renderTrajectoriesPng(emptyWorld(), protocol, {}, png_);
+  const Size size = pngSize(png_);
+  EXPECT_EQ(size.width, std::lround((4.5 + 1.2 + 2.0) * 120.0));  // 924
+  EXPECT_EQ(size.height, std::lround((14.0 + 1.2) * 120.0));     // 1824
+
+  // Same height as renderWorldPng, 2 m wider.
+  renderWorldPng(emptyWorld(), protocol, png_, RenderOptions{60.0, true, true});
+  const Size world_size = pngSize(png_);
+  renderTrajectoriesPng(emptyWorld(), protocol, {}, png_, 60.0);
+  EXPECT_EQ(pngSize(png_).width, world_size.width + 120);
+  EXPECT_EQ(pngSize(png_).height, world_size.height);
+}
+
+TEST_F(PlotsTest, TrajectorySegmentsTakeTheirStateColourAndCollisionsAreMarked) {
+  // Trajectory 0 drives forward then recovers; trajectory 1 recovers, then backtracks into a
+  // collision. Colours go by first appearance: forward orange, recovery sky blue, backtrack
+  // bluish green, the same in both trajectories.
+  TrajectoryOverlay first;
+  first.label = "trial 0";
+  for (int k = 0; k <= 20; ++k) first.points.push_back({-3.5, 1.0 + 0.1 * k, k < 10 ? "forward" : "recovery"});
+  TrajectoryOverlay second;
+  second.label = "trial 1";
+  for (int k = 0; k <= 20; ++k) second.points.push_back({-1.0, 1.0 + 0.1 * k, k < 10 ? "recovery" : "backtrack"});
+  second.collided = true;
+  second.collision_x = -2.5;
+  second.collision_y = 1.5;
+  renderTrajectoriesPng(emptyWorld(), core::protocolPreset("barn2023"), {first, second}, png_);
+
+  const Image image(png_);
+  ASSERT_TRUE(image.ok());
+  EXPECT_TRUE(near(image.at(pxX(-3.5), pxY(1.45)), 0.902, 0.624, 0.0));    // forward
+  EXPECT_TRUE(near(image.at(pxX(-3.5), pxY(2.55)), 0.337, 0.706, 0.914));  // recovery
+  // Trajectory 1 is dashed 0.20 m on, 0.10 m off from its start: sample inside the dashes.
+  EXPECT_TRUE(near(image.at(pxX(-1.0), pxY(1.1)), 0.337, 0.706, 0.914));   // recovery
+  EXPECT_TRUE(near(image.at(pxX(-1.0), pxY(2.4)), 0.0, 0.620, 0.451));     // backtrack
+  EXPECT_TRUE(near(image.at(pxX(-2.5), pxY(1.5)), 0.86, 0.0, 0.0));        // collision X
+  // Off the trajectories the field is white.
+  EXPECT_TRUE(near(image.at(pxX(-2.5), pxY(2.5)), 1.0, 1.0, 1.0));
+}
+
+TEST_F(PlotsTest, TrajectoryOverlayRendersARealWorld) {
+  const core::WorldSpec world = core::readWorldFile("worlds/world_150.yaml");
+  TrajectoryOverlay trial;
+  trial.label = "trial 0";
+  trial.points = {{-2.0, 3.0, ""}, {-2.0, 4.0, ""}, {kNaN, 4.5, ""}, {-1.9, 5.0, "forward"}, {-1.8, 6.0, "forward"}};
+  renderTrajectoriesPng(world, core::protocolPreset("barn2024"), {trial}, png_, 50.0);
+  EXPECT_GT(pngSize(png_).width, 0);
+}
+
+TEST_F(PlotsTest, TrajectoryOverlayRejectsABadScale) {
+  expectInputError([&] { renderTrajectoriesPng(emptyWorld(), core::protocolPreset("barn2023"), {}, png_, 0.0); },
+                   {png_.string(), "pixels_per_metre"});
+  expectInputError([&] { renderTrajectoriesPng(emptyWorld(), core::protocolPreset("barn2023"), {}, png_, 1e4); },
+                   {"out of range"});
+}
+
+// ---------------------------------------------------------------------------
+// Output errors
+
+TEST_F(PlotsTest, UnwritablePathThrowsInputErrorNamingThePath) {
+  const std::vector<std::string> parts = {unwritable_.string(), "cannot write PNG"};
+  expectInputError([&] { renderHeatMapPng(sweep(), unwritable_); }, parts);
+  expectInputError([&] { renderWorldBarsPng(threeHundredWorlds(), unwritable_); }, parts);
+  expectInputError(
+      [&] { renderTrajectoriesPng(emptyWorld(), core::protocolPreset("barn2023"), {}, unwritable_, 20.0); }, parts);
+  EXPECT_FALSE(fs::exists(unwritable_.parent_path()));
+}
+
+}  // namespace
+}  // namespace barn::viz

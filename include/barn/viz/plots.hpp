@@ -26,14 +26,16 @@ struct HeatMap {
   std::string y_label;                      // row parameter, e.g. "max_speed [m/s]"
   std::vector<std::string> x_ticks;         // (n_cols) column values as text
   std::vector<std::string> y_ticks;         // (n_rows) row values as text; row 0 at the top
-  std::vector<std::vector<double>> values;  // (n_rows x n_cols) [row][column]; NaN = missing
+  std::vector<std::vector<double>> values;  // (n_rows x n_cols) [row][column]; NaN, inf = missing
   bool higher_is_better = true;             // best cell = the max (true) or the min (false)
   std::string value_format = "%.3f";        // cell text: one %[+][.N]f/e/g/% conversion, plus text
 };
 
 /// Draws `map` as coloured cells (viridis, from the smallest finite value, dark, to the largest,
 /// yellow) with each value printed in the cell, a colour bar with its min and max labels, missing
-/// cells grey and hatched, and the best cell outlined with a star in its corner.
+/// cells grey and hatched, and the best cell (every cell, if several tie) outlined with a star in
+/// its corner. value_format is parsed, not passed to printf: "%.3f", "%+.1f", "%.2e", "%g",
+/// "%.0f%%" and text around them work in any locale; precision at most 99.
 ///
 /// Layout [px]: cells are cell_w x 48 with cell_w = max(80, widest cell or x tick text at 14 px
 /// + 16); left of them a band of 40 + max(48, widest y tick at 14 px + 16) for the y label and
@@ -41,7 +43,7 @@ struct HeatMap {
 /// bar; 60 above (title), 76 below (x ticks and label). So
 ///   width  = max(left band + n_cols * cell_w + right band, title width at 20 px + 48)
 ///   height = 136 + 48 * n_rows
-/// e.g. 704 x 376 px for 6 columns, 5 rows and short texts ("0.123", "1.5").
+/// e.g. 688 x 376 px for 6 columns, 5 rows and short texts ("0.123", "1.5").
 /// Throws InputError if there are no rows or no columns, the number of y ticks is not the number
 /// of rows, a row's length is not the number of x ticks, value_format is not as above, or an image
 /// side exceeds 32767 px.

@@ -1,0 +1,141 @@
+// barn plot: pictures of one run record — per-world scores ordered by difficulty, and the
+// trajectories of chosen worlds (re-simulated from the record: the same seed drives the same
+// episode bit for bit), coloured by controller state.
+
+#include <algorithm>
+#include <cstdio>
+#include <map>
+
+#include "barn/bench/episode.hpp"
+#include "barn/bench/report.hpp"
+#include "barn/bench/results_io.hpp"
+#include "barn/bench/run_record.hpp"
+#include "barn/controllers/registry.hpp"
+#include "barn/core/config.hpp"
+#include "barn/core/errors.hpp"
+#include "barn/viz/plots.hpp"
+#include "commands.hpp"
+#include "run_session.hpp"
+
+namespace barn::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct PlotOptions {
+  std::string record;
+  std::string output;
+  std::string by = "difficulty";
+  std::vector<int> worlds;
+  std::vector<int> trials;
+};
+
+// A difficulty index per world: the sum of the normalised metrics signed so that larger means
+// harder (less clearance, visibility and width; more dispersion and tortuosity).
+double difficultyIndex(const core::WorldSpec& w) {
+  const auto& z = w.norm_metrics;
+  return -z.closest_wall - z.avg_visibility + z.dispersion - z.characteristic_dimension + z.tortuosity;
+}
+
+double orderKey(const core::WorldSpec& w, const std::string& by) {
+  if (by == "difficulty") return difficultyIndex(w);
+  if (by == "id") return w.id;
+  const auto values = w.norm_metrics.toArray();
+  for (std::size_t k = 0; k < values.size(); ++k)
+    if (by == core::DifficultyMetrics::kNames[k]) {
+      // Larger is harder for dispersion and tortuosity, easier for the others.
+      const bool harder_when_larger = k == 2 || k == 4;
+      return harder_when_larger ? values[k] : -values[k];
+    }
+  throw core::InputError("--by '" + by + "': expected difficulty, id or a metric name");
+}
+
+}  // namespace
+
+void addPlotCommand(CLI::App& app, CommandContext& /*context*/) {
+  auto options = std::make_shared<PlotOptions>();
+  CLI::App* plot = app.add_subcommand("plot", "Plots of a run record");
+  plot->require_subcommand(1);
+
+  CLI::App* scores = plot->add_subcommand("scores", "Per-world score bars, easiest to hardest");
+  scores->add_option("record", options->record, "Run record folder")->required();
+  scores->add_option("-o,--output", options->output, "PNG file")->required();
+  scores->add_option("--by", options->by, "Order: difficulty (signed sum of the z-scored metrics), id, or a metric")
+      ->capture_default_str();
+  scores->callback([options] {
+    const bench::RunManifest manifest = bench::readManifest(fs::path(options->record) / bench::kManifestFile);
+    const auto worlds = bench::loadManifestWorlds(manifest);
+    const auto results = bench::readEpisodesCsv(fs::path(options->record) / bench::kEpisodesFile);
+    std::map<int, std::pair<double, int>> per_world;
+    for (const auto& r : results) {
+      per_world[r.world_id].first += r.score;
+      ++per_world[r.world_id].second;
+    }
+    std::vector<const core::WorldSpec*> order;
+    for (const auto& w : worlds)
+      if (per_world.count(w.id)) order.push_back(&w);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](const auto* a, const auto* b) { return orderKey(*a, options->by) < orderKey(*b, options->by); });
+    viz::WorldBars bars;
+    bars.title = manifest.controller + ": mean score per world (" + std::to_string(manifest.trials) + " trials)";
+    bars.y_label = "score";
+    bars.x_label = "worlds, easiest to hardest (by " + options->by + ")";
+    for (const auto* w : order) {
+      bars.labels.push_back(std::to_string(w->id));
+      bars.values.push_back(per_world[w->id].first / per_world[w->id].second);
+    }
+    const std::string protocol =
+        core::readConfig<bench::EpisodeConfig>(core::ConfigNode::parseString(manifest.episode_config, "manifest")).protocol;
+    const core::Protocol preset = core::protocolPreset(protocol);
+    bars.y_max = 1.0 / preset.clip_low;
+    bars.reference_lines = {1.0 / preset.clip_low, 1.0 / preset.clip_high};
+    viz::renderWorldBarsPng(bars, options->output);
+    std::printf("wrote %s\n", options->output.c_str());
+  });
+
+  CLI::App* trajectory = plot->add_subcommand("trajectory", "Re-simulate and draw episodes of chosen worlds");
+  trajectory->add_option("record", options->record, "Run record folder")->required();
+  trajectory->add_option("--world", options->worlds, "World id(s)")->required()->delimiter(',');
+  trajectory->add_option("--trial", options->trials, "Trial(s) (default: every trial of the record)")->delimiter(',');
+  trajectory->add_option("-o,--output", options->output, "PNG file (one world) or prefix (several)")->required();
+  trajectory->callback([options] {
+    const bench::RunManifest manifest = bench::readManifest(fs::path(options->record) / bench::kManifestFile);
+    const auto worlds = bench::loadManifestWorlds(manifest);
+    const auto make = controllers::makeControllerFactory(core::ConfigNode::parseString(manifest.controller_config, "manifest"));
+    const bench::EpisodeConfig episode =
+        validatedEpisodeConfig(core::ConfigNode::parseString(manifest.episode_config, "manifest"), options->record);
+    const core::Protocol protocol = core::protocolPreset(episode.protocol);
+    std::vector<int> trials = options->trials;
+    if (trials.empty())
+      for (int t = 0; t < manifest.trials; ++t) trials.push_back(t);
+    for (int t : trials)
+      if (t < 0 || t >= manifest.trials) throw core::InputError("--trial " + std::to_string(t) + ": the record has trials 0.." + std::to_string(manifest.trials - 1));
+    for (int id : options->worlds) {
+      const auto it = std::find_if(worlds.begin(), worlds.end(), [id](const auto& w) { return w.id == id; });
+      if (it == worlds.end()) throw core::InputError("--world " + std::to_string(id) + ": not a world of the record");
+      const sim::ObstacleField field = sim::ObstacleField::fromWorld(*it);
+      std::vector<viz::TrajectoryOverlay> overlays;
+      for (int t : trials) {
+        auto controller = make();
+        const bench::EpisodeResult r = bench::runEpisode(*it, field, *controller, episode,
+                                                         bench::episodeSeed(manifest.seed, id, t), true);
+        viz::TrajectoryOverlay overlay;
+        overlay.label = "trial " + std::to_string(t) + ": " + std::string(bench::toString(r.outcome));
+        for (const auto& s : r.trajectory) overlay.points.push_back({s.pose.x, s.pose.y, s.state});
+        if (r.collision) {
+          overlay.collided = true;
+          overlay.collision_x = r.collision->point.x();
+          overlay.collision_y = r.collision->point.y();
+        }
+        overlays.push_back(std::move(overlay));
+      }
+      const std::string png = options->worlds.size() == 1 ? options->output
+                                                          : options->output + "_world_" + std::to_string(id) + ".png";
+      viz::renderTrajectoriesPng(*it, protocol, overlays, png);
+      std::printf("wrote %s\n", png.c_str());
+    }
+  });
+}
+
+}  // namespace barn::cli
