@@ -6,6 +6,7 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include "barn/core/text_io.hpp"
 #include "barn/learning/hallucination.hpp"
@@ -17,8 +18,11 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
+// A folder of its own per test and process: ctest -j runs the tests of this file side by side.
 fs::path tempDir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("barn_policy_test_" + name);
+  const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  const fs::path dir = fs::temp_directory_path() /
+                       ("barn_policy_test_" + name + "_" + test + "_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
