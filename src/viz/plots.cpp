@@ -68,7 +68,8 @@ void drawVertical(cairo_t* cr, const std::string& text, double baseline_x, doubl
 void drawTitle(cairo_t* cr, const std::string& title, double left, double right, double image_width,
                double baseline) {
   const double width = textWidth(title, kTitleSize);
-  const double x = std::clamp(0.5 * (left + right - width), 24.0, std::max(24.0, image_width - 24.0 - width));
+  const double x =
+      std::clamp(0.5 * (left + right - width), 24.0, std::max(24.0, image_width - 24.0 - width));
   setColour(cr, kInk);
   drawText(cr, title, x, baseline, kTitleSize);
 }
@@ -76,10 +77,9 @@ void drawTitle(cairo_t* cr, const std::string& title, double left, double right,
 /// Image side [px] rounded up, or InputError if Cairo cannot make an image that large.
 int imageSide(double side, const std::string& what, const std::string& where) {
   if (!(side >= 1.0 && side <= detail::kMaxImageSide)) {
-    throw core::InputError(where + ": " + what + " of " +
-                           detail::formatNumber(side, std::chars_format::fixed, 0) +
-                           " px is out of range (1 ... " + std::to_string(detail::kMaxImageSide) +
-                           " px)");
+    throw core::InputError(
+        where + ": " + what + " of " + detail::formatNumber(side, std::chars_format::fixed, 0) +
+        " px is out of range (1 ... " + std::to_string(detail::kMaxImageSide) + " px)");
   }
   return static_cast<int>(std::ceil(side));
 }
@@ -120,10 +120,10 @@ double luminance(const Rgb& c) {
 // Heat-map layout [px]; plots.hpp documents the resulting image size.
 constexpr double kCellMinWidth = 80.0;
 constexpr double kCellHeight = 48.0;
-constexpr double kCellPadding = 16.0;        // widest text + this = cell width, if over the min
-constexpr double kYLabelBand = 40.0;         // left of the y ticks
+constexpr double kCellPadding = 16.0;  // widest text + this = cell width, if over the min
+constexpr double kYLabelBand = 40.0;   // left of the y ticks
 constexpr double kYTickMinBand = 48.0;
-constexpr double kBarBandFixed = 64.0;       // gap 24 + bar 18 + gap 8 + pad 14
+constexpr double kBarBandFixed = 64.0;  // gap 24 + bar 18 + gap 8 + pad 14
 constexpr double kBarLabelMinWidth = 56.0;
 constexpr double kHeatTop = 60.0;
 constexpr double kHeatBottom = 76.0;
@@ -169,10 +169,20 @@ std::optional<ValueFormat> parseValueFormat(const std::string& text) {
     }
     if (i == text.size()) return std::nullopt;
     switch (text[i]) {
-      case 'f': case 'F': parsed.format = std::chars_format::fixed; break;
-      case 'e': case 'E': parsed.format = std::chars_format::scientific; break;
-      case 'g': case 'G': parsed.format = std::chars_format::general; break;
-      default: return std::nullopt;
+      case 'f':
+      case 'F':
+        parsed.format = std::chars_format::fixed;
+        break;
+      case 'e':
+      case 'E':
+        parsed.format = std::chars_format::scientific;
+        break;
+      case 'g':
+      case 'G':
+        parsed.format = std::chars_format::general;
+        break;
+      default:
+        return std::nullopt;
     }
     parsed.upper = text[i] == 'E' || text[i] == 'G';
     converted = true;
@@ -197,8 +207,10 @@ void drawStar(cairo_t* cr, double x, double y, double r) {
     const double radius = k % 2 == 0 ? r : 0.45 * r;
     const double px = x + radius * std::cos(angle);
     const double py = y + radius * std::sin(angle);
-    if (k == 0) cairo_move_to(cr, px, py);
-    else cairo_line_to(cr, px, py);
+    if (k == 0)
+      cairo_move_to(cr, px, py);
+    else
+      cairo_line_to(cr, px, py);
   }
   cairo_close_path(cr);
   cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
@@ -248,8 +260,8 @@ double niceStep(double span, int target) {
 /// Tick value rounded to the step's precision, "-0" shown as "0".
 std::string tickText(double value, double step) {
   const int decimals = std::max(0, static_cast<int>(-std::floor(std::log10(step) + 1e-9)));
-  return detail::formatNumber(std::abs(value) < 1e-9 * step ? 0.0 : value,
-                              std::chars_format::fixed, decimals);
+  return detail::formatNumber(std::abs(value) < 1e-9 * step ? 0.0 : value, std::chars_format::fixed,
+                              decimals);
 }
 
 /// Smallest label stride in 1, 2, 5, 10, 20, 25, 50, 100, 200, 250, 500, ... that leaves `gap`
@@ -269,23 +281,23 @@ std::size_t labelStride(double pitch, double label_width, double gap) {
 // ---------------------------------------------------------------------------
 // Trajectories
 
-constexpr double kLegendBand = 2.0;          // [m] right of the world picture
-constexpr double kTrajectoryWidth = 0.035;   // [m]
-constexpr double kLegendText = 0.15;         // [m] font size
-constexpr double kLegendRow = 0.30;          // [m] between legend rows
-constexpr double kLegendSwatch = 0.40;       // [m] line length of a legend entry
+constexpr double kLegendBand = 2.0;         // [m] right of the world picture
+constexpr double kTrajectoryWidth = 0.035;  // [m]
+constexpr double kLegendText = 0.15;        // [m] font size
+constexpr double kLegendRow = 0.30;         // [m] between legend rows
+constexpr double kLegendSwatch = 0.40;      // [m] line length of a legend entry
 constexpr Rgb kNoStateColour{0.30, 0.30, 0.30};
 constexpr Rgb kCollisionColour{0.86, 0.0, 0.0};
 
 // Okabe and Ito's colour-blind-safe qualitative palette, without black (the ink) and with
 // yellow last (weak on white). Vermillion sits late too: it is the nearest to the obstacles'
 // red and the collision marks.
-constexpr std::array<Rgb, 7> kStatePalette{{{0.902, 0.624, 0.000},   // orange
-                                            {0.337, 0.706, 0.914},   // sky blue
-                                            {0.000, 0.620, 0.451},   // bluish green
-                                            {0.800, 0.475, 0.655},   // reddish purple
-                                            {0.000, 0.447, 0.698},   // blue
-                                            {0.835, 0.369, 0.000},   // vermillion
+constexpr std::array<Rgb, 7> kStatePalette{{{0.902, 0.624, 0.000},    // orange
+                                            {0.337, 0.706, 0.914},    // sky blue
+                                            {0.000, 0.620, 0.451},    // bluish green
+                                            {0.800, 0.475, 0.655},    // reddish purple
+                                            {0.000, 0.447, 0.698},    // blue
+                                            {0.835, 0.369, 0.000},    // vermillion
                                             {0.941, 0.894, 0.259}}};  // yellow
 
 // Dash patterns that tell trajectories apart; the colour is taken by the state. [m] on, off
@@ -330,8 +342,9 @@ void renderHeatMapPng(const HeatMap& map, const std::filesystem::path& png) {
   if (rows == 0) throw core::InputError(where + ": heat map has no rows (values is empty)");
   if (cols == 0) throw core::InputError(where + ": heat map has no columns (x_ticks is empty)");
   if (map.y_ticks.size() != rows) {
-    throw core::InputError(where + ": heat map has " + std::to_string(rows) + " rows of values but " +
-                           std::to_string(map.y_ticks.size()) + " y_ticks");
+    throw core::InputError(where + ": heat map has " + std::to_string(rows) +
+                           " rows of values but " + std::to_string(map.y_ticks.size()) +
+                           " y_ticks");
   }
   for (std::size_t r = 0; r < rows; ++r) {
     if (map.values[r].size() != cols) {
@@ -362,26 +375,32 @@ void renderHeatMapPng(const HeatMap& map, const std::filesystem::path& png) {
 
   // Layout: widths of the texts decide the cell width and the side bands.
   double widest_cell = 0.0;
-  for (const std::string& tick : map.x_ticks) widest_cell = std::max(widest_cell, textWidth(tick, kTickSize));
+  for (const std::string& tick : map.x_ticks)
+    widest_cell = std::max(widest_cell, textWidth(tick, kTickSize));
   for (const std::vector<double>& row : map.values) {
     for (double v : row) {
-      if (std::isfinite(v)) widest_cell = std::max(widest_cell, textWidth(formatValue(*format, v), kTickSize));
-      else any_missing = true;
+      if (std::isfinite(v))
+        widest_cell = std::max(widest_cell, textWidth(formatValue(*format, v), kTickSize));
+      else
+        any_missing = true;
     }
   }
   double widest_y_tick = 0.0;
-  for (const std::string& tick : map.y_ticks) widest_y_tick = std::max(widest_y_tick, textWidth(tick, kTickSize));
+  for (const std::string& tick : map.y_ticks)
+    widest_y_tick = std::max(widest_y_tick, textWidth(tick, kTickSize));
   const std::string lo_text = any_finite ? formatValue(*format, lo) : "";
   const std::string hi_text = any_finite ? formatValue(*format, hi) : "";
-  const double bar_label_width = std::max(textWidth(lo_text, kSmallSize), textWidth(hi_text, kSmallSize));
+  const double bar_label_width =
+      std::max(textWidth(lo_text, kSmallSize), textWidth(hi_text, kSmallSize));
 
   const double cell_w = std::max(kCellMinWidth, widest_cell + kCellPadding);
   const double left_band = kYLabelBand + std::max(kYTickMinBand, widest_y_tick + 16.0);
   const double right_band = kBarBandFixed + std::max(kBarLabelMinWidth, bar_label_width);
   const double grid_w = static_cast<double>(cols) * cell_w;
   const double grid_h = static_cast<double>(rows) * kCellHeight;
-  const int width = imageSide(std::max(left_band + grid_w + right_band, textWidth(map.title, kTitleSize) + 48.0),
-                              "heat map width", where);
+  const int width =
+      imageSide(std::max(left_band + grid_w + right_band, textWidth(map.title, kTitleSize) + 48.0),
+                "heat map width", where);
   const int height = imageSide(kHeatTop + grid_h + kHeatBottom, "heat map height", where);
 
   const detail::Canvas canvas = detail::createCanvas(width, height, where);
@@ -403,8 +422,10 @@ void renderHeatMapPng(const HeatMap& map, const std::filesystem::path& png) {
       cairo_rectangle(cr, x, y, cell_w, kCellHeight);
       cairo_fill(cr);
       // Black on light cells, white on dark ones: 0.18 is where both contrast ratios match.
-      if (luminance(colour) > 0.18) cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
-      else cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
+      if (luminance(colour) > 0.18)
+        cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
+      else
+        cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
       drawCentred(cr, formatValue(*format, v), x + 0.5 * cell_w,
                   centredBaseline(y + 0.5 * kCellHeight, kTickSize), kTickSize);
     }
@@ -446,15 +467,18 @@ void renderHeatMapPng(const HeatMap& map, const std::filesystem::path& png) {
   // Ticks and axis labels.
   setColour(cr, kInk);
   for (std::size_t c = 0; c < cols; ++c) {
-    drawCentred(cr, map.x_ticks[c], gx + (static_cast<double>(c) + 0.5) * cell_w, gy + grid_h + 22.0, kTickSize);
+    drawCentred(cr, map.x_ticks[c], gx + (static_cast<double>(c) + 0.5) * cell_w,
+                gy + grid_h + 22.0, kTickSize);
   }
   for (std::size_t r = 0; r < rows; ++r) {
     drawRightAligned(cr, map.y_ticks[r], gx - 10.0,
-                     centredBaseline(gy + (static_cast<double>(r) + 0.5) * kCellHeight, kTickSize), kTickSize);
+                     centredBaseline(gy + (static_cast<double>(r) + 0.5) * kCellHeight, kTickSize),
+                     kTickSize);
   }
   const double x_label_width = textWidth(map.x_label, kLabelSize);
   drawText(cr, map.x_label,
-           std::clamp(gx + 0.5 * grid_w - 0.5 * x_label_width, 8.0, std::max(8.0, width - 8.0 - x_label_width)),
+           std::clamp(gx + 0.5 * grid_w - 0.5 * x_label_width, 8.0,
+                      std::max(8.0, width - 8.0 - x_label_width)),
            gy + grid_h + 56.0, kLabelSize);
   drawVertical(cr, map.y_label, 28.0, gy + 0.5 * grid_h, kLabelSize);
   drawTitle(cr, map.title, gx, gx + grid_w, width, 36.0);
@@ -481,7 +505,8 @@ void renderHeatMapPng(const HeatMap& map, const std::filesystem::path& png) {
     cairo_line_to(cr, bx + bw + 4.0, gy + grid_h - 0.5);
     cairo_stroke(cr);
     drawText(cr, hi_text, bx + bw + 8.0, centredBaseline(gy + 0.5, kSmallSize), kSmallSize);
-    drawText(cr, lo_text, bx + bw + 8.0, centredBaseline(gy + grid_h - 0.5, kSmallSize), kSmallSize);
+    drawText(cr, lo_text, bx + bw + 8.0, centredBaseline(gy + grid_h - 0.5, kSmallSize),
+             kSmallSize);
   }
 
   // Key below the colour bar: the best-cell star, and the missing-value look if there is one.
@@ -506,10 +531,11 @@ void renderWorldBarsPng(const WorldBars& bars, const std::filesystem::path& png)
   const std::string where = png.string();
   const std::size_t n = bars.values.size();
   if (bars.labels.size() != n) {
-    throw core::InputError(where + ": bar chart has " + std::to_string(bars.labels.size()) + " labels but " +
-                           std::to_string(n) + " values");
+    throw core::InputError(where + ": bar chart has " + std::to_string(bars.labels.size()) +
+                           " labels but " + std::to_string(n) + " values");
   }
-  if (n == 0) throw core::InputError(where + ": bar chart has no bars (labels and values are empty)");
+  if (n == 0)
+    throw core::InputError(where + ": bar chart has no bars (labels and values are empty)");
   if (!std::isfinite(bars.y_max) || bars.y_max < 0.0) {
     throw core::InputError(where + ": y_max must be 0 (automatic) or positive (got " +
                            detail::formatNumber(bars.y_max, std::chars_format::general, 6) + ")");
@@ -533,8 +559,9 @@ void renderWorldBarsPng(const WorldBars& bars, const std::filesystem::path& png)
   if (!(hi > lo)) hi = lo + 1.0;
 
   const double plot_w = std::max(kBarsMinPlotWidth, kBarsPitch * static_cast<double>(n));
-  const int width = imageSide(std::max(plot_w + kBarsLeft + kBarsRight, textWidth(bars.title, kTitleSize) + 48.0),
-                              "bar chart width", where);
+  const int width =
+      imageSide(std::max(plot_w + kBarsLeft + kBarsRight, textWidth(bars.title, kTitleSize) + 48.0),
+                "bar chart width", where);
   const int height = static_cast<int>(kBarsTop + kBarsPlotHeight + kBarsBottom);
   const detail::Canvas canvas = detail::createCanvas(width, height, where);
   cairo_t* cr = canvas.cr();
@@ -557,7 +584,8 @@ void renderWorldBarsPng(const WorldBars& bars, const std::filesystem::path& png)
     cairo_move_to(cr, left - 5.0, yp);
     cairo_line_to(cr, left, yp);
     cairo_stroke(cr);
-    drawRightAligned(cr, tickText(y, step), left - 8.0, centredBaseline(py(y), kSmallSize), kSmallSize);
+    drawRightAligned(cr, tickText(y, step), left - 8.0, centredBaseline(py(y), kSmallSize),
+                     kSmallSize);
   }
 
   // Bars, clipped to the plot area (a fixed y_max may cut the tallest). Edges on whole pixels
@@ -573,7 +601,8 @@ void renderWorldBarsPng(const WorldBars& bars, const std::filesystem::path& png)
     const double x0 = std::round(left + static_cast<double>(i) * pitch + 0.5 * gap);
     const double x1 = std::round(left + static_cast<double>(i + 1) * pitch - 0.5 * gap);
     const double y0 = std::round(std::clamp(py(v), plot_top - 1.0, plot_bottom + 1.0));
-    cairo_rectangle(cr, x0, std::min(y0, std::round(base)), std::max(1.0, x1 - x0), std::abs(std::round(base) - y0));
+    cairo_rectangle(cr, x0, std::min(y0, std::round(base)), std::max(1.0, x1 - x0),
+                    std::abs(std::round(base) - y0));
   }
   setColour(cr, kBarColour);
   cairo_fill(cr);
@@ -609,7 +638,8 @@ void renderWorldBarsPng(const WorldBars& bars, const std::filesystem::path& png)
 
   // x tick labels every `stride` bars, under the bar's centre.
   double widest = 0.0;
-  for (const std::string& label : bars.labels) widest = std::max(widest, textWidth(label, kSmallSize));
+  for (const std::string& label : bars.labels)
+    widest = std::max(widest, textWidth(label, kSmallSize));
   const std::size_t stride = labelStride(pitch, widest, 8.0);
   for (std::size_t i = 0; i < n; i += stride) {
     const double x = std::round(left + (static_cast<double>(i) + 0.5) * pitch) + 0.5;
@@ -621,7 +651,8 @@ void renderWorldBarsPng(const WorldBars& bars, const std::filesystem::path& png)
 
   const double x_label_width = textWidth(bars.x_label, kLabelSize);
   drawText(cr, bars.x_label,
-           std::clamp(0.5 * (left + right - x_label_width), 8.0, std::max(8.0, width - 8.0 - x_label_width)),
+           std::clamp(0.5 * (left + right - x_label_width), 8.0,
+                      std::max(8.0, width - 8.0 - x_label_width)),
            plot_bottom + 54.0, kLabelSize);
   drawVertical(cr, bars.y_label, 22.0, 0.5 * (plot_top + plot_bottom), kLabelSize);
   drawTitle(cr, bars.title, left, right, width, 34.0);
@@ -648,8 +679,10 @@ void renderTrajectoriesPng(const core::WorldSpec& world, const core::Protocol& p
   for (const TrajectoryOverlay& trajectory : trajectories) {
     any_collision = any_collision || trajectory.collided;
     for (const TrajectoryPoint& point : trajectory.points) {
-      if (point.state.empty()) any_stateless = true;
-      else if (std::find(states.begin(), states.end(), point.state) == states.end()) states.push_back(point.state);
+      if (point.state.empty())
+        any_stateless = true;
+      else if (std::find(states.begin(), states.end(), point.state) == states.end())
+        states.push_back(point.state);
     }
   }
   const auto stateColour = [&](const std::string& state) {
@@ -682,7 +715,9 @@ void renderTrajectoriesPng(const core::WorldSpec& world, const core::Protocol& p
   cairo_set_line_width(cr, kTrajectoryWidth);
   cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
   cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
-  const auto finite = [](const TrajectoryPoint& p) { return std::isfinite(p.x) && std::isfinite(p.y); };
+  const auto finite = [](const TrajectoryPoint& p) {
+    return std::isfinite(p.x) && std::isfinite(p.y);
+  };
   for (std::size_t t = 0; t < trajectories.size(); ++t) {
     const std::vector<TrajectoryPoint>& points = trajectories[t].points;
     const DashPattern& pattern = kDashPatterns[t % kDashPatterns.size()];
@@ -694,7 +729,8 @@ void renderTrajectoriesPng(const core::WorldSpec& world, const core::Protocol& p
         continue;
       }
       std::size_t end = i + 1;  // one past the run's last point
-      while (end < points.size() && finite(points[end]) && points[end].state == points[i].state) ++end;
+      while (end < points.size() && finite(points[end]) && points[end].state == points[i].state)
+        ++end;
       const std::size_t last = end < points.size() && finite(points[end]) ? end : end - 1;
       setDash(cr, pattern, travelled);
       cairo_move_to(cr, points[i].x, points[i].y);
@@ -709,7 +745,8 @@ void renderTrajectoriesPng(const core::WorldSpec& world, const core::Protocol& p
     }
   }
   for (const TrajectoryOverlay& trajectory : trajectories) {
-    if (trajectory.collided && std::isfinite(trajectory.collision_x) && std::isfinite(trajectory.collision_y)) {
+    if (trajectory.collided && std::isfinite(trajectory.collision_x) &&
+        std::isfinite(trajectory.collision_y)) {
       drawCollisionMark(cr, trajectory.collision_x, trajectory.collision_y, 0.13, 0.045);
     }
   }
@@ -727,7 +764,8 @@ void renderTrajectoriesPng(const core::WorldSpec& world, const core::Protocol& p
   const double text_room = size.width - text_x - 0.15 * ppm;
   double y = (detail::kWorldMargin + 0.2) * ppm;
   const auto entryText = [&](const std::string& text, const Rgb& colour) {
-    const double fit = std::min(text_size, text_size * text_room / std::max(1e-9, textWidth(text, text_size)));
+    const double fit =
+        std::min(text_size, text_size * text_room / std::max(1e-9, textWidth(text, text_size)));
     setColour(cr, colour);
     drawText(cr, text, text_x, centredBaseline(y, fit) - 0.125 * fit, fit);  // centred on x-height
   };
@@ -765,12 +803,15 @@ void renderTrajectoriesPng(const core::WorldSpec& world, const core::Protocol& p
   }
   const bool label_trajectories =
       trajectories.size() > 1 ||
-      std::any_of(trajectories.begin(), trajectories.end(), [](const TrajectoryOverlay& t) { return !t.label.empty(); });
+      std::any_of(trajectories.begin(), trajectories.end(),
+                  [](const TrajectoryOverlay& t) { return !t.label.empty(); });
   if (label_trajectories) {
     header("trajectory");
     for (std::size_t t = 0; t < trajectories.size(); ++t) {
       swatch(kInk, kDashPatterns[t % kDashPatterns.size()]);
-      entryText(trajectories[t].label.empty() ? "trajectory " + std::to_string(t) : trajectories[t].label, kInk);
+      entryText(
+          trajectories[t].label.empty() ? "trajectory " + std::to_string(t) : trajectories[t].label,
+          kInk);
       y += row;
     }
     y += 0.5 * row;

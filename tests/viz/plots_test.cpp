@@ -71,13 +71,14 @@ struct Pixel {
 class Image {
  public:
   explicit Image(const fs::path& png)
-      : surface_(cairo_image_surface_create_from_png(png.string().c_str()), &cairo_surface_destroy) {}
+      : surface_(cairo_image_surface_create_from_png(png.string().c_str()),
+                 &cairo_surface_destroy) {}
   bool ok() const { return cairo_surface_status(surface_.get()) == CAIRO_STATUS_SUCCESS; }
   int width() const { return cairo_image_surface_get_width(surface_.get()); }
   int height() const { return cairo_image_surface_get_height(surface_.get()); }
   Pixel at(int x, int y) const {
-    const unsigned char* row =
-        cairo_image_surface_get_data(surface_.get()) + y * cairo_image_surface_get_stride(surface_.get());
+    const unsigned char* row = cairo_image_surface_get_data(surface_.get()) +
+                               y * cairo_image_surface_get_stride(surface_.get());
     std::uint32_t argb = 0;
     std::memcpy(&argb, row + 4 * x, 4);  // native-endian 0xAARRGGBB, opaque here
     return {static_cast<int>((argb >> 16) & 0xff), static_cast<int>((argb >> 8) & 0xff),
@@ -101,8 +102,9 @@ class Image {
 ::testing::AssertionResult near(Pixel p, double r, double g, double b) {
   const auto close = [](int v, double want) { return std::abs(v - want * 255.0) <= 2.0; };
   if (close(p.r, r) && close(p.g, g) && close(p.b, b)) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "pixel (" << p.r << ", " << p.g << ", " << p.b << ") is not ("
-                                       << r * 255 << ", " << g * 255 << ", " << b * 255 << ")";
+  return ::testing::AssertionFailure()
+         << "pixel (" << p.r << ", " << p.g << ", " << p.b << ") is not (" << r * 255 << ", "
+         << g * 255 << ", " << b * 255 << ")";
 }
 
 class PlotsTest : public ::testing::Test {
@@ -169,10 +171,10 @@ TEST_F(PlotsTest, HeatMapHasTheDocumentedSizeAndDrawsAMissingCell) {
   ASSERT_TRUE(image.ok());
   // The missing cell (4, 5) is grey only: fill and hatching, no viridis colour, no text.
   const int x = kGridLeft + 5 * kCellW, y = kGridTop + 4 * kCellH;
-  EXPECT_FALSE(image.any(x + 3, y + 3, x + kCellW - 3, y + kCellH - 3, [](Pixel p) {
-    return p.r != p.g || p.g != p.b || p.r < 150;
-  }));
-  EXPECT_TRUE(image.any(x + 3, y + 3, x + kCellW - 3, y + kCellH - 3, [](Pixel p) { return p.r < 200; }));
+  EXPECT_FALSE(image.any(x + 3, y + 3, x + kCellW - 3, y + kCellH - 3,
+                         [](Pixel p) { return p.r != p.g || p.g != p.b || p.r < 150; }));
+  EXPECT_TRUE(
+      image.any(x + 3, y + 3, x + kCellW - 3, y + kCellH - 3, [](Pixel p) { return p.r < 200; }));
 }
 
 TEST_F(PlotsTest, HeatMapColoursRunFromDarkViridisToYellowWithReadableText) {
@@ -182,7 +184,8 @@ TEST_F(PlotsTest, HeatMapColoursRunFromDarkViridisToYellowWithReadableText) {
   // Away from the text (and inside the best cell's outline): the smallest value takes
   // viridis(0), the largest viridis(1).
   EXPECT_TRUE(near(image.at(kGridLeft + 4, kGridTop + 4), 0.267, 0.005, 0.329));
-  EXPECT_TRUE(near(image.at(kGridLeft + 4 * kCellW + 40, kGridTop + 4 * kCellH + 8), 0.993, 0.906, 0.144));
+  EXPECT_TRUE(
+      near(image.at(kGridLeft + 4 * kCellW + 40, kGridTop + 4 * kCellH + 8), 0.993, 0.906, 0.144));
   // Text: white on the dark cell (0, 0), black on the bright cell (4, 3).
   const auto centre = [&](int r, int c, const std::function<bool(Pixel)>& test) {
     const int x = kGridLeft + c * kCellW, y = kGridTop + r * kCellH;
@@ -198,7 +201,8 @@ TEST_F(PlotsTest, HeatMapOutlinesTheBestCellByItsDirection) {
   // The ink outline runs along the cell's inner edge, 0 ... 4 px in from its border.
   const auto outlined = [&](int r, int c) {
     const Image image(png_);
-    return near(image.at(kGridLeft + c * kCellW + 2, kGridTop + r * kCellH + kCellH / 2), 0.1, 0.1, 0.1);
+    return near(image.at(kGridLeft + c * kCellW + 2, kGridTop + r * kCellH + kCellH / 2), 0.1, 0.1,
+                0.1);
   };
   HeatMap map = sweep();
   renderHeatMapPng(map, png_);
@@ -255,7 +259,8 @@ TEST_F(PlotsTest, HeatMapRejectsEmptyAndRaggedInput) {
 
 TEST_F(PlotsTest, HeatMapAcceptsPrintfStyleFormats) {
   HeatMap map = sweep();
-  for (const std::string format : {"%.3f", "%+.1f", "%.2e", "%g", "%.0f%%", "s = %.2f", "%.f", "%E"}) {
+  for (const std::string format :
+       {"%.3f", "%+.1f", "%.2e", "%g", "%.0f%%", "s = %.2f", "%.f", "%E"}) {
     map.value_format = format;
     EXPECT_NO_THROW(renderHeatMapPng(map, png_)) << format;
   }
@@ -313,7 +318,8 @@ TEST_F(PlotsTest, BarHeightsFollowTheYAxis) {
   const Pixel blue{31, 120, 181};  // (0.12, 0.47, 0.71)
   const auto is_bar = [&](int x, int y) {
     const Pixel p = image.at(x, y);
-    return std::abs(p.r - blue.r) <= 2 && std::abs(p.g - blue.g) <= 2 && std::abs(p.b - blue.b) <= 2;
+    return std::abs(p.r - blue.r) <= 2 && std::abs(p.g - blue.g) <= 2 &&
+           std::abs(p.b - blue.b) <= 2;
   };
   EXPECT_TRUE(is_bar(bar_x(0), 220));
   EXPECT_FALSE(is_bar(bar_x(0), 212));
@@ -324,7 +330,8 @@ TEST_F(PlotsTest, BarHeightsFollowTheYAxis) {
 TEST_F(PlotsTest, BarChartRejectsEmptyOrMismatchedInput) {
   WorldBars bars = threeHundredWorlds();
   bars.labels.pop_back();
-  expectInputError([&] { renderWorldBarsPng(bars, png_); }, {png_.string(), "299 labels but 300 values"});
+  expectInputError([&] { renderWorldBarsPng(bars, png_); },
+                   {png_.string(), "299 labels but 300 values"});
 
   bars.labels.clear();
   bars.values.clear();
@@ -369,7 +376,7 @@ TEST_F(PlotsTest, TrajectoryOverlayIsTheWorldPictureWithALegendBand) {
   renderTrajectoriesPng(emptyWorld(), protocol, {}, png_);
   const Size size = pngSize(png_);
   EXPECT_EQ(size.width, std::lround((4.5 + 1.2 + 2.0) * 120.0));  // 924
-  EXPECT_EQ(size.height, std::lround((14.0 + 1.2) * 120.0));     // 1824
+  EXPECT_EQ(size.height, std::lround((14.0 + 1.2) * 120.0));      // 1824
 
   // Same height as renderWorldPng, 2 m wider.
   renderWorldPng(emptyWorld(), protocol, png_, RenderOptions{60.0, true, true});
@@ -385,10 +392,12 @@ TEST_F(PlotsTest, TrajectorySegmentsTakeTheirStateColourAndCollisionsAreMarked) 
   // bluish green, the same in both trajectories.
   TrajectoryOverlay first;
   first.label = "trial 0";
-  for (int k = 0; k <= 20; ++k) first.points.push_back({-3.5, 1.0 + 0.1 * k, k < 10 ? "forward" : "recovery"});
+  for (int k = 0; k <= 20; ++k)
+    first.points.push_back({-3.5, 1.0 + 0.1 * k, k < 10 ? "forward" : "recovery"});
   TrajectoryOverlay second;
   second.label = "trial 1";
-  for (int k = 0; k <= 20; ++k) second.points.push_back({-1.0, 1.0 + 0.1 * k, k < 10 ? "recovery" : "backtrack"});
+  for (int k = 0; k <= 20; ++k)
+    second.points.push_back({-1.0, 1.0 + 0.1 * k, k < 10 ? "recovery" : "backtrack"});
   second.collided = true;
   second.collision_x = -2.5;
   second.collision_y = 1.5;
@@ -399,27 +408,37 @@ TEST_F(PlotsTest, TrajectorySegmentsTakeTheirStateColourAndCollisionsAreMarked) 
   EXPECT_TRUE(near(image.at(pxX(-3.5), pxY(1.45)), 0.902, 0.624, 0.0));    // forward
   EXPECT_TRUE(near(image.at(pxX(-3.5), pxY(2.55)), 0.337, 0.706, 0.914));  // recovery
   // Trajectory 1 is dashed 0.20 m on, 0.10 m off from its start: sample inside the dashes.
-  EXPECT_TRUE(near(image.at(pxX(-1.0), pxY(1.1)), 0.337, 0.706, 0.914));   // recovery
-  EXPECT_TRUE(near(image.at(pxX(-1.0), pxY(2.35)), 0.0, 0.620, 0.451));    // backtrack
-  EXPECT_TRUE(near(image.at(pxX(-2.5), pxY(1.5)), 0.86, 0.0, 0.0));        // collision X
+  EXPECT_TRUE(near(image.at(pxX(-1.0), pxY(1.1)), 0.337, 0.706, 0.914));  // recovery
+  EXPECT_TRUE(near(image.at(pxX(-1.0), pxY(2.35)), 0.0, 0.620, 0.451));   // backtrack
+  // The dashes run on across the state change at y = 2.0 (1.0 m in, phase 0.1 m): 0.15 m later
+  // is a gap, where a pattern restarted at the change would still be on.
+  EXPECT_TRUE(near(image.at(pxX(-1.0), pxY(2.15)), 1.0, 1.0, 1.0));
+  EXPECT_TRUE(near(image.at(pxX(-2.5), pxY(1.5)), 0.86, 0.0, 0.0));  // collision X
   // Off the trajectories the field is white.
   EXPECT_TRUE(near(image.at(pxX(-2.5), pxY(2.5)), 1.0, 1.0, 1.0));
 }
 
 TEST_F(PlotsTest, TrajectoryOverlayRendersARealWorld) {
-  const core::WorldSpec world = core::readWorldFile(fs::path(BARN_SOURCE_DIR) / "worlds" / "world_150.yaml");
+  const core::WorldSpec world =
+      core::readWorldFile(fs::path(BARN_SOURCE_DIR) / "worlds" / "world_150.yaml");
   TrajectoryOverlay trial;
   trial.label = "trial 0";
-  trial.points = {{-2.0, 3.0, ""}, {-2.0, 4.0, ""}, {kNaN, 4.5, ""}, {-1.9, 5.0, "forward"}, {-1.8, 6.0, "forward"}};
+  trial.points = {{-2.0, 3.0, ""},
+                  {-2.0, 4.0, ""},
+                  {kNaN, 4.5, ""},
+                  {-1.9, 5.0, "forward"},
+                  {-1.8, 6.0, "forward"}};
   renderTrajectoriesPng(world, core::protocolPreset("barn2024"), {trial}, png_, 50.0);
   EXPECT_GT(pngSize(png_).width, 0);
 }
 
 TEST_F(PlotsTest, TrajectoryOverlayRejectsABadScale) {
-  expectInputError([&] { renderTrajectoriesPng(emptyWorld(), core::protocolPreset("barn2023"), {}, png_, 0.0); },
-                   {png_.string(), "pixels_per_metre"});
-  expectInputError([&] { renderTrajectoriesPng(emptyWorld(), core::protocolPreset("barn2023"), {}, png_, 1e4); },
-                   {"out of range"});
+  expectInputError(
+      [&] { renderTrajectoriesPng(emptyWorld(), core::protocolPreset("barn2023"), {}, png_, 0.0); },
+      {png_.string(), "pixels_per_metre"});
+  expectInputError(
+      [&] { renderTrajectoriesPng(emptyWorld(), core::protocolPreset("barn2023"), {}, png_, 1e4); },
+      {"out of range"});
 }
 
 // ---------------------------------------------------------------------------
@@ -430,7 +449,11 @@ TEST_F(PlotsTest, UnwritablePathThrowsInputErrorNamingThePath) {
   expectInputError([&] { renderHeatMapPng(sweep(), unwritable_); }, parts);
   expectInputError([&] { renderWorldBarsPng(threeHundredWorlds(), unwritable_); }, parts);
   expectInputError(
-      [&] { renderTrajectoriesPng(emptyWorld(), core::protocolPreset("barn2023"), {}, unwritable_, 20.0); }, parts);
+      [&] {
+        renderTrajectoriesPng(emptyWorld(), core::protocolPreset("barn2023"), {}, unwritable_,
+                              20.0);
+      },
+      parts);
   EXPECT_FALSE(fs::exists(unwritable_.parent_path()));
 }
 

@@ -88,11 +88,11 @@ struct TrajectoryPoint {
 
 /// One trial's path through the world.
 struct TrajectoryOverlay {
-  std::string label;                     // legend text, e.g. "trial 0"
-  std::vector<TrajectoryPoint> points;   // in time order; non-finite points break the line
-  bool collided = false;                 // draw a red X at the collision point
-  double collision_x = 0.0;              // [m] world frame, if collided
-  double collision_y = 0.0;              // [m] world frame, if collided
+  std::string label;                    // legend text, e.g. "trial 0"
+  std::vector<TrajectoryPoint> points;  // in time order; non-finite points break the line
+  bool collided = false;                // draw a red X at the collision point
+  double collision_x = 0.0;             // [m] world frame, if collided
+  double collision_y = 0.0;             // [m] world frame, if collided
 };
 
 /// Draws the world as renderWorldPng does (cells, cylinders, start pose, goal; the A* path thin
