@@ -10,11 +10,14 @@ nav::NavStackConfig LflhConfig::lflhNav() {
   nav::NavStackConfig c;
   c.footprint_padding = 0.075;
   c.global_costmap.inscribed_radius = 0.24;  // 0.165 + 0.075
-  c.global_costmap.inflation_radius = 1.5;
+  c.global_costmap.inflation_radius = 1.0;
   c.global_costmap.cost_scaling_factor = 3.0;
   c.local_costmap.inscribed_radius = 0.24;
-  c.local_costmap.inflation_radius = 1.5;
+  c.local_costmap.inflation_radius = 1.0;
   c.local_costmap.cost_scaling_factor = 1.0;
+  // BARN updates the global costmap at 10 Hz; 5 Hz halves the replanning work (the planner
+  // reuses its field between updates) and changes little at these speeds.
+  c.global_update_rate = 5.0;
   c.planner.smoothing_window = 9;  // stands in for the Savitzky-Golay smoothing of the original
   return c;
 }

@@ -68,6 +68,23 @@ TEST(SafetyChecks, FootprintInflationSeesPointsWithinTheOffset) {
   EXPECT_FALSE(footprintInflationHit({{0.0, 0.26}, {-0.3, 0.0}}, box));
 }
 
+TEST(SafetyChecks, FiTripsAtFourCentimetresButNotTwoForAPointThreeCentimetresOut) {
+  // The unpadded footprint's front edge is at x = 0.508 / 2 = 0.254; the point is 0.03 m out.
+  const std::vector<Eigen::Vector2d> point = {{0.254 + 0.03, 0.0}};
+  EXPECT_TRUE(footprintInflationHit(point, footprintBox(0.508, 0.43, 0.04)));   // edge at 0.294
+  EXPECT_FALSE(footprintInflationHit(point, footprintBox(0.508, 0.43, 0.02)));  // edge at 0.274
+}
+
+TEST(SafetyChecks, RolloutTowardAWallTenCentimetresAheadIsDangerousAtOneMetrePerSecond) {
+  // A wall 0.1 m ahead of the front edge (x = 0.354), sampled every centimetre across.
+  std::vector<Eigen::Vector2d> wall;
+  for (double y = -1.0; y <= 1.0; y += 0.01) wall.emplace_back(0.354, y);
+  const Box body = footprintBox(0.508, 0.43, 0.0);
+  // 20 steps of 0.01 s: 1 m/s covers 0.2 m > 0.1 m; 0.1 m/s covers 0.02 m < 0.1 m.
+  EXPECT_TRUE(rolloutHit(wall, body, {1.0, 0.0}, 0.01, 20));
+  EXPECT_FALSE(rolloutHit(wall, body, {0.1, 0.0}, 0.01, 20));
+}
+
 TEST(SafetyChecks, ScanPointsIncludeTheMountOffset) {
   sim::LidarConfig lidar;  // mounted 0.055 m ahead
   core::LaserScan scan;
