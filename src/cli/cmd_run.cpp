@@ -22,6 +22,7 @@ struct RunOptions {
   std::string config;
   std::string sim_config;
   std::string worlds = "all";
+  std::string world_dir;
   int trials = 1;
   std::string protocol;
   int jobs = 0;
@@ -85,6 +86,8 @@ void addRunCommand(CLI::App& app, CommandContext& context) {
                   "Robot, LiDAR, physics and protocol config (default configs/sim/barn.yaml)");
   cmd->add_option("--worlds", options->worlds, "all, test50, A:B[:STEP], 3,7,9, or a folder of world files")
       ->capture_default_str();
+  cmd->add_option("--world-dir", options->world_dir,
+                  "Folder the ids of --worlds refer to (default worlds/; e.g. one written by barn import-barn)");
   cmd->add_option("--trials", options->trials, "Trials per world")->check(CLI::Range(1, 100000))->capture_default_str();
   cmd->add_option("--protocol", options->protocol, "barn2023 or barn2024 (overrides the sim config)");
   cmd->add_option("--jobs", options->jobs, "Threads (0 = all cores)")->check(CLI::Range(0, 4096))->capture_default_str();
@@ -110,7 +113,8 @@ void addRunCommand(CLI::App& app, CommandContext& context) {
       const bench::EpisodeConfig episode = episodeConfigFor(options->sim_config, options->protocol);
       int shard_index = 0, shard_count = 0;
       if (!options->shard.empty()) parseShard(options->shard, shard_index, shard_count);
-      const bench::LoadedWorlds loaded = bench::loadWorlds(options->worlds, repoPath("worlds"), options->keep_going);
+      const bench::LoadedWorlds loaded = bench::loadWorlds(
+          options->worlds, options->world_dir.empty() ? repoPath("worlds") : fs::path(options->world_dir), options->keep_going);
       for (const auto& message : loaded.skipped) std::fprintf(stderr, "skipped (--keep-going): %s\n", message.c_str());
       fs::path dir = options->out.empty() ? repoPath("results") / options->controller : fs::path(options->out);
       if (!options->shard.empty() && options->out.empty())

@@ -29,6 +29,7 @@ struct SweepOptions {
   std::string sim_config;
   std::vector<std::string> params;
   std::string worlds = "test50";
+  std::string world_dir;
   int trials = 1;
   std::string protocol;
   int jobs = 0;
@@ -91,6 +92,7 @@ void addSweepCommand(CLI::App& app, CommandContext& context) {
   cmd->add_option("--param", options->params,
                   "KEY=V1,V2,... (repeatable): a controller config key, relative to its type block, and its values");
   cmd->add_option("--worlds", options->worlds, "all, test50, A:B[:STEP], 3,7,9 or a folder")->capture_default_str();
+  cmd->add_option("--world-dir", options->world_dir, "Folder the ids of --worlds refer to (default worlds/)");
   cmd->add_option("--trials", options->trials, "Trials per world")->check(CLI::Range(1, 100000))->capture_default_str();
   cmd->add_option("--protocol", options->protocol, "barn2023 or barn2024");
   cmd->add_option("--jobs", options->jobs, "Threads (0 = all cores)")->check(CLI::Range(0, 4096));
@@ -116,7 +118,8 @@ void addSweepCommand(CLI::App& app, CommandContext& context) {
       std::string type;
       base.child("type").read(type);
       const bench::EpisodeConfig episode = episodeConfigFor(options->sim_config, options->protocol);
-      const bench::LoadedWorlds loaded = bench::loadWorlds(options->worlds, repoPath("worlds"));
+      const bench::LoadedWorlds loaded =
+          bench::loadWorlds(options->worlds, options->world_dir.empty() ? repoPath("worlds") : fs::path(options->world_dir));
       std::size_t cells = 1;
       for (const auto& p : params) cells *= p.values.size();
       if (cells > 10000) throw core::InputError("sweep: " + std::to_string(cells) + " cells is too many (at most 10000)");
