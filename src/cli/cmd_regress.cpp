@@ -87,21 +87,26 @@ void addRegressCommand(CLI::App& app, CommandContext& context) {
       if (!manifest.complete) throw core::InputError(record.string() + ": the reference run is not complete");
       // The rerun: the same experiment, from scratch, in a fresh record.
       bench::RunManifest rerun = manifest;
-      if (!options->overrides.empty()) {
-        core::ConfigNode node = core::ConfigNode::parseString(rerun.controller_config, record.string() + " controller_config");
-        for (const auto& item : options->overrides) {
-          const auto eq = item.find('=');
-          if (eq == std::string::npos || eq == 0) throw core::InputError("--set '" + item + "': expected KEY=VALUE");
-          node.set(item.substr(0, eq), item.substr(eq + 1));
-        }
-        rerun.controller_config = node.toYaml();
+      core::ConfigNode node = core::ConfigNode::parseString(rerun.controller_config, record.string() + " controller_config");
+      // A committed baseline names files of the checkout it was made in: point a policy file
+      // that is not there at this checkout's configs/policies/, and the repository's worlds at
+      // this checkout's worlds/ (the digest still guards their content).
+      std::string type;
+      node.child("type").read(type);
+      std::string policy;
+      if (node.child(type).child("policy").read(policy) && !fs::exists(policy))
+        node.set(type + ".policy", (repoPath("configs") / "policies" / fs::path(policy).filename()).string());
+      for (const auto& item : options->overrides) {
+        const auto eq = item.find('=');
+        if (eq == std::string::npos || eq == 0) throw core::InputError("--set '" + item + "': expected KEY=VALUE");
+        node.set(item.substr(0, eq), item.substr(eq + 1));
       }
+      rerun.controller_config = node.toYaml();
+      if (fs::path(rerun.worlds_folder).filename() == "worlds") rerun.worlds_folder = fs::absolute(repoPath("worlds")).string();
       rerun.complete = false;
       rerun.episodes_done = 0;
       rerun.wall_time_s = 0.0;
       rerun.started.clear();
-      rerun.worlds_folder = manifest.worlds_folder;
-      if (!fs::exists(rerun.worlds_folder)) rerun.worlds_folder = (repoPath("worlds")).string();
       const fs::path dir = work / record.filename();
       std::error_code ec;
       fs::remove_all(dir, ec);

@@ -1,0 +1,139 @@
+// barn regress and barn sweep through the real executable.
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+const fs::path kBarn = fs::path(BARN_BINARY_DIR) / "barn";
+
+struct RunResult {
+  int exit_code = -1;
+  std::string output;
+};
+
+fs::path tempPath(const std::string& stem) {
+  std::random_device device;
+  return fs::temp_directory_path() / (stem + "_" + std::to_string(device()) + std::to_string(device()));
+}
+
+RunResult run(const std::string& args) {
+  const fs::path capture = tempPath("barn_regress_output");
+  const int status = std::system(("'" + kBarn.string() + "' " + args + " > '" + capture.string() + "' 2>&1").c_str());
+  RunResult result;
+  std::ifstream in(capture);
+  std::stringstream text;
+  text << in.rdbuf();
+  result.output = text.str();
+  fs::remove(capture);
+  if (status != -1 && WIFEXITED(status)) result.exit_code = WEXITSTATUS(status);
+  return result;
+}
+
+class Regress : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = tempPath("barn_regress");
+    baseline_ = dir_ / "baseline";
+    // A reference run: pure pursuit on 5 worlds (fast and deterministic).
+    const RunResult made = run("run --controller pure_pursuit --worlds 0:300:60 --out '" + (baseline_ / "pure_pursuit").string() + "'");
+    ASSERT_EQ(made.exit_code, 0) << made.output;
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string regress(const std::string& extra) {
+    return "regress --baseline '" + baseline_.string() + "' --work '" + (dir_ / "work").string() + "' " + extra;
+  }
+  fs::path dir_, baseline_;
+};
+
+TEST_F(Regress, PassesOnAnUnchangedBuildWithBitIdenticalEpisodes) {
+  const RunResult r = run(regress(""));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("identical ok"));
+}
+
+TEST_F(Regress, FailsOnADeliberateRegression) {
+  // Pure pursuit at 2 m/s cuts corners and collides: score and success drop.
+  const RunResult r = run(regress("--set pure_pursuit.speed=2.0"));
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("FAIL"));
+  EXPECT_THAT(r.output, HasSubstr("REGRESSION"));
+}
+
+TEST_F(Regress, UpdateRewritesTheBaseline) {
+  ASSERT_EQ(run(regress("--set pure_pursuit.speed=2.0 --update")).exit_code, 0);
+  const RunResult after = run(regress("--set pure_pursuit.speed=2.0"));
+  EXPECT_EQ(after.exit_code, 0) << after.output;
+}
+
+TEST_F(Regress, NamesAMissingReferenceRun) {
+  const RunResult r = run(regress("--controllers nosuch"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.output, HasSubstr("no reference run 'nosuch'"));
+}
+
+TEST(Sweep, RunsTheGridAndWritesTheTableAndHeatMaps) {
+  const fs::path out = tempPath("barn_sweep");
+  const RunResult r = run("sweep --controller pure_pursuit --param speed=0.3,0.5 --param lookahead=0.3,0.6 --worlds 0:300:100 --out '" +
+                          out.string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream csv(out / "sweep.csv");
+  std::string line;
+  int rows = 0;
+  std::getline(csv, line);
+  EXPECT_THAT(line, HasSubstr("speed,lookahead,score,success_rate"));
+  while (std::getline(csv, line)) ++rows;
+  EXPECT_EQ(rows, 4);  // 2 x 2 cells
+  for (const char* png : {"heatmap_score.png", "heatmap_success.png", "heatmap_collision.png"})
+    EXPECT_TRUE(fs::exists(out / png)) << png;
+  // Every cell is a complete run record.
+  int records = 0;
+  for (const auto& entry : fs::directory_iterator(out))
+    if (fs::exists(entry.path() / "manifest.yaml") && fs::exists(entry.path() / "episodes.csv")) ++records;
+  EXPECT_EQ(records, 4);
+  fs::remove_all(out);
+}
+
+TEST(Sweep, ResumesAnInterruptedSweepToTheSameTable) {
+  const fs::path whole = tempPath("barn_sweep_whole");
+  const fs::path parts = tempPath("barn_sweep_parts");
+  const std::string grid = "--controller pure_pursuit --param speed=0.3,0.5 --worlds 0:300:50 ";
+  ASSERT_EQ(run("sweep " + grid + "--out '" + whole.string() + "'").exit_code, 0);
+  const RunResult stopped = run("sweep " + grid + "--out '" + parts.string() + "' --stop-after 3");
+  EXPECT_EQ(stopped.exit_code, 1) << stopped.output;
+  const RunResult resumed = run("sweep --resume '" + parts.string() + "'");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  const auto read = [](const fs::path& p) {
+    std::ifstream in(p);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+  };
+  EXPECT_EQ(read(whole / "sweep.csv"), read(parts / "sweep.csv"));
+  fs::remove_all(whole);
+  fs::remove_all(parts);
+}
+
+TEST(Sweep, RejectsAMalformedParameter) {
+  const RunResult r = run("sweep --controller pure_pursuit --param speed --worlds 0");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.output, HasSubstr("expected KEY=V1,V2"));
+  const RunResult unknown = run("sweep --controller pure_pursuit --param sped=1,2 --worlds 0 --out '" +
+                                tempPath("barn_sweep_bad").string() + "'");
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_THAT(unknown.output, HasSubstr("pure_pursuit.sped"));
+}
+
+}  // namespace
