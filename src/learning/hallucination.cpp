@@ -198,6 +198,35 @@ std::optional<Demonstration> hallucinate(const Recording& recording, std::size_t
     demo.obstacles.push_back(std::move(placed));
     demo.clearances.push_back(clearance);
   }
+  // Blocking obstacles (the same push, but forward): they explain why the motion slows or turns.
+  // Half start at a random pose of the sweep and are pushed along that pose's heading (the last
+  // pose gives a wall just past where the motion ends); half are pushed straight ahead of the
+  // robot (x axis), so on a turning motion they land where going straight would collide.
+  const int blocking = config.blocking_max <= 0 ? 0 : config.blocking_min +
+                       static_cast<int>(rng.below(static_cast<std::uint64_t>(config.blocking_max - config.blocking_min + 1)));
+  for (int n = 0; n < blocking; ++n) {
+    const bool along_pose = rng.uniform01() < 0.5;
+    // Anchors biased to the later part of the motion (the square root of a uniform draw).
+    const double u = std::sqrt(rng.uniform01());
+    const std::size_t index = std::min(poses.size() - 1, static_cast<std::size_t>(u * static_cast<double>(poses.size())));
+    const core::Pose2& anchor = along_pose ? poses[index] : poses[static_cast<std::size_t>(rng.below(poses.size()))];
+    const double direction = (along_pose ? anchor.yaw : 0.0) + uniform(rng, -config.blocking_jitter, config.blocking_jitter);
+    const double clearance = uniform(rng, config.clearance_min, config.clearance_max);
+    const Obstacle shape = randomShape(rng, config.circle_share, config.size_min, config.size_max, config.max_aspect);
+    const Eigen::Vector2d ray(std::cos(direction), std::sin(direction));
+    const double target = clearance + swept.inflation();
+    double push = 0.0;
+    Obstacle placed = translated(shape, anchor.position());
+    double missing = target - swept.gap(placed);
+    for (int it = 0; it < kMaxIterations && missing > 0.0 && push < kMaxPush; ++it) {
+      push += missing + kOvershoot;
+      placed = translated(shape, anchor.position() + push * ray);
+      missing = target - swept.gap(placed);
+    }
+    if (missing > 0.0) continue;
+    demo.obstacles.push_back(std::move(placed));
+    demo.clearances.push_back(clearance);
+  }
   demo.hugging = demo.obstacles.size();
 
   // Distractors, kept clear of the sweep and of the velocity sector along the motion.

@@ -32,6 +32,9 @@ void validate(const HallucinationConfig& c, core::Errors& e, const std::string& 
   e.check(c.constraining_min >= 0, p + ".constraining_min", "must be >= 0");
   e.check(c.constraining_max >= c.constraining_min && c.constraining_max <= 100, p + ".constraining_max",
           "must be in [constraining_min, 100]");
+  e.check(c.blocking_min >= 0, p + ".blocking_min", "must be >= 0");
+  e.check(c.blocking_max >= c.blocking_min && c.blocking_max <= 100, p + ".blocking_max", "must be in [blocking_min, 100]");
+  e.check(c.blocking_jitter >= 0.0 && c.blocking_jitter <= 1.5, p + ".blocking_jitter", "must be in [0, 1.5]");
   e.check(c.direction_jitter >= 0.0 && c.direction_jitter < 1.5, p + ".direction_jitter", "must be in [0, 1.5) rad");
   e.check(c.circle_share >= 0.0 && c.circle_share <= 1.0, p + ".circle_share", "must be in [0, 1]");
   e.check(c.size_min > 0.0, p + ".size_min", "must be > 0");

@@ -9,6 +9,8 @@
 #include "barn/bench/episode.hpp"
 #include "barn/core/world_file.hpp"
 #include "barn/sim/lidar.hpp"
+#include "barn/nav/global_planner.hpp"
+#include "barn/nav/nav_stack.hpp"
 #include "barn/sim/simulator.hpp"
 
 namespace {
@@ -79,6 +81,34 @@ void BM_SimulatedSecond(benchmark::State& state) {
   state.counters["real_time_factor"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_SimulatedSecond)->Arg(200)->Arg(1000)->Unit(benchmark::kMicrosecond);
+
+// One global plan (a full Dijkstra field, as after every costmap update) on the default
+// global costmap with every cylinder of a dense world marked: the planner's worst case.
+void BM_GlobalPlan(benchmark::State& state) {
+  const core::WorldSpec world = core::readWorldFile(std::string(BARN_SOURCE_DIR) + "/worlds/world_" +
+                                                    std::to_string(state.range(0)) + ".yaml");
+  const sim::ObstacleField field = sim::ObstacleField::fromWorld(world);
+  nav::CostmapConfig config = nav::NavStackConfig::defaultGlobalCostmap();
+  if (state.range(1) > 0) {  // the LfLH / Inventec inflation
+    config.inscribed_radius = 0.24;
+    config.inflation_radius = 1.0;
+    config.cost_scaling_factor = 3.0;
+  }
+  nav::Costmap costmap(config);
+  const Eigen::Vector2d odom_origin(-2.0, 3.0);
+  for (const auto& c : field.centres) costmap.markObstacle(c - odom_origin);
+  nav::GlobalPlanner planner({});
+  std::size_t plans = 0;
+  for (auto _ : state) {
+    // Alternate between two goals so each plan recomputes the whole field.
+    const Eigen::Vector2d goal(plans % 2 ? 0.12 : 0.02, 10.0);
+    auto plan = planner.plan(costmap, {0.0, 0.0}, goal);
+    benchmark::DoNotOptimize(plan.path.data());
+    ++plans;
+  }
+  state.counters["expanded_cells"] = static_cast<double>(planner.lastExpanded());
+}
+BENCHMARK(BM_GlobalPlan)->Args({299, 0})->Args({299, 1})->Args({150, 1})->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 

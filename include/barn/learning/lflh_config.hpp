@@ -51,6 +51,9 @@ struct HallucinationConfig {
   double clearance_max = 0.10;      // [m]   uniform in [clearance_min, clearance_max]
   int constraining_min = 4;         // [-] hugging obstacles per sample, uniform count
   int constraining_max = 10;        // [-]
+  int blocking_min = 0;             // [-] blocking obstacles per sample (uniform count): pushed
+  int blocking_max = 0;             // [-]   forward, not sideways, until they hug the sweep
+  double blocking_jitter = 0.3;     // [rad] their push direction = forward +- this
   double direction_jitter = 0.6;    // [rad] push direction = path normal +- this
   double circle_share = 0.5;        // [-] share of circles among obstacles (the rest ellipses)
   double size_min = 0.075;          // [m] circle radius / ellipse major semi-axis, uniform
@@ -70,6 +73,7 @@ struct HallucinationConfig {
     v("horizon_min", horizon_min); v("horizon_max", horizon_max); v("goal_time", goal_time);
     v("min_goal_distance", min_goal_distance); v("clearance_min", clearance_min); v("clearance_max", clearance_max);
     v("constraining_min", constraining_min); v("constraining_max", constraining_max);
+    v("blocking_min", blocking_min); v("blocking_max", blocking_max); v("blocking_jitter", blocking_jitter);
     v("direction_jitter", direction_jitter); v("circle_share", circle_share);
     v("size_min", size_min); v("size_max", size_max); v("max_aspect", max_aspect);
     v("distractors", distractors); v("distractor_distance", distractor_distance);
