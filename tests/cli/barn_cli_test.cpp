@@ -16,7 +16,11 @@
 #include <string>
 #include <vector>
 
+#include "cli_runner.hpp"
+
 namespace {
+
+using namespace barn::test;
 
 namespace fs = std::filesystem;
 using testing::AllOf;
@@ -25,54 +29,15 @@ using testing::HasSubstr;
 using testing::Not;
 
 const fs::path kRepo = BARN_SOURCE_DIR;
-const fs::path kBarn = fs::path(BARN_BINARY_DIR) / "barn";
 const fs::path kWorlds = kRepo / "worlds";
 const fs::path kWorld0 = kWorlds / "world_000.yaml";
 const fs::path kDatasetDir = kRepo / ".." / "shared" / "barn_dataset";
 
-/// `text` as one single-quoted shell word.
-std::string quote(const std::string& text) {
-  std::string out = "'";
-  for (char ch : text) out += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
-  return out + "'";
-}
-std::string quote(const fs::path& path) { return quote(path.string()); }
 
-std::string readFile(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
-}
 
-void writeFile(const fs::path& path, const std::string& content) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out << content;
-}
 
-fs::path uniqueTempPath(const std::string& stem) {
-  // A random suffix keeps concurrent runs (two build trees, ctest -j) apart.
-  std::random_device device;
-  return fs::temp_directory_path() / (stem + "_" + std::to_string(device()) + "_" + std::to_string(device()));
-}
 
-struct RunResult {
-  int exit_code = -1;   // WEXITSTATUS, or -1 if the process did not exit normally
-  std::string output;   // stdout and stderr, interleaved
-};
 
-/// Runs `barn <args>` through the shell; `args` must already be quoted where needed.
-RunResult run(const std::string& args) {
-  const fs::path capture = uniqueTempPath("barn_cli_output");
-  const std::string command = quote(kBarn) + " " + args + " > " + quote(capture) + " 2>&1";
-  const int status = std::system(command.c_str());
-  RunResult result;
-  result.output = readFile(capture);
-  std::error_code ec;
-  fs::remove(capture, ec);
-  if (status != -1 && WIFEXITED(status)) result.exit_code = WEXITSTATUS(status);
-  return result;
-}
 
 /// Names of the regular files in `dir`, sorted; empty if `dir` does not exist.
 std::vector<std::string> fileNames(const fs::path& dir) {

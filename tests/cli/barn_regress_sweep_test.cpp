@@ -12,35 +12,16 @@
 #include <sstream>
 #include <string>
 
+#include "cli_runner.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-const fs::path kBarn = fs::path(BARN_BINARY_DIR) / "barn";
-
-struct RunResult {
-  int exit_code = -1;
-  std::string output;
-};
-
-fs::path tempPath(const std::string& stem) {
-  std::random_device device;
-  return fs::temp_directory_path() / (stem + "_" + std::to_string(device()) + std::to_string(device()));
-}
-
-RunResult run(const std::string& args) {
-  const fs::path capture = tempPath("barn_regress_output");
-  const int status = std::system(("'" + kBarn.string() + "' " + args + " > '" + capture.string() + "' 2>&1").c_str());
-  RunResult result;
-  std::ifstream in(capture);
-  std::stringstream text;
-  text << in.rdbuf();
-  result.output = text.str();
-  fs::remove(capture);
-  if (status != -1 && WIFEXITED(status)) result.exit_code = WEXITSTATUS(status);
-  return result;
-}
+fs::path tempPath(const std::string& stem) { return barn::test::uniqueTempPath(stem); }
+using barn::test::run;
+using barn::test::RunResult;
 
 class Regress : public ::testing::Test {
  protected:

@@ -54,6 +54,33 @@ TEST(Hallucination, ObstaclesNeverTouchTheSweptFootprintAndTheNearestHugsIt) {
   EXPECT_GT(demos, 25);
 }
 
+// Blocking obstacles are pushed forward instead of sideways: they hug the sweep like the others
+// (exactly their clearance), and some lie ahead of the robot, beyond where the motion goes.
+TEST(Hallucination, BlockingObstaclesHugTheSweepAndStandAhead) {
+  HallucinationConfig config;
+  config.constraining_min = config.constraining_max = 0;
+  config.blocking_min = config.blocking_max = 3;
+  const sim::RobotConfig robot;
+  int demos = 0, ahead = 0, obstacles = 0;
+  for (std::size_t record = 0; record < 1200; record += 37) {
+    const auto demo = hallucinate(recording(), record, 0, config);
+    if (!demo) continue;
+    ++demos;
+    ASSERT_GT(demo->hugging, 0u);
+    const SweptFootprint fine(demo->motion, robot.footprint_length, robot.footprint_width, 0.001);
+    for (std::size_t k = 0; k < demo->hugging; ++k) {
+      const double gap = fine.gap(demo->obstacles[k]);
+      EXPECT_GE(gap, demo->clearances[k] - 0.0005) << "record " << record << " obstacle " << k;
+      EXPECT_LE(gap, demo->clearances[k] + 0.5 * config.sweep_step + 1e-6) << "record " << record << " obstacle " << k;
+      const Eigen::Vector2d c = demo->obstacles[k].centre;
+      ++obstacles;
+      if (c.x() > 0.0 && std::abs(std::atan2(c.y(), c.x())) < 0.7) ++ahead;
+    }
+  }
+  EXPECT_GT(demos, 25);
+  EXPECT_GT(ahead, obstacles / 2);
+}
+
 TEST(Hallucination, DistractorsStayOutOfTheVelocitySector) {
   const HallucinationConfig config;
   for (std::size_t record = 0; record < 1200; record += 101) {

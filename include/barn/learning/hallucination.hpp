@@ -15,6 +15,13 @@
 ///     clearance c ~ U[clearance_min, clearance_max]. The push is sphere tracing: the distance
 ///     to S is 1-Lipschitz, so stepping by the clearance still missing never passes the first
 ///     position where the gap reaches c.
+///  2b. Blocking obstacles (blocking_min..blocking_max, default none): placed by the same push,
+///     but forward (+- blocking_jitter) instead of sideways. Half start at a pose of the sweep
+///     (biased to its end) and go along that pose's heading, so a wall stands just past where
+///     the motion ends (a slow motion gets a close wall); half go straight ahead of the robot,
+///     so on a turning motion they stand where driving straight would collide. Without them
+///     the space ahead is almost always free and the policy learns not to slow for walls.
+///     They count as hugging obstacles (`Demonstration::hugging`, `clearances`).
 ///  3. Distractors as in the original renderer: centres within `distractor_distance` at
 ///     bearings in +-135 deg, rejected if they come within clearance_min of S or enter the
 ///     velocity sector (radius |v| sector_time, +-sector_half_angle around the heading) at any
