@@ -20,30 +20,25 @@ struct MergeOptions {
 
 }  // namespace
 
-void addMergeCommand(CLI::App& app, CommandContext& /*context*/) {
-  auto options = std::make_shared<MergeOptions>();
-  CLI::App* cmd = app.add_subcommand("merge", "Combine the shard records of one run into one record");
-  cmd->add_option("shards", options->shards, "Shard record folders (barn run --shard K/N --out DIR)")->required();
-  cmd->add_option("--out", options->out, "Folder for the merged record")->required();
-  cmd->callback([options] {
-    namespace fs = std::filesystem;
-    if (fs::exists(fs::path(options->out) / bench::kManifestFile))
-      throw core::InputError(options->out + ": already holds a run record");
+void mergeRecords(const std::vector<std::string>& shards, const std::filesystem::path& out, bool print) {
+  namespace fs = std::filesystem;
+    if (fs::exists(fs::path(out.string()) / bench::kManifestFile))
+      throw core::InputError(out.string() + ": already holds a run record");
     std::vector<bench::RunManifest> manifests;
-    for (const auto& dir : options->shards) manifests.push_back(bench::readManifest(fs::path(dir) / bench::kManifestFile));
+    for (const auto& dir : shards) manifests.push_back(bench::readManifest(fs::path(dir) / bench::kManifestFile));
     const bench::RunManifest& first = manifests.front();
     std::set<int> seen;
     double wall = 0.0;
     std::vector<bench::EpisodeResult> results;
     for (std::size_t i = 0; i < manifests.size(); ++i) {
       const bench::RunManifest& m = manifests[i];
-      const std::string& dir = options->shards[i];
+      const std::string& dir = shards[i];
       if (m.shard_count == 0) throw core::InputError(dir + ": not a shard (run without --shard)");
       if (m.shard_count != first.shard_count)
         throw core::InputError(dir + ": shard of " + std::to_string(m.shard_count) + ", the first is of " +
                                std::to_string(first.shard_count));
       if (const std::string field = bench::experimentDifference(first, m); !field.empty())
-        throw core::InputError(dir + ": a different experiment from " + options->shards.front() + " (" + field + " differs)");
+        throw core::InputError(dir + ": a different experiment from " + shards.front() + " (" + field + " differs)");
       if (!seen.insert(m.shard_index).second) throw core::InputError(dir + ": shard " + std::to_string(m.shard_index) + " given twice");
       if (!m.complete) throw core::InputError(dir + ": shard " + std::to_string(m.shard_index) + " is not complete (barn run --resume " + dir + ")");
       const auto rows = bench::readEpisodesCsv(fs::path(dir) / bench::kEpisodesFile);
@@ -66,11 +61,18 @@ void addMergeCommand(CLI::App& app, CommandContext& /*context*/) {
     merged.episodes_total = expected;
     merged.wall_time_s = wall;
     const auto worlds = bench::loadManifestWorlds(merged);
-    bench::writeCompleteRecord(options->out, merged, results, worlds);
-    std::printf("merged %zu shards, %zu episodes\n", manifests.size(), results.size());
-    printRecordSummary(options->out, merged, worlds);
-    std::printf("wrote %s\n", options->out.c_str());
-  });
+    bench::writeCompleteRecord(out.string(), merged, results, worlds);
+    if (print) std::printf("merged %zu shards, %zu episodes\n", manifests.size(), results.size());
+    if (print) printRecordSummary(out.string(), merged, worlds);
+    if (print) std::printf("wrote %s\n", out.string().c_str());
+}
+
+void addMergeCommand(CLI::App& app, CommandContext& /*context*/) {
+  auto options = std::make_shared<MergeOptions>();
+  CLI::App* cmd = app.add_subcommand("merge", "Combine the shard records of one run into one record");
+  cmd->add_option("shards", options->shards, "Shard record folders (barn run --shard K/N --out DIR)")->required();
+  cmd->add_option("--out", options->out, "Folder for the merged record")->required();
+  cmd->callback([options] { mergeRecords(options->shards, options->out, true); });
 }
 
 }  // namespace barn::cli

@@ -44,6 +44,8 @@ core::ConfigNode controllerConfig(const RunOptions& options) {
   return core::ConfigNode::parseString("type: " + options.controller, "--controller " + options.controller);
 }
 
+}  // namespace
+
 void parseShard(const std::string& text, int& index, int& count) {
   const auto slash = text.find('/');
   const auto fail = [&] {
@@ -60,8 +62,6 @@ void parseShard(const std::string& text, int& index, int& count) {
   }
   if (count < 1 || index < 1 || index > count) fail();
 }
-
-}  // namespace
 
 core::ConfigNode controllerConfigFor(const std::string& controller, const std::string& config_file) {
   RunOptions options;

@@ -36,6 +36,8 @@ struct SweepOptions {
   std::uint64_t seed = 0;
   std::string out;
   std::string resume;
+  std::string shard;
+  std::vector<std::string> merge;
   std::size_t stop_after = 0;
 };
 
@@ -100,17 +102,47 @@ void addSweepCommand(CLI::App& app, CommandContext& context) {
   cmd->add_option("--out", options->out, "Sweep folder (default results/sweep_<controller>)");
   cmd->add_option("--resume", options->resume, "Finish an interrupted sweep in this folder");
   cmd->add_option("--stop-after", options->stop_after, "Stop after this many episodes, as Ctrl-C would");
+  cmd->add_option("--shard", options->shard, "Run shard K of N of every cell (combine with --merge)");
+  cmd->add_option("--merge", options->merge, "Combine these shard sweep folders into --out");
   cmd->callback([options, &context] {
     std::vector<Parameter> params;
     std::vector<std::string> cell_names;
     fs::path dir;
     std::vector<Session> sessions;
     std::string controller = options->controller;
-    if (options->resume.empty()) {
+    int shard_index = 0, shard_count = 0;
+    if (!options->shard.empty()) parseShard(options->shard, shard_index, shard_count);
+    if (!options->merge.empty()) {
+      // Every cell merged from its shards; then the table as for a single-machine sweep.
+      if (options->out.empty()) throw core::InputError("sweep --merge: --out is required");
+      dir = options->out;
+      const core::ConfigNode sweep = core::ConfigNode::parseFile(fs::path(options->merge.front()) / "sweep.yaml");
+      sweep.child("controller").read(controller);
+      for (std::size_t i = 0;; ++i) {
+        const core::ConfigNode item = sweep.child("parameters").element(i);
+        if (item.isNull()) break;
+        Parameter p;
+        item.child("key").read(p.key);
+        item.child("values").read(p.values);
+        params.push_back(p);
+      }
+      for (std::size_t i = 0;; ++i) {
+        std::string name;
+        if (!sweep.child("cells").element(i).read(name)) break;
+        cell_names.push_back(name);
+        std::vector<std::string> parts;
+        for (const auto& shard_dir : options->merge) parts.push_back((fs::path(shard_dir) / name).string());
+        mergeRecords(parts, dir / name, false);
+        sessions.push_back(resumedSession(dir / name));
+      }
+      core::writeFilesAtomic(dir, {{"sweep.yaml", formatSweepFile(controller, params, cell_names)}});
+    } else if (options->resume.empty()) {
       if (options->controller.empty()) throw core::InputError("sweep: --controller is required (or --resume DIR)");
       if (options->params.empty()) throw core::InputError("sweep: give at least one --param KEY=V1,V2,...");
       for (const auto& text : options->params) params.push_back(parseParameter(text));
       dir = options->out.empty() ? repoPath("results") / ("sweep_" + options->controller) : fs::path(options->out);
+      if (!options->shard.empty() && options->out.empty())
+        dir += "_shard" + std::to_string(shard_index) + "of" + std::to_string(shard_count);
       if (fs::exists(dir / "sweep.yaml"))
         throw core::InputError(dir.string() + ": already holds a sweep; finish it with --resume or choose another --out");
       // Validate every cell's config before anything runs.
@@ -132,7 +164,7 @@ void addSweepCommand(CLI::App& app, CommandContext& context) {
         }
         cell_names.push_back(cellName(c, params, at));
         sessions.push_back(newSession(options->controller, node, episode, loaded, options->worlds, options->trials,
-                                      options->seed, 0, 0, dir / cell_names.back()));
+                                      options->seed, shard_index, shard_count, dir / cell_names.back()));
         for (std::size_t k = params.size(); k-- > 0;) {  // odometer, last parameter fastest
           if (++at[k] < params[k].values.size()) break;
           at[k] = 0;
@@ -171,6 +203,11 @@ void addSweepCommand(CLI::App& app, CommandContext& context) {
         })) {
       std::printf("interrupted: finish with: barn sweep --resume %s\n", dir.c_str());
       context.exit_code = 1;
+      return;
+    }
+    if (!sessions.empty() && sessions.front().manifest.shard_count > 0) {
+      std::printf("shard %d/%d of the sweep done; combine the shards with: barn sweep --merge DIR... --out DIR\n",
+                  sessions.front().manifest.shard_index, sessions.front().manifest.shard_count);
       return;
     }
     // sweep.csv and the heat maps.

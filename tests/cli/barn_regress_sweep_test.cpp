@@ -107,6 +107,27 @@ TEST(Sweep, ResumesAnInterruptedSweepToTheSameTable) {
   fs::remove_all(parts);
 }
 
+TEST(Sweep, ShardsMergeIntoTheSameTable) {
+  const fs::path whole = tempPath("barn_sweep_single");
+  const fs::path a = tempPath("barn_sweep_shard1");
+  const fs::path b = tempPath("barn_sweep_shard2");
+  const fs::path merged = tempPath("barn_sweep_merged");
+  const std::string grid = "--controller pure_pursuit --param speed=0.3,0.5 --worlds 0:300:50 ";
+  ASSERT_EQ(run("sweep " + grid + "--out '" + whole.string() + "'").exit_code, 0);
+  ASSERT_EQ(run("sweep " + grid + "--shard 1/2 --out '" + a.string() + "'").exit_code, 0);
+  ASSERT_EQ(run("sweep " + grid + "--shard 2/2 --out '" + b.string() + "'").exit_code, 0);
+  const RunResult m = run("sweep --merge '" + a.string() + "' '" + b.string() + "' --out '" + merged.string() + "'");
+  ASSERT_EQ(m.exit_code, 0) << m.output;
+  const auto read = [](const fs::path& p) {
+    std::ifstream in(p);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+  };
+  EXPECT_EQ(read(whole / "sweep.csv"), read(merged / "sweep.csv"));
+  for (const auto& p : {whole, a, b, merged}) fs::remove_all(p);
+}
+
 TEST(Sweep, RejectsAMalformedParameter) {
   const RunResult r = run("sweep --controller pure_pursuit --param speed --worlds 0");
   EXPECT_EQ(r.exit_code, 2);
