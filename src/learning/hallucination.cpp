@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 
 #include "barn/sim/obstacle_field.hpp"
 
@@ -176,6 +177,23 @@ std::optional<Demonstration> hallucinate(const Recording& recording, std::size_t
   constexpr int kMaxIterations = 200;
   constexpr double kMaxPush = 4.0;       // [m]
   constexpr double kOvershoot = 1e-7;    // [m] each step goes this far past the estimate
+  // Slides `shape` from `origin` along `direction` until its gap to the sweep is `clearance`:
+  // each step covers the clearance still missing, so it stops at the first valid spot.
+  const auto pushOut = [&](const Obstacle& shape, const Eigen::Vector2d& origin, double direction,
+                           double clearance) -> std::optional<Obstacle> {
+    const Eigen::Vector2d ray(std::cos(direction), std::sin(direction));
+    const double target = clearance + swept.inflation();
+    double push = 0.0;
+    Obstacle placed = translated(shape, origin);
+    double missing = target - swept.gap(placed);
+    for (int it = 0; it < kMaxIterations && missing > 0.0 && push < kMaxPush; ++it) {
+      push += missing + kOvershoot;
+      placed = translated(shape, origin + push * ray);
+      missing = target - swept.gap(placed);
+    }
+    if (missing > 0.0) return std::nullopt;
+    return placed;
+  };
   const int hugging = config.constraining_min +
                       static_cast<int>(rng.below(static_cast<std::uint64_t>(config.constraining_max - config.constraining_min + 1)));
   for (int n = 0; n < hugging; ++n) {
@@ -184,18 +202,9 @@ std::optional<Demonstration> hallucinate(const Recording& recording, std::size_t
     const double direction = anchor.yaw + side * 0.5 * kPi + uniform(rng, -config.direction_jitter, config.direction_jitter);
     const double clearance = uniform(rng, config.clearance_min, config.clearance_max);
     const Obstacle shape = randomShape(rng, config.circle_share, config.size_min, config.size_max, config.max_aspect);
-    const Eigen::Vector2d ray(std::cos(direction), std::sin(direction));
-    const double target = clearance + swept.inflation();
-    double push = 0.0;
-    Obstacle placed = translated(shape, anchor.position());
-    double missing = target - swept.gap(placed);
-    for (int it = 0; it < kMaxIterations && missing > 0.0 && push < kMaxPush; ++it) {
-      push += missing + kOvershoot;
-      placed = translated(shape, anchor.position() + push * ray);
-      missing = target - swept.gap(placed);
-    }
-    if (missing > 0.0) continue;
-    demo.obstacles.push_back(std::move(placed));
+    std::optional<Obstacle> placed = pushOut(shape, anchor.position(), direction, clearance);
+    if (!placed) continue;
+    demo.obstacles.push_back(std::move(*placed));
     demo.clearances.push_back(clearance);
   }
   // Blocking obstacles (the same push, but forward): they explain why the motion slows or turns.
@@ -213,18 +222,9 @@ std::optional<Demonstration> hallucinate(const Recording& recording, std::size_t
     const double direction = (along_pose ? anchor.yaw : 0.0) + uniform(rng, -config.blocking_jitter, config.blocking_jitter);
     const double clearance = uniform(rng, config.clearance_min, config.clearance_max);
     const Obstacle shape = randomShape(rng, config.circle_share, config.size_min, config.size_max, config.max_aspect);
-    const Eigen::Vector2d ray(std::cos(direction), std::sin(direction));
-    const double target = clearance + swept.inflation();
-    double push = 0.0;
-    Obstacle placed = translated(shape, anchor.position());
-    double missing = target - swept.gap(placed);
-    for (int it = 0; it < kMaxIterations && missing > 0.0 && push < kMaxPush; ++it) {
-      push += missing + kOvershoot;
-      placed = translated(shape, anchor.position() + push * ray);
-      missing = target - swept.gap(placed);
-    }
-    if (missing > 0.0) continue;
-    demo.obstacles.push_back(std::move(placed));
+    std::optional<Obstacle> placed = pushOut(shape, anchor.position(), direction, clearance);
+    if (!placed) continue;
+    demo.obstacles.push_back(std::move(*placed));
     demo.clearances.push_back(clearance);
   }
   demo.hugging = demo.obstacles.size();
