@@ -59,20 +59,6 @@ std::vector<std::string> generatedNames(const fs::path& dir) {
   return names;
 }
 
-/// `text` with every line starting with `prefix` replaced by `replacement` (removed if empty).
-std::string replaceLine(const std::string& text, const std::string& prefix, const std::string& replacement) {
-  std::istringstream in(text);
-  std::string out;
-  for (std::string line; std::getline(in, line);) {
-    if (line.rfind(prefix, 0) == 0) {
-      if (!replacement.empty()) out += replacement + "\n";
-    } else {
-      out += line + "\n";
-    }
-  }
-  return out;
-}
-
 /// `text` with only the first line equal to `line` removed.
 std::string removeFirstLine(const std::string& text, const std::string& line) {
   const std::size_t at = text.find(line + "\n");

@@ -87,20 +87,6 @@ std::vector<std::map<std::string, std::string>> readRows(const fs::path& path) {
   return rows;
 }
 
-/// Every line of `text` starting with `prefix` replaced by `replacement` (removed if empty).
-std::string replaceLine(const std::string& text, const std::string& prefix, const std::string& replacement) {
-  std::istringstream in(text);
-  std::string out;
-  for (std::string line; std::getline(in, line);) {
-    if (line.rfind(prefix, 0) == 0) {
-      if (!replacement.empty()) out += replacement + "\n";
-    } else {
-      out += line + "\n";
-    }
-  }
-  return out;
-}
-
 /// "" if `a` == `b`, else where they first differ (line number and both lines), so a failure
 /// does not print two whole files.
 std::string firstDifference(const std::string& a, const std::string& b) {

@@ -48,6 +48,20 @@ inline fs::path uniqueTempPath(const std::string& stem) {
   return fs::temp_directory_path() / (stem + "_" + std::to_string(device()) + "_" + std::to_string(device()));
 }
 
+/// Every line of `text` starting with `prefix` replaced by `replacement` (removed if empty).
+inline std::string replaceLine(const std::string& text, const std::string& prefix, const std::string& replacement) {
+  std::istringstream in(text);
+  std::string out;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind(prefix, 0) == 0) {
+      if (!replacement.empty()) out += replacement + "\n";
+    } else {
+      out += line + "\n";
+    }
+  }
+  return out;
+}
+
 struct RunResult {
   int exit_code = -1;  // WEXITSTATUS, or -1 if the process did not exit normally
   std::string output;  // stdout and stderr, interleaved
