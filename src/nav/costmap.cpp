@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "barn/nav/grid_line.hpp"
+
 namespace barn::nav {
 
 void validate(const CostmapConfig& c, core::Errors& errors, const std::string& prefix) {
@@ -30,19 +32,29 @@ Costmap::Costmap(const CostmapConfig& config) : config_(config) {
   inflation_cells_ = static_cast<int>(std::ceil(config.inflation_radius / config.resolution));
   const int max_sq = (inflation_cells_ + 1) * (inflation_cells_ + 1) * 2;
   cost_by_squared_cells_.resize(static_cast<std::size_t>(max_sq) + 1);
-  for (int sq = 0; sq <= max_sq; ++sq)
-    cost_by_squared_cells_[static_cast<std::size_t>(sq)] = inflationCost(std::sqrt(static_cast<double>(sq)) * config.resolution);
+  // InflationLayer's table, in cell units: a cell is inflated only within ceil(radius / res)
+  // cells of its source, and the cost is taken at the cell distance times the resolution.
+  for (int sq = 0; sq <= max_sq; ++sq) {
+    const double cells = std::sqrt(static_cast<double>(sq));
+    cost_by_squared_cells_[static_cast<std::size_t>(sq)] =
+        cells > inflation_cells_ ? kFreeCost : inflationCostAtCells(cells);
+  }
   dirty_x0_ = width_;
   dirty_y0_ = height_;
   dirty_x1_ = dirty_y1_ = 0;
 }
 
-std::uint8_t Costmap::inflationCost(double distance) const {
-  if (distance <= 0.0) return kLethalCost;
+std::uint8_t Costmap::inflationCostAtCells(double cells) const {
+  if (cells <= 0.0) return kLethalCost;
+  const double distance = cells * config_.resolution;
   if (distance <= config_.inscribed_radius) return kInscribedCost;
-  if (distance > config_.inflation_radius) return kFreeCost;
   const double factor = std::exp(-config_.cost_scaling_factor * (distance - config_.inscribed_radius));
   return static_cast<std::uint8_t>(static_cast<double>(kInscribedCost - 1) * factor);
+}
+
+std::uint8_t Costmap::inflationCost(double distance) const {
+  if (distance > config_.inflation_radius) return kFreeCost;
+  return inflationCostAtCells(distance / config_.resolution);
 }
 
 bool Costmap::toCell(const Eigen::Vector2d& p, CellIndex& cell) const {
@@ -80,35 +92,29 @@ void Costmap::setObstacle(int x, int y, std::uint8_t value) {
   ++version_;
 }
 
-void Costmap::traceClear(const Eigen::Vector2d& from, const Eigen::Vector2d& to) {
-  // Amanatides-Woo traversal of the cells the segment crosses; the cell containing `to` is
-  // not cleared (the caller decides: it holds the return, or the ray ended in free space).
+void Costmap::clearRay(CellIndex from, const Eigen::Vector2d& to) {
+  // costmap_2d's ray trace: the end point is first pulled back onto the map along the ray
+  // (onto the lower edges exactly, 1 mm inside the upper ones), then every cell of the
+  // Bresenham line from the sensor's cell is freed, the end cell included, for at most
+  // raytrace_range (the dominant-axis step count scaled down for longer rays).
   const double res = config_.resolution;
-  Eigen::Vector2d a = (from - origin_) / res;
-  const Eigen::Vector2d b = (to - origin_) / res;
-  int x = static_cast<int>(std::floor(a.x()));
-  int y = static_cast<int>(std::floor(a.y()));
-  const int end_x = static_cast<int>(std::floor(b.x()));
-  const int end_y = static_cast<int>(std::floor(b.y()));
-  const Eigen::Vector2d d = b - a;
-  const int step_x = d.x() > 0 ? 1 : -1;
-  const int step_y = d.y() > 0 ? 1 : -1;
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  const double delta_x = d.x() != 0.0 ? std::abs(1.0 / d.x()) : kInf;
-  const double delta_y = d.y() != 0.0 ? std::abs(1.0 / d.y()) : kInf;
-  double t_max_x = d.x() != 0.0 ? ((step_x > 0 ? (x + 1 - a.x()) : (a.x() - x)) * delta_x) : kInf;
-  double t_max_y = d.y() != 0.0 ? ((step_y > 0 ? (y + 1 - a.y()) : (a.y() - y)) * delta_y) : kInf;
-  const int max_steps = std::abs(end_x - x) + std::abs(end_y - y);
-  for (int i = 0; i < max_steps; ++i) {
-    if (inBounds(x, y)) setObstacle(x, y, kFreeCost);
-    if (t_max_x < t_max_y) {
-      t_max_x += delta_x;
-      x += step_x;
-    } else {
-      t_max_y += delta_y;
-      y += step_y;
-    }
+  const Eigen::Vector2d start = cellCentre(from);
+  Eigen::Vector2d end = to;
+  const Eigen::Vector2d lo = origin_;
+  const Eigen::Vector2d hi = origin_ + res * Eigen::Vector2d(width_, height_);
+  for (int axis = 0; axis < 2; ++axis) {
+    const double d = end[axis] - start[axis];
+    if (end[axis] < lo[axis] && d != 0.0) end = start + (end - start) * ((lo[axis] - start[axis]) / d);
+    if (end[axis] > hi[axis] - 0.001 && d != 0.0) end = start + (end - start) * ((hi[axis] - 0.001 - start[axis]) / d);
   }
+  CellIndex stop;
+  if (!toCell(end, stop)) stop = {std::clamp(static_cast<int>(std::floor((end.x() - lo.x()) / res)), 0, width_ - 1),
+                                  std::clamp(static_cast<int>(std::floor((end.y() - lo.y()) / res)), 0, height_ - 1)};
+  const double max_cells = std::ceil(config_.raytrace_range / res);
+  walkLine(from.x, from.y, stop.x, stop.y, rayStepLimit(from.x, from.y, stop.x, stop.y, max_cells), [&](int x, int y) {
+    if (inBounds(x, y)) setObstacle(x, y, kFreeCost);
+    return true;
+  });
 }
 
 void Costmap::integrateScan(const core::LaserScan& scan, const core::Pose2& sensor_pose,
@@ -117,26 +123,29 @@ void Costmap::integrateScan(const core::LaserScan& scan, const core::Pose2& sens
   const Eigen::Vector2d origin = sensor_pose.position();
   const double c = std::cos(sensor_pose.yaw);
   const double s = std::sin(sensor_pose.yaw);
+  // laser_geometry keeps a beam only if range_min <= r < range_max: a beam without a return
+  // (+inf, or range_max) neither marks nor clears, unless inf_is_valid turns it into a return
+  // just short of range_max, which clears the raytrace range and marks nothing.
+  const auto usable = [&](double range, double& kept) {
+    if (std::isinf(range) && range > 0 && config_.inf_is_valid) range = scan.range_max - 1e-4;
+    kept = range;
+    return range >= scan.range_min && range < scan.range_max;
+  };
   // Clearing first, then marking (costmap_2d's order), so a return inside another beam's
-  // cleared ray stays an obstacle.
-  for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
-    const double range = scan.ranges[i];
-    if (range < scan.range_min) continue;
-    const double angle = scan.angle(i);
-    const Eigen::Vector2d u(c * std::cos(angle) - s * std::sin(angle), s * std::cos(angle) + c * std::sin(angle));
-    if (range <= config_.raytrace_range) {
-      traceClear(origin, origin + range * u);
-    } else {
-      // Beyond the raytrace range (or no return): clear the whole raytrace length, end cell too.
-      const Eigen::Vector2d end = origin + config_.raytrace_range * u;
-      traceClear(origin, end);
-      CellIndex cell;
-      if (toCell(end, cell)) setObstacle(cell.x, cell.y, kFreeCost);
+  // cleared ray stays an obstacle. Nothing is traced if the sensor is off the map.
+  CellIndex sensor_cell;
+  if (toCell(origin, sensor_cell)) {
+    for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
+      double range = 0.0;
+      if (!usable(scan.ranges[i], range)) continue;
+      const double angle = scan.angle(i);
+      const Eigen::Vector2d u(c * std::cos(angle) - s * std::sin(angle), s * std::cos(angle) + c * std::sin(angle));
+      clearRay(sensor_cell, origin + range * u);
     }
   }
   for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
-    const double range = scan.ranges[i];
-    if (!(range >= scan.range_min && range < config_.obstacle_range)) continue;
+    double range = 0.0;
+    if (!usable(scan.ranges[i], range) || !(range < config_.obstacle_range)) continue;
     const double angle = scan.angle(i) + sensor_pose.yaw;
     CellIndex cell;
     if (toCell(origin + range * Eigen::Vector2d(std::cos(angle), std::sin(angle)), cell))
@@ -255,37 +264,42 @@ void Costmap::recentre(const Eigen::Vector2d& position) {
   if (shift_y < 0) reinflate(0, 0, width_, -shift_y + band);
 }
 
-void Costmap::clearPolygon(const std::vector<Eigen::Vector2d>& polygon) {
-  if (polygon.size() < 3) return;
-  double min_x = polygon[0].x(), max_x = min_x, min_y = polygon[0].y(), max_y = min_y;
-  for (const auto& p : polygon) {
-    min_x = std::min(min_x, p.x());
-    max_x = std::max(max_x, p.x());
-    min_y = std::min(min_y, p.y());
-    max_y = std::max(max_y, p.y());
+std::vector<CellIndex> Costmap::polygonCells(const std::vector<Eigen::Vector2d>& polygon) const {
+  // costmap_2d's convexFillCells: the Bresenham outline through the corners' cells, plus, in
+  // every column, each cell between the lowest and the highest outline cell. Nothing if a
+  // corner is off the map.
+  std::vector<CellIndex> cells;
+  if (polygon.size() < 3) return cells;
+  std::vector<CellIndex> corners(polygon.size());
+  for (std::size_t i = 0; i < polygon.size(); ++i)
+    if (!toCell(polygon[i], corners[i])) return cells;
+  for (std::size_t i = 0; i < corners.size(); ++i) {
+    const CellIndex a = corners[i], b = corners[(i + 1) % corners.size()];
+    walkLine(a.x, a.y, b.x, b.y, [&](int x, int y) {
+      cells.push_back({x, y});
+      return true;
+    });
   }
-  const double res = config_.resolution;
-  const int x0 = std::max(0, static_cast<int>(std::floor((min_x - origin_.x()) / res)));
-  const int x1 = std::min(width_ - 1, static_cast<int>(std::floor((max_x - origin_.x()) / res)));
-  const int y0 = std::max(0, static_cast<int>(std::floor((min_y - origin_.y()) / res)));
-  const int y1 = std::min(height_ - 1, static_cast<int>(std::floor((max_y - origin_.y()) / res)));
-  // Inside a convex polygon: on the same side of every edge.
-  const auto inside = [&](const Eigen::Vector2d& q) {
-    int sign = 0;
-    for (std::size_t i = 0; i < polygon.size(); ++i) {
-      const Eigen::Vector2d& a = polygon[i];
-      const Eigen::Vector2d& b = polygon[(i + 1) % polygon.size()];
-      const double cross = (b.x() - a.x()) * (q.y() - a.y()) - (b.y() - a.y()) * (q.x() - a.x());
-      const int side = cross > 0 ? 1 : (cross < 0 ? -1 : 0);
-      if (side == 0) continue;
-      if (sign == 0) sign = side;
-      else if (side != sign) return false;
-    }
-    return true;
-  };
-  for (int y = y0; y <= y1; ++y)
-    for (int x = x0; x <= x1; ++x)
-      if (obstacle_[index(x, y)] == kLethalCost && inside(cellCentre({x, y}))) setObstacle(x, y, kFreeCost);
+  int min_x = cells.front().x, max_x = min_x;
+  for (const CellIndex& cell : cells) {
+    min_x = std::min(min_x, cell.x);
+    max_x = std::max(max_x, cell.x);
+  }
+  std::vector<int> low(static_cast<std::size_t>(max_x - min_x + 1), std::numeric_limits<int>::max());
+  std::vector<int> high(low.size(), std::numeric_limits<int>::min());
+  for (const CellIndex& cell : cells) {
+    const std::size_t column = static_cast<std::size_t>(cell.x - min_x);
+    low[column] = std::min(low[column], cell.y);
+    high[column] = std::max(high[column], cell.y);
+  }
+  for (std::size_t column = 0; column < low.size(); ++column)
+    for (int y = low[column]; y < high[column]; ++y) cells.push_back({min_x + static_cast<int>(column), y});
+  return cells;
+}
+
+void Costmap::clearPolygon(const std::vector<Eigen::Vector2d>& polygon) {
+  for (const CellIndex& cell : polygonCells(polygon))
+    if (obstacle_[index(cell.x, cell.y)] == kLethalCost) setObstacle(cell.x, cell.y, kFreeCost);
   if (dirty_x1_ > dirty_x0_ && dirty_y1_ > dirty_y0_) reinflate(dirty_x0_, dirty_y0_, dirty_x1_, dirty_y1_);
   dirty_x0_ = width_;
   dirty_y0_ = height_;

@@ -91,6 +91,48 @@ TEST(Dwa, TurnsLeftIntoAGapToTheLeft) {
   EXPECT_GT(cmd.angular, 0.2);
 }
 
+// Short walls 0.36 m ahead of and behind the robot (|y| <= 0.4): the padded footprint
+// (+-0.31 x +-0.265) clears them standing still, but any forward arc (its front edge reaches
+// the wall's cell after 4 cm), any in-place turn (the corners sweep a 0.408 m circle) and the
+// back-up all cross a lethal cell. The robot's own cell is 7 cells from both walls (cost 0),
+// so the path around the walls' ends stays reachable.
+const std::vector<Segment> kBoxedIn = {{{0.36, -0.4}, {0.36, 0.4}}, {{-0.36, -0.4}, {-0.36, 0.4}}};
+
+TEST(Dwa, BacksUpBlindWhenNothingIsLegal) {
+  // TrajectoryPlanner: with no legal arc or rotation the escape trajectory (escape_vel) is
+  // driven even though its footprint hits (its cost -1 is replaced by +1).
+  const core::Twist cmd = commandFor(scanOf(kBoxedIn));
+  EXPECT_DOUBLE_EQ(cmd.linear, -0.5);
+  EXPECT_DOUBLE_EQ(cmd.angular, 0.0);
+}
+
+TEST(Dwa, EscapingEndsAfterTurningEscapeResetTheta) {
+  DwaConfig config;
+  config.nav.global_costmap.width = 10.0;
+  config.nav.global_costmap.height = 6.0;
+  DwaController dwa(config);
+  EpisodeInfo info;
+  info.goal = {6.0, 0.0};
+  info.lidar.mount_x = 0.0;
+  dwa.reset(info);
+  const core::LaserScan scan = scanOf(kBoxedIn);
+  Observation obs;
+  obs.scan = &scan;
+  obs.goal = info.goal;
+  dwa.act(obs);
+  ASSERT_TRUE(dwa.escaping());
+  // Still boxed in after turning 0.05 rad (< escape_reset_theta 0.1): still escaping.
+  core::Pose2 turned{0.0, 0.0, 0.05};
+  dwa.updateDistanceMaps(turned);
+  dwa.findBestPath(turned, {});
+  EXPECT_TRUE(dwa.escaping());
+  // 0.11 rad from where the escape began: escaping ends (upstream: distance OR angle).
+  turned.yaw = 0.11;
+  dwa.updateDistanceMaps(turned);
+  dwa.findBestPath(turned, {});
+  EXPECT_FALSE(dwa.escaping());
+}
+
 TEST(Dwa, RejectsUnknownConfigKeysAndBadValues) {
   DwaConfig config;
   config.max_vel_x = -1.0;

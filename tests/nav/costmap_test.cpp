@@ -55,9 +55,49 @@ TEST(Costmap, RayTraceClearingRemovesAnObstacleThatMoved) {
   map.integrateScan(scanAhead(2.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
   EXPECT_EQ(map.costAt({1.0, 0.0}), kFreeCost);
   EXPECT_EQ(map.costAt({2.0, 0.0}), kLethalCost);
-  // No return at all clears up to the 3 m raytrace range.
+}
+
+TEST(Costmap, ABeamWithoutAReturnNeitherMarksNorClears) {
+  // laser_geometry drops +inf (and range_max) beams, so nothing is traced along them.
+  Costmap map(smallMap());
+  map.integrateScan(scanAhead(2.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
   map.integrateScan(scanAhead(kInf), {0.0, 0.0, 0.0}, {0.0, 0.0});
+  EXPECT_EQ(map.costAt({2.0, 0.0}), kLethalCost);
+  map.integrateScan(scanAhead(30.0), {0.0, 0.0, 0.0}, {0.0, 0.0});  // exactly range_max
+  EXPECT_EQ(map.costAt({2.0, 0.0}), kLethalCost);
+  // With inf_is_valid a no-return beam clears the raytrace range (3 m) and marks nothing.
+  CostmapConfig c = smallMap();
+  c.inf_is_valid = true;
+  Costmap valid(c);
+  valid.integrateScan(scanAhead(2.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
+  valid.integrateScan(scanAhead(kInf), {0.0, 0.0, 0.0}, {0.0, 0.0});
+  EXPECT_EQ(valid.costAt({2.0, 0.0}), kFreeCost);
+}
+
+TEST(Costmap, AReturnBetweenObstacleAndRaytraceRangeClearsItsOwnCell) {
+  // costmap_2d clears the hit cell too and marks only returns closer than obstacle_range:
+  // a return at 2.7 m (inside 3.0, beyond 2.5) frees the cell an earlier return marked.
+  Costmap map(smallMap());
+  map.markObstacle({2.7, 0.0});
+  ASSERT_EQ(map.costAt({2.7, 0.0}), kLethalCost);
+  map.integrateScan(scanAhead(2.7), {0.0, 0.0, 0.0}, {0.0, 0.0});
+  EXPECT_EQ(map.costAt({2.7, 0.0}), kFreeCost);
+}
+
+TEST(Costmap, RayTraceStopsAtTheRaytraceRange) {
+  // A return at 5 m clears 60 cells (3.0 m / 0.05 m) of its ray and no more. Origin -3.01:
+  // the sensor at x = 0 is in cell 60, so the walk ends in cell 120 = [2.99, 3.04).
+  CostmapConfig c = smallMap();
+  c.origin_x = -3.01;
+  c.width = 8.0;
+  Costmap map(c);
+  map.markObstacle({2.0, 0.0});
+  map.markObstacle({3.02, 0.0});  // cell 120: the last one cleared
+  map.markObstacle({3.06, 0.0});  // cell 121: beyond the raytrace range
+  map.integrateScan(scanAhead(5.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
   EXPECT_EQ(map.costAt({2.0, 0.0}), kFreeCost);
+  EXPECT_NE(map.costAt({3.02, 0.0}), kLethalCost);
+  EXPECT_EQ(map.costAt({3.06, 0.0}), kLethalCost);
 }
 
 TEST(Costmap, InflationCostFollowsTheExponentialDecay) {
@@ -68,6 +108,48 @@ TEST(Costmap, InflationCostFollowsTheExponentialDecay) {
   EXPECT_EQ(map.inflationCost(0.2), kInscribedCost);
   EXPECT_EQ(map.inflationCost(0.31), kFreeCost);
   EXPECT_EQ(map.inflationCost(0.0), kLethalCost);
+}
+
+TEST(Costmap, BarnInflationTableInCells) {
+  // BARN's table (res 0.05, inscribed 0.265, k 10, radius 0.30 = 6 cells), in cell units:
+  // (5,1) 5.099 cells = 0.255 m -> 253; (5,2) 5.385 -> 252 exp(-10 * 0.00426) = 241.5 -> 241;
+  // (4,4) 5.657 -> 210; (6,0) exactly 6 cells -> 252 exp(-0.35) = 177.6 -> 177 (not cut off
+  // by rounding 6 x 0.05 above 0.30); (6,1) 6.083 cells -> beyond the radius -> 0.
+  Costmap map(smallMap());
+  map.markObstacle({0.025, 0.025});
+  CellIndex hit;
+  ASSERT_TRUE(map.toCell({0.025, 0.025}, hit));
+  EXPECT_EQ(map.cost(hit.x + 5, hit.y + 1), kInscribedCost);
+  EXPECT_EQ(map.cost(hit.x + 5, hit.y + 2), 241);
+  EXPECT_EQ(map.cost(hit.x + 4, hit.y + 4), 210);
+  EXPECT_EQ(map.cost(hit.x + 6, hit.y), 177);
+  EXPECT_EQ(map.cost(hit.x + 6, hit.y + 1), kFreeCost);
+}
+
+TEST(Costmap, FootprintClearingFreesEveryCellTheOutlineTouches) {
+  // The polygon's right edge is at x = 0.32, in cell [0.30, 0.35) (origin -3 m: cell 66).
+  // An obstacle at x = 0.34 lies in that cell, whose centre (0.325) is outside the polygon:
+  // the rasterised outline still covers it, so it is cleared (convexFillCells). Inside cells
+  // are cleared; a cell beyond the outline is not.
+  Costmap map(smallMap());
+  const auto cellOf = [&](double x, double y) {
+    CellIndex cell;
+    EXPECT_TRUE(map.toCell({x, y}, cell));
+    return cell;
+  };
+  const CellIndex edge = cellOf(0.34, 0.01), inside = cellOf(0.12, 0.12), beyond = cellOf(0.40, 0.01);
+  map.markObstacle({0.34, 0.01});
+  map.markObstacle({0.12, 0.12});
+  map.markObstacle({0.40, 0.01});
+  const std::vector<Eigen::Vector2d> polygon = {{0.32, 0.22}, {-0.32, 0.22}, {-0.32, -0.22}, {0.32, -0.22}};
+  map.clearPolygon(polygon);
+  EXPECT_FALSE(map.isObstacle(edge.x, edge.y));
+  EXPECT_FALSE(map.isObstacle(inside.x, inside.y));
+  EXPECT_TRUE(map.isObstacle(beyond.x, beyond.y));
+  // A corner off the map clears nothing (costmap_2d gives up on the whole polygon).
+  map.markObstacle({0.12, 0.12});
+  map.clearPolygon({{0.32, 0.22}, {-0.32, 0.22}, {-0.32, -0.22}, {9.0, -0.22}});
+  EXPECT_TRUE(map.isObstacle(inside.x, inside.y));
 }
 
 TEST(Costmap, InflatesAroundAnObstacleAtKnownDistances) {

@@ -2,19 +2,22 @@
 /// `dwa` and `dwa_fast`: the BARN baseline, base_local_planner's TrajectoryPlanner in DWA
 /// mode on a move_base-like stack (nav::NavStack), with move_base's recovery.
 ///
-/// Each control tick samples vx_samples x vtheta_samples constant (v, w) pairs in the dynamic
-/// window (current velocity +- acceleration x control period, within the limits), rolls each
-/// out for sim_time, and scores it
-///   pdist_scale * (distance of its end to the global path)
-/// + gdist_scale * (distance of its end to the local goal)
-/// + occdist_scale * (highest costmap cost under the footprint along it),
-/// all times the costmap resolution (meter_scoring), distances counted in cells along the
-/// local costmap (4-connected wavefronts, as MapGrid). A
-/// trajectory whose footprint touches a lethal cell is invalid. If no forward trajectory is
-/// valid, an in-place rotation is tried, then escaping backwards at escape_vel. If nothing is
-/// valid for controller_patience seconds, move_base's recovery runs: clear the costmaps beyond
-/// 3 m and rotate in place a full turn, then clear beyond ~1.8 m and rotate again; after that
-/// the robot gives up (stops), as move_base aborts.
+/// Each control tick samples vx_samples x vtheta_samples (v, w) pairs in the dynamic window
+/// (current velocity +- acceleration x control period, within the limits), rolls each out for
+/// sim_time (accelerating toward the sample at the limits), and scores it
+///   pdist_scale * (distance of its last point to the global path)
+/// + gdist_scale * (distance of its last point to the local goal)
+/// + occdist_scale * (highest costmap cost under the footprint outline along it),
+/// distances counted in cells (x resolution with meter_scoring) along the local costmap
+/// (4-connected wavefronts, as MapGrid; cells under the robot are passable for the path map).
+/// A roll-out whose footprint outline touches a lethal cell is invalid (-1); one that passes a
+/// point from which the path or local goal cannot be reached is invalid (-2). Then in-place
+/// rotations may replace the best arc (toward the local goal, with the stuck_left/right guard
+/// against oscillation). If nothing is valid the robot backs up blindly at escape_vel, even
+/// when the map says the back-up hits (-1), and only "no way on" (-2) stops it; it escapes
+/// (rotations and back-up only) until it has moved escape_reset_dist or turned
+/// escape_reset_theta. If no command is valid for controller_patience seconds, move_base's
+/// recoveries run (DwaRecoveryConfig); after them the robot gives up, as move_base aborts.
 
 #include "barn/controllers/controller.hpp"
 #include "barn/core/errors.hpp"
@@ -22,16 +25,30 @@
 
 namespace barn::controllers {
 
+/// move_base's recoveries after controller_patience without a valid command, in its default
+/// order: clear the costmaps beyond 3 m, rotate, clear beyond 1.84 m, rotate; then abort.
 struct DwaRecoveryConfig {
   bool enabled = true;
   double controller_patience = 15.0;       // [s] without a valid command before recovering
+  // BARN's clearing recoveries clear nothing: ClearCostmapRecovery resets only layers named
+  // "obstacles", and BARN's obstacle layer is called "obstacles_layer". true clears as intended.
+  bool clear_costmaps = false;
   double conservative_reset_distance = 3.0;  // [m] first clearing keeps obstacles within this
-  double aggressive_reset_distance = 1.84;   // [m] 4 x the circumscribed radius (0.46)
-  double rotation_speed = 1.0;             // [rad/s] clearing rotation (rotate_recovery)
+  double aggressive_reset_distance = 1.84;   // [m] 4 x the default circumscribed radius (0.46)
+  // rotate_recovery: always counter-clockwise, a full turn, at clamp(sqrt(2 acc remaining),
+  // min, max); the footprint is checked over the whole remaining sweep every tick and any hit
+  // ends the behaviour at once.
+  double max_rotation_speed = 1.57;        // [rad/s] max_vel_theta
+  double min_rotation_speed = 0.314;       // [rad/s] min_in_place_vel_theta
+  double rotation_acceleration = 20.0;     // [rad/s^2] acc_lim_theta
+  double rotation_tolerance = 0.157;       // [rad] yaw_goal_tolerance
+  double sweep_step = 0.017;               // [rad] sim_granularity of the sweep check
   template <class V> void visit(V& v) {
-    v("enabled", enabled); v("controller_patience", controller_patience);
+    v("enabled", enabled); v("controller_patience", controller_patience); v("clear_costmaps", clear_costmaps);
     v("conservative_reset_distance", conservative_reset_distance);
-    v("aggressive_reset_distance", aggressive_reset_distance); v("rotation_speed", rotation_speed);
+    v("aggressive_reset_distance", aggressive_reset_distance); v("max_rotation_speed", max_rotation_speed);
+    v("min_rotation_speed", min_rotation_speed); v("rotation_acceleration", rotation_acceleration);
+    v("rotation_tolerance", rotation_tolerance); v("sweep_step", sweep_step);
   }
 };
 
@@ -50,12 +67,17 @@ struct DwaConfig {
   int vtheta_samples = 20;
   double pdist_scale = 0.75;
   double gdist_scale = 1.0;
-  double occdist_scale = 0.1;
+  double occdist_scale = 0.1;         // never scaled by the resolution (upstream since 2018)
+  // meter_scoring: the path and goal distances count in metres (x resolution) rather than
+  // cells. Upstream decides this from a member it never assigns (see docs/fidelity.md).
+  bool meter_scoring = false;
   double scoring_window = 3.0;        // [m] half-size of the window the path and goal distances
                                       // are computed in (ROS: the whole 10 x 10 m local map)
   double escape_vel = -0.5;           // [m/s]
-  double escape_reset_dist = 0.1;     // [m]
-  double oscillation_reset_dist = 0.05;  // [m] moving this far forgets the stuck rotations
+  double escape_reset_dist = 0.1;     // [m] escaping ends after backing this far ...
+  double escape_reset_theta = 0.1;    // [rad] ... or turning this much
+  double oscillation_reset_dist = 0.05;  // [m] moving this far from the last in-place turn
+                                         //     forgets the stuck rotations
   double heading_lookahead = 0.325;   // [m] how far ahead a rotation's end heading is judged
   DwaRecoveryConfig recovery;
   nav::NavStackConfig nav;
@@ -65,9 +87,10 @@ struct DwaConfig {
     v("min_in_place_vel_theta", min_in_place_vel_theta); v("acc_lim_x", acc_lim_x); v("acc_lim_theta", acc_lim_theta);
     v("sim_time", sim_time); v("sim_granularity", sim_granularity); v("angular_sim_granularity", angular_sim_granularity);
     v("vx_samples", vx_samples); v("vtheta_samples", vtheta_samples); v("pdist_scale", pdist_scale);
-    v("gdist_scale", gdist_scale); v("occdist_scale", occdist_scale);
+    v("gdist_scale", gdist_scale); v("occdist_scale", occdist_scale); v("meter_scoring", meter_scoring);
     v("scoring_window", scoring_window); v("escape_vel", escape_vel);
-    v("escape_reset_dist", escape_reset_dist); v("oscillation_reset_dist", oscillation_reset_dist);
+    v("escape_reset_dist", escape_reset_dist); v("escape_reset_theta", escape_reset_theta);
+    v("oscillation_reset_dist", oscillation_reset_dist);
     v("heading_lookahead", heading_lookahead); v("recovery", recovery);
     v("nav", nav);
   }
@@ -76,9 +99,10 @@ void validate(const DwaConfig& config, core::Errors& errors, const std::string& 
 
 /// One scored roll-out.
 struct DwaTrajectory {
-  double vx = 0.0;      // [m/s]
+  double vx = 0.0;      // [m/s] the sample's velocities (what is commanded)
   double vtheta = 0.0;  // [rad/s]
-  double cost = -1.0;   // < 0: invalid
+  double cost = -1.0;   // -1: the footprint hits or leaves the map; -2: no way on from a point
+  core::Pose2 end;      // the last scored pose
 };
 
 class DwaController : public Controller {
@@ -89,37 +113,46 @@ class DwaController : public Controller {
   double period() const override { return 1.0 / config_.rate; }
   std::string_view stateLabel() const override;
 
-  /// The best command for `pose` moving at `velocity` on the stack's current costmap and path
-  /// (no recovery logic). Exposed for tests.
-  DwaTrajectory bestTrajectory(const core::Pose2& pose, const core::Twist& velocity);
+  /// One TrajectoryPlanner cycle for `pose` moving at `velocity` on the stack's current
+  /// costmap and the distance maps of the last updateDistanceMaps(): forward arcs, in-place
+  /// rotations, else the blind back-up; updates the oscillation and escape flags as upstream.
+  /// cost < 0: no command (the robot stops). Exposed for tests.
+  DwaTrajectory findBestPath(const core::Pose2& pose, const core::Twist& velocity);
   nav::NavStack& navStack() { return nav_; }
   /// Recomputes the path and goal distance maps on the local costmap (after the path changed).
   void updateDistanceMaps(const core::Pose2& pose);
+  bool escaping() const { return escaping_; }
 
  private:
-  enum class Mode { Planning, Escaping, RecoveryRotate, GaveUp };
+  enum class Mode { Planning, RecoveryRotate, GaveUp };
 
-  double scoreTrajectory(const core::Pose2& pose, double vx, double vtheta) const;
-  void updateOscillationFlags(const core::Pose2& pose, const DwaTrajectory& chosen);
+  DwaTrajectory rollOut(const core::Pose2& pose, const core::Twist& velocity, double vx, double vtheta) const;
   double footprintCost(double x, double y, double theta) const;
+  bool sweepClear(const core::Pose2& pose, double sweep) const;
+  core::Twist recover(const Observation& obs);
 
   DwaConfig config_;
   nav::NavStack nav_;
   EpisodeInfo info_;
   Mode mode_ = Mode::Planning;
   double last_valid_time_ = 0.0;
-  int recovery_index_ = 0;  // recoveries since the last valid command
-  Eigen::Vector2d escape_start_ = Eigen::Vector2d::Zero();
-  double rotated_ = 0.0;          // [rad] accumulated in the current recovery rotation
-  bool rotating_left_ = false, rotating_right_ = false, stuck_left_ = false, stuck_right_ = false;
-  Eigen::Vector2d oscillation_origin_ = Eigen::Vector2d::Zero();
+  int recovery_index_ = 0;  // next of move_base's four recoveries
+  double rotated_ = 0.0;    // [rad] turned in the current recovery rotation
   double last_yaw_ = 0.0;
+  // TrajectoryPlanner's flags.
+  bool escaping_ = false;
+  core::Pose2 escape_pose_;
+  bool rotating_left_ = false, rotating_right_ = false, stuck_left_ = false, stuck_right_ = false;
+  Eigen::Vector2d last_rotation_position_ = Eigen::Vector2d::Zero();  // prev_x_, prev_y_
   std::vector<Eigen::Vector2d> footprint_;  // padded corners, robot frame (from the nav stack)
-  // Wavefront distances on the local costmap [cells]; kUnreachable where blocked.
+  // MapGrid distances on the local costmap [cells]: obstacle_distance_ for a blocked cell,
+  // obstacle_distance_ + 1 for one never reached.
+  int obstacle_distance_ = 0;
   std::vector<int> path_distance_;
   std::vector<int> goal_distance_;
-  std::vector<char> blocked_;  // scratch: inscribed, lethal or unknown cells of the local map
-  std::vector<int> queue_;     // scratch: wavefront queue
+  std::vector<char> blocked_;      // scratch: inscribed, lethal or unknown cells of the local map
+  std::vector<char> within_robot_; // scratch: cells under the padded footprint
+  std::vector<int> queue_;         // scratch: wavefront queue
 };
 
 }  // namespace barn::controllers

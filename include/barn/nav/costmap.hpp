@@ -37,6 +37,7 @@ struct CostmapConfig {
   bool rolling = false;             // the window follows the robot (local costmap)
   double obstacle_range = 2.5;      // [m] returns closer than this mark obstacles
   double raytrace_range = 3.0;      // [m] free space is cleared up to here along each ray
+  bool inf_is_valid = false;        // a beam without a return clears (it never does in BARN)
   bool track_unknown = false;       // unseen cells are unknown (255) rather than free
   double inscribed_radius = 0.265;  // [m] 0.42 x 0.33 footprint + 0.1 padding: 0.165 + 0.1
   double inflation_radius = 0.30;   // [m]
@@ -45,7 +46,7 @@ struct CostmapConfig {
   template <class V> void visit(V& v) {
     v("resolution", resolution); v("width", width); v("height", height); v("origin_x", origin_x);
     v("origin_y", origin_y); v("rolling", rolling); v("obstacle_range", obstacle_range);
-    v("raytrace_range", raytrace_range); v("track_unknown", track_unknown); v("inscribed_radius", inscribed_radius);
+    v("raytrace_range", raytrace_range); v("inf_is_valid", inf_is_valid); v("track_unknown", track_unknown); v("inscribed_radius", inscribed_radius);
     v("inflation_radius", inflation_radius); v("cost_scaling_factor", cost_scaling_factor);
   }
 };
@@ -71,10 +72,15 @@ class Costmap {
   /// Re-centres a rolling window on `position` (no-op for a fixed map).
   void recentre(const Eigen::Vector2d& position);
 
-  /// Frees every obstacle cell whose centre lies inside the convex polygon (odom frame, corners
-  /// in order): costmap_2d's footprint clearing, so the robot never sees itself as stuck in an
-  /// obstacle it only now sees beside it.
+  /// Frees the obstacle cells under the convex polygon (odom frame, corners in order), the
+  /// cells of polygonCells(): costmap_2d's footprint clearing, so the robot never sees itself
+  /// as stuck in an obstacle it only now sees beside it.
   void clearPolygon(const std::vector<Eigen::Vector2d>& polygon);
+
+  /// The cells costmap_2d takes as under a convex polygon (convexFillCells): the rasterised
+  /// outline plus, per column, every cell between its lowest and highest outline cell; empty
+  /// if a corner is off the map. Cells may repeat.
+  std::vector<CellIndex> polygonCells(const std::vector<Eigen::Vector2d>& polygon) const;
 
   /// Marks the cell containing `p` as an obstacle and updates the inflation (a static obstacle;
   /// also how tests draw maps).
@@ -105,13 +111,16 @@ class Costmap {
 
   /// The inflation cost for a distance d [m] to the nearest obstacle (see the header comment).
   std::uint8_t inflationCost(double distance) const;
+  /// The same for a distance counted in cells, without the radius cut-off (costmap_2d
+  /// computes costs in cell units and cuts at ceil(inflation_radius / resolution) cells).
+  std::uint8_t inflationCostAtCells(double cells) const;
 
  private:
   std::size_t index(int x, int y) const { return static_cast<std::size_t>(y) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(x); }
   void setObstacle(int x, int y, std::uint8_t value);
   void markDirty(int x, int y);
   void reinflate(int x0, int y0, int x1, int y1);  // cells [x0, x1) x [y0, y1)
-  void traceClear(const Eigen::Vector2d& from, const Eigen::Vector2d& to);
+  void clearRay(CellIndex from, const Eigen::Vector2d& to);
 
   CostmapConfig config_;
   int width_ = 0;

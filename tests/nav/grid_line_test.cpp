@@ -1,0 +1,55 @@
+#include "barn/nav/grid_line.hpp"
+
+#include <cstdlib>
+#include <utility>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+namespace barn::nav {
+namespace {
+
+std::vector<std::pair<int, int>> cellsOf(int x0, int y0, int x1, int y1, int max_steps) {
+  std::vector<std::pair<int, int>> cells;
+  walkLine(x0, y0, x1, y1, max_steps, [&](int x, int y) {
+    cells.emplace_back(x, y);
+    return true;
+  });
+  return cells;
+}
+
+TEST(GridLine, WalksTheDominantAxisOneCellPerStepWithBothEnds) {
+  // (0,0) -> (4,2): error starts at 4/2 = 2; each x step adds 2 and a y step happens when it
+  // reaches 4: y steps after x = 1 and x = 3.
+  const auto cells = cellsOf(0, 0, 4, 2, 100);
+  const std::vector<std::pair<int, int>> expected = {{0, 0}, {1, 1}, {2, 1}, {3, 2}, {4, 2}};
+  EXPECT_EQ(cells, expected);
+}
+
+TEST(GridLine, IsFourOrEightConnectedAndEndsAtTheEndCellInEveryOctant) {
+  for (int x1 = -7; x1 <= 7; ++x1) {
+    for (int y1 = -7; y1 <= 7; ++y1) {
+      const auto cells = cellsOf(0, 0, x1, y1, 100);
+      ASSERT_EQ(cells.front(), std::make_pair(0, 0));
+      ASSERT_EQ(cells.back(), std::make_pair(x1, y1));
+      ASSERT_EQ(static_cast<int>(cells.size()), std::max(std::abs(x1), std::abs(y1)) + 1);
+      for (std::size_t i = 1; i < cells.size(); ++i) {
+        ASSERT_LE(std::abs(cells[i].first - cells[i - 1].first), 1);
+        ASSERT_LE(std::abs(cells[i].second - cells[i - 1].second), 1);
+      }
+    }
+  }
+}
+
+TEST(GridLine, AStepLimitStopsTheWalkEarly) {
+  // A 100-cell ray limited to 60 cells of Euclidean length: along an axis, 60 steps, 61 cells.
+  EXPECT_EQ(rayStepLimit(0, 0, 100, 0, 60.0), 60);
+  const auto cells = cellsOf(0, 0, 100, 0, rayStepLimit(0, 0, 100, 0, 60.0));
+  EXPECT_EQ(cells.size(), 61u);
+  EXPECT_EQ(cells.back(), std::make_pair(60, 0));
+  // Diagonal (100, 100): length 141.4, scale 60 / 141.4 = 0.4243, 42 steps.
+  EXPECT_EQ(rayStepLimit(0, 0, 100, 100, 60.0), 42);
+}
+
+}  // namespace
+}  // namespace barn::nav
