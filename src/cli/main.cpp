@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   barn::cli::addSweepCommand(app, context);
   barn::cli::addPlotCommand(app, context);
   barn::cli::addHarnessOutCommands(app, context);
+  barn::cli::addCompareCommand(app, context);
   barn::cli::addLflhCommand(app, context);
   try {
     app.parse(argc, argv);
