@@ -184,17 +184,17 @@ std::string comparisonReport(const Comparison& c, const std::string& label_a, co
   if (!c.only_a.empty()) out += "; only in A (not compared): " + idList(c.only_a);
   if (!c.only_b.empty()) out += "; only in B (not compared): " + idList(c.only_b);
   out += "\n\n";
-  out += "         |            A: s/c/t/e  time_s   score |            B: s/c/t/e  time_s   score\n";
+  out += "world |  A s/c/t/e  time_s   score |  B s/c/t/e  time_s   score\n";
   for (std::size_t i = 0; i < c.a.size(); ++i) {
     const auto cell = [](const WorldStats& w) {
       char text[128];
       const std::string counts = std::to_string(w.successes) + "/" + std::to_string(w.collisions) + "/" +
                                  std::to_string(w.timeouts) + "/" + std::to_string(w.errors);
-      std::snprintf(text, sizeof text, "%22s %7s  %6.4f", counts.c_str(), fmt("%.2f", w.mean_success_time).c_str(),
+      std::snprintf(text, sizeof text, "%11s %7s  %6.4f", counts.c_str(), fmt("%.2f", w.mean_success_time).c_str(),
                     w.mean_score);
       return std::string(text);
     };
-    std::snprintf(line, sizeof line, "world %3d| %s | %s%s\n", c.a[i].world_id, cell(c.a[i]).c_str(),
+    std::snprintf(line, sizeof line, "%5d |%s |%s%s\n", c.a[i].world_id, cell(c.a[i]).c_str(),
                   cell(c.b[i]).c_str(), c.a[i].mostlySucceeds() != c.b[i].mostlySucceeds() ? "  disagree" : "");
     out += line;
   }
