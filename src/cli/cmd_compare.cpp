@@ -164,7 +164,7 @@ void plotComparison(const bench::Comparison& c, const Record& a, const Record& b
     pairs.y_max = 1.0;
   }
   viz::renderPairedWorlds(pairs, o.output);
-  std::printf("wrote %s\n", o.output.c_str());
+  std::fprintf(o.json ? stderr : stdout, "wrote %s\n", o.output.c_str());  // stdout stays pure JSON
 }
 
 void compare(const CompareOptions& o) {
