@@ -1,6 +1,7 @@
 #include "barn/bench/run_record.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <sstream>
@@ -41,6 +42,7 @@ std::string quoted(const std::string& text) {
 // The manifest's fields, read through the strict config reader.
 struct ManifestFields {
   std::string controller, controller_config, episode_config, worlds_spec, worlds_folder, worlds_digest;
+  std::string source, source_digest;
   std::vector<double> world_ids;
   int trials = 0;
   std::uint64_t seed = 0;
@@ -53,7 +55,8 @@ struct ManifestFields {
   template <class V> void visit(V& v) {
     v("controller", controller); v("controller_config", controller_config); v("episode_config", episode_config);
     v("worlds_spec", worlds_spec); v("worlds_folder", worlds_folder); v("world_ids", world_ids);
-    v("worlds_digest", worlds_digest); v("trials", trials); v("seed", seed); v("shard_index", shard_index);
+    v("worlds_digest", worlds_digest); v("trials", trials); v("seed", seed); v("source", source);
+    v("source_digest", source_digest); v("shard_index", shard_index);
     v("shard_count", shard_count); v("episodes_total", episodes_total); v("episodes_done", episodes_done);
     v("complete", complete); v("barnbench_version", barnbench_version); v("git_commit", git_commit); v("host", host);
     v("threads", threads); v("started", started); v("wall_time_s", wall_time_s); v("sim_time_s", sim_time_s);
@@ -66,7 +69,8 @@ std::string formatManifest(const RunManifest& m) {
   std::ostringstream out;
   out << "# barnbench run record; `barn run --resume` and `barn merge` read it back.\n";
   out << "controller: " << quoted(m.controller) << "\n";
-  out << "controller_config: " << block(m.controller_config);
+  const bool imported = !m.source.empty();
+  if (!imported) out << "controller_config: " << block(m.controller_config);
   out << "episode_config: " << block(m.episode_config);
   out << "worlds_spec: " << quoted(m.worlds_spec) << "\n";
   out << "worlds_folder: " << quoted(m.worlds_folder) << "\n";
@@ -75,7 +79,12 @@ std::string formatManifest(const RunManifest& m) {
   out << "]\n";
   out << "worlds_digest: " << quoted(m.worlds_digest) << "\n";
   out << "trials: " << m.trials << "\n";
-  out << "seed: " << m.seed << "\n";
+  if (imported) {
+    out << "source: " << quoted(m.source) << "\n";
+    out << "source_digest: " << quoted(m.source_digest) << "\n";
+  } else {
+    out << "seed: " << m.seed << "\n";
+  }
   out << "shard_index: " << m.shard_index << "\n";
   out << "shard_count: " << m.shard_count << "\n";
   out << "episodes_total: " << m.episodes_total << "\n";
@@ -87,7 +96,7 @@ std::string formatManifest(const RunManifest& m) {
   out << "threads: " << m.threads << "\n";
   out << "started: " << quoted(m.started) << "\n";
   out << "wall_time_s: " << core::formatDouble(m.wall_time_s) << "\n";
-  out << "sim_time_s: " << core::formatDouble(m.sim_time_s) << "\n";
+  if (std::isfinite(m.sim_time_s)) out << "sim_time_s: " << core::formatDouble(m.sim_time_s) << "\n";
   return out.str();
 }
 
@@ -110,6 +119,8 @@ RunManifest readManifest(const std::filesystem::path& path) {
   m.worlds_digest = f.worlds_digest;
   m.trials = f.trials;
   m.seed = f.seed;
+  m.source = f.source;
+  m.source_digest = f.source_digest;
   m.shard_index = f.shard_index;
   m.shard_count = f.shard_count;
   m.episodes_total = static_cast<std::size_t>(f.episodes_total);
@@ -133,6 +144,8 @@ std::string experimentDifference(const RunManifest& a, const RunManifest& b) {
   if (a.worlds_digest != b.worlds_digest) return "worlds_digest";
   if (a.trials != b.trials) return "trials";
   if (a.seed != b.seed) return "seed";
+  if (a.source != b.source) return "source";
+  if (a.source_digest != b.source_digest) return "source_digest";
   return "";
 }
 

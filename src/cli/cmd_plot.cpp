@@ -101,6 +101,9 @@ void addPlotCommand(CLI::App& app, CommandContext& /*context*/) {
   trajectory->add_option("-o,--output", options->output, "PNG file (one world) or prefix (several)")->required();
   trajectory->callback([options] {
     const bench::RunManifest manifest = bench::readManifest(fs::path(options->record) / bench::kManifestFile);
+    if (!manifest.source.empty())
+      throw core::InputError(options->record + ": imported from " + manifest.source +
+                             " (barn import-out); its episodes cannot be re-simulated");
     const auto worlds = bench::loadManifestWorlds(manifest);
     const auto make = controllers::makeControllerFactory(core::ConfigNode::parseString(manifest.controller_config, "manifest"));
     const bench::EpisodeConfig episode =

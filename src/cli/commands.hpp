@@ -28,6 +28,8 @@ void addLflhCommand(CLI::App& app, CommandContext& context);
 void addRegressCommand(CLI::App& app, CommandContext& context);
 void addSweepCommand(CLI::App& app, CommandContext& context);
 void addPlotCommand(CLI::App& app, CommandContext& context);
+void addHarnessOutCommands(CLI::App& app, CommandContext& context);  // import-out, export-out
+void addCompareCommand(CLI::App& app, CommandContext& context);
 
 /// How a run session executes.
 struct SessionOptions {

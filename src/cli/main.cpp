@@ -22,6 +22,8 @@ int main(int argc, char** argv) {
   barn::cli::addRegressCommand(app, context);
   barn::cli::addSweepCommand(app, context);
   barn::cli::addPlotCommand(app, context);
+  barn::cli::addHarnessOutCommands(app, context);
+  barn::cli::addCompareCommand(app, context);
   barn::cli::addLflhCommand(app, context);
   try {
     app.parse(argc, argv);

@@ -97,6 +97,8 @@ Session resumedSession(const fs::path& dir) {
   session.dir = dir;
   session.manifest = bench::readManifest(session.dir / bench::kManifestFile);
   const bench::RunManifest& m = session.manifest;
+  if (!m.source.empty())
+    throw core::InputError(dir.string() + ": imported from " + m.source + " (barn import-out); there is nothing to run");
   session.spec.make_controller =
       controllers::makeControllerFactory(core::ConfigNode::parseString(m.controller_config, "manifest controller_config"));
   session.spec.episode = validatedEpisodeConfig(core::ConfigNode::parseString(m.episode_config, "manifest episode_config"),

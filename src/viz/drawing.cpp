@@ -1,6 +1,10 @@
 #include "drawing.hpp"
 
+#include <cairo-pdf.h>
+#include <cairo-svg.h>
+
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -52,6 +56,69 @@ void writePng(const Canvas& canvas, const std::string& where) {
   const cairo_status_t status = cairo_surface_write_to_png(canvas.surface.get(), where.c_str());
   if (status != CAIRO_STATUS_SUCCESS) {
     throw core::InputError(where + ": cannot write PNG: " + cairo_status_to_string(status));
+  }
+}
+
+ImageFormat imageFormatFor(const std::filesystem::path& path) {
+  std::string extension = path.extension().string();
+  for (char& ch : extension) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  if (extension == ".png") return ImageFormat::Png;
+  if (extension == ".pdf") return ImageFormat::Pdf;
+  if (extension == ".svg") return ImageFormat::Svg;
+  throw core::InputError(path.string() + ": unknown image type '" + extension + "' (expected .png, .pdf or .svg)");
+}
+
+OutputCanvas createOutputCanvas(int width, int height, const std::filesystem::path& path) {
+  OutputCanvas output;
+  output.format = imageFormatFor(path);
+  output.path = path;
+  output.temporary = path;
+  output.temporary += ".partial";
+  const std::string where = path.string();
+  if (output.format == ImageFormat::Png) {
+    output.canvas = createCanvas(width, height, where);
+    return output;
+  }
+  const std::string file = output.temporary.string();
+  cairo_surface_t* surface = output.format == ImageFormat::Pdf
+                                 ? cairo_pdf_surface_create(file.c_str(), width, height)
+                                 : cairo_svg_surface_create(file.c_str(), width, height);
+  output.canvas.surface.reset(surface);
+  if (cairo_surface_status(surface) != CAIRO_STATUS_SUCCESS) {
+    throw core::InputError(where + ": cannot write: " + cairo_status_to_string(cairo_surface_status(surface)));
+  }
+  output.canvas.context.reset(cairo_create(surface));
+  cairo_t* cr = output.canvas.cr();
+  cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
+  cairo_paint(cr);
+  return output;
+}
+
+void finishImage(OutputCanvas& output) {
+  const std::string where = output.path.string();
+  cairo_t* cr = output.cr();
+  if (cairo_status(cr) != CAIRO_STATUS_SUCCESS)
+    throw std::runtime_error(where + ": drawing failed: " + cairo_status_to_string(cairo_status(cr)));
+  cairo_surface_t* surface = output.canvas.surface.get();
+  cairo_status_t status = CAIRO_STATUS_SUCCESS;
+  if (output.format == ImageFormat::Png) {
+    cairo_surface_flush(surface);
+    status = cairo_surface_write_to_png(surface, output.temporary.string().c_str());
+  } else {
+    output.canvas.context.reset();
+    cairo_surface_finish(surface);
+    status = cairo_surface_status(surface);
+  }
+  std::error_code ec;
+  if (status != CAIRO_STATUS_SUCCESS) {
+    std::filesystem::remove(output.temporary, ec);
+    throw core::InputError(where + ": cannot write: " + cairo_status_to_string(status));
+  }
+  std::filesystem::rename(output.temporary, output.path, ec);
+  if (ec) {
+    const std::string why = ec.message();
+    std::filesystem::remove(output.temporary, ec);
+    throw core::InputError(where + ": cannot write: " + why);
   }
 }
 

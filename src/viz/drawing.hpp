@@ -7,6 +7,7 @@
 #include <cairo.h>
 
 #include <charconv>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
@@ -62,6 +63,26 @@ Canvas createCanvas(int width, int height, const std::string& where);
 /// Checks the context for drawing errors (std::runtime_error) and writes the PNG; throws
 /// core::InputError "<where>: cannot write PNG: ..." if the file cannot be written.
 void writePng(const Canvas& canvas, const std::string& where);
+
+/// Output file formats, chosen by the file's extension (.png, .pdf, .svg, any case).
+enum class ImageFormat { Png, Pdf, Svg };
+/// The format of `path`; core::InputError "<path>: ..." for any other extension.
+ImageFormat imageFormatFor(const std::filesystem::path& path);
+
+/// A canvas writing to `path` in the format of its extension: an ARGB32 image for PNG, a
+/// vector surface (1 unit = 1 pt) for PDF and SVG; white. The file appears only when
+/// finishImage succeeds (drawn into a temporary beside it, then renamed).
+struct OutputCanvas {
+  Canvas canvas;
+  ImageFormat format = ImageFormat::Png;
+  std::filesystem::path path;
+  std::filesystem::path temporary;
+  cairo_t* cr() const { return canvas.cr(); }
+};
+OutputCanvas createOutputCanvas(int width, int height, const std::filesystem::path& path);
+/// Checks for drawing errors (std::runtime_error), writes or finishes the file and moves it
+/// into place; core::InputError "<path>: cannot write ..." if it cannot be written.
+void finishImage(OutputCanvas& output);
 
 /// `value` in the given format; to_chars, not printf, so the process locale cannot turn the
 /// decimal point into a comma.

@@ -661,6 +661,190 @@ void renderWorldBarsPng(const WorldBars& bars, const std::filesystem::path& png)
 }
 
 // ---------------------------------------------------------------------------
+// Paired per-world comparison
+
+void renderPairedWorlds(const PairedWorlds& pairs, const std::filesystem::path& output) {
+  const std::string where = output.string();
+  const std::size_t n = pairs.labels.size();
+  if (pairs.a.size() != n || pairs.b.size() != n) {
+    throw core::InputError(where + ": paired chart has " + std::to_string(n) + " labels, " +
+                           std::to_string(pairs.a.size()) + " A values and " +
+                           std::to_string(pairs.b.size()) + " B values");
+  }
+  if (n == 0) throw core::InputError(where + ": paired chart has no worlds");
+  if (!std::isfinite(pairs.y_max) || pairs.y_max < 0.0) {
+    throw core::InputError(where + ": y_max must be 0 (automatic) or positive (got " +
+                           detail::formatNumber(pairs.y_max, std::chars_format::general, 6) + ")");
+  }
+  detail::imageFormatFor(output);  // an unknown extension fails before any drawing
+
+  constexpr double kLeft = 72.0, kRight = 56.0, kTop = 80.0, kBottom = 72.0;
+  constexpr double kPlotHeight = 320.0;
+  constexpr Rgb kColourA{0.12, 0.47, 0.71};  // blue
+  constexpr Rgb kColourB{0.90, 0.45, 0.05};  // orange
+  constexpr Rgb kJoin{0.70, 0.70, 0.70};
+
+  double lo = 0.0;
+  double top = -std::numeric_limits<double>::infinity();
+  for (const std::vector<double>* values : {&pairs.a, &pairs.b}) {
+    for (double v : *values) {
+      if (!std::isfinite(v)) continue;
+      lo = std::min(lo, v);
+      top = std::max(top, v);
+    }
+  }
+  for (double y : pairs.reference_lines) {
+    if (!std::isfinite(y)) continue;
+    lo = std::min(lo, y);
+    top = std::max(top, y);
+  }
+  double hi = pairs.y_max;
+  if (hi == 0.0) hi = std::isfinite(top) ? top + 0.05 * (top - lo) : 1.0;
+  if (!(hi > lo)) hi = lo + 1.0;
+
+  const std::string legend_a = "A: " + pairs.label_a;
+  const std::string legend_b = "B: " + pairs.label_b;
+  const double legend_width =
+      textWidth(legend_a, kSmallSize) + textWidth(legend_b, kSmallSize) + 2 * 22.0 + 28.0;
+  const double plot_w = std::max(720.0, 10.0 * static_cast<double>(n));
+  const int width = imageSide(std::max({plot_w + kLeft + kRight, textWidth(pairs.title, kTitleSize) + 48.0,
+                                        legend_width + 96.0}),
+                              "paired chart width", where);
+  const int height = static_cast<int>(kTop + kPlotHeight + kBottom);
+  detail::OutputCanvas image = detail::createOutputCanvas(width, height, output);
+  cairo_t* cr = image.cr();
+
+  const double left = kLeft, right = kLeft + plot_w;
+  const double plot_top = kTop, plot_bottom = kTop + kPlotHeight;
+  const auto py = [&](double y) { return plot_bottom - (y - lo) / (hi - lo) * kPlotHeight; };
+  const double pitch = plot_w / static_cast<double>(n);
+  const auto px = [&](std::size_t i) { return left + (static_cast<double>(i) + 0.5) * pitch; };
+
+  // Horizontal grid and y ticks.
+  const double step = niceStep(hi - lo, 6);
+  cairo_set_line_width(cr, 1.0);
+  for (double y = std::ceil(lo / step - 1e-9) * step; y <= hi + 1e-9 * step; y += step) {
+    const double yp = std::round(py(y)) + 0.5;
+    setColour(cr, kGridLine);
+    cairo_move_to(cr, left, yp);
+    cairo_line_to(cr, right, yp);
+    cairo_stroke(cr);
+    setColour(cr, kInk);
+    cairo_move_to(cr, left - 5.0, yp);
+    cairo_line_to(cr, left, yp);
+    cairo_stroke(cr);
+    drawRightAligned(cr, tickText(y, step), left - 8.0, centredBaseline(py(y), kSmallSize), kSmallSize);
+  }
+
+  // Reference lines under the markers, labelled right of the plot.
+  const double dashes[] = {6.0, 4.0};
+  cairo_set_dash(cr, dashes, 2, 0.0);
+  cairo_set_line_width(cr, 1.5);
+  setColour(cr, kMutedInk);
+  for (double y : pairs.reference_lines) {
+    if (!std::isfinite(y) || y < lo || y > hi) continue;
+    cairo_move_to(cr, left, py(y));
+    cairo_line_to(cr, right, py(y));
+  }
+  cairo_stroke(cr);
+  cairo_set_dash(cr, nullptr, 0, 0.0);
+  for (double y : pairs.reference_lines) {
+    if (!std::isfinite(y) || y < lo || y > hi) continue;
+    drawText(cr, detail::formatNumber(y, std::chars_format::general, 4), right + 6.0,
+             centredBaseline(py(y), kSmallSize), kSmallSize);
+  }
+
+  // Markers, clipped to the plot area (a fixed y_max may cut the largest).
+  const double radius = std::clamp(0.3 * pitch, 2.5, 5.0);
+  const auto dotA = [&](double x, double y) {
+    cairo_new_sub_path(cr);
+    cairo_arc(cr, x, y, radius, 0.0, 2.0 * std::numbers::pi);
+  };
+  const auto diamondB = [&](double x, double y) {
+    const double r = 1.25 * radius;
+    cairo_move_to(cr, x, y - r);
+    cairo_line_to(cr, x + r, y);
+    cairo_line_to(cr, x, y + r);
+    cairo_line_to(cr, x - r, y);
+    cairo_close_path(cr);
+  };
+  cairo_save(cr);
+  cairo_rectangle(cr, left, plot_top - radius - 2.0, plot_w, kPlotHeight + 2.0 * radius + 4.0);
+  cairo_clip(cr);
+  setColour(cr, kJoin);
+  cairo_set_line_width(cr, std::max(1.0, 0.4 * radius));
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(pairs.a[i]) || !std::isfinite(pairs.b[i])) continue;
+    cairo_move_to(cr, px(i), py(pairs.a[i]));
+    cairo_line_to(cr, px(i), py(pairs.b[i]));
+  }
+  cairo_stroke(cr);
+  cairo_set_line_width(cr, 1.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (std::isfinite(pairs.b[i])) {
+      diamondB(px(i), py(pairs.b[i]));
+      setColour(cr, kColourB);
+      cairo_fill_preserve(cr);
+      cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
+      cairo_stroke(cr);
+    }
+    if (std::isfinite(pairs.a[i])) {
+      dotA(px(i), py(pairs.a[i]));
+      setColour(cr, kColourA);
+      cairo_fill_preserve(cr);
+      cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
+      cairo_stroke(cr);
+    }
+  }
+  cairo_restore(cr);
+
+  // Axes: left spine and the zero line.
+  const double base = py(std::clamp(0.0, lo, hi));
+  setColour(cr, kInk);
+  cairo_set_line_width(cr, 1.0);
+  cairo_move_to(cr, left - 0.5, plot_top);
+  cairo_line_to(cr, left - 0.5, plot_bottom);
+  cairo_move_to(cr, left - 0.5, std::round(base) + 0.5);
+  cairo_line_to(cr, right, std::round(base) + 0.5);
+  cairo_stroke(cr);
+
+  // x tick labels every `stride` worlds.
+  double widest = 0.0;
+  for (const std::string& label : pairs.labels) widest = std::max(widest, textWidth(label, kSmallSize));
+  const std::size_t stride = labelStride(pitch, widest, 8.0);
+  for (std::size_t i = 0; i < n; i += stride) {
+    const double x = std::round(px(i)) + 0.5;
+    cairo_move_to(cr, x, plot_bottom);
+    cairo_line_to(cr, x, plot_bottom + 4.0);
+    cairo_stroke(cr);
+    drawCentred(cr, pairs.labels[i], x, plot_bottom + 20.0, kSmallSize);
+  }
+  const double x_label_width = textWidth(pairs.x_label, kLabelSize);
+  drawText(cr, pairs.x_label,
+           std::clamp(0.5 * (left + right - x_label_width), 8.0, std::max(8.0, width - 8.0 - x_label_width)),
+           plot_bottom + 54.0, kLabelSize);
+  drawVertical(cr, pairs.y_label, 22.0, 0.5 * (plot_top + plot_bottom), kLabelSize);
+  drawTitle(cr, pairs.title, left, right, width, 30.0);
+
+  // Legend above the plot, right-aligned: marker and name of A, then of B.
+  const double legend_y = 58.0;
+  double x = std::max(left, right - legend_width);
+  dotA(x + 6.0, legend_y);
+  setColour(cr, kColourA);
+  cairo_fill(cr);
+  setColour(cr, kInk);
+  drawText(cr, legend_a, x + 16.0, centredBaseline(legend_y, kSmallSize), kSmallSize);
+  x += 16.0 + textWidth(legend_a, kSmallSize) + 28.0;
+  diamondB(x + 6.0, legend_y);
+  setColour(cr, kColourB);
+  cairo_fill(cr);
+  setColour(cr, kInk);
+  drawText(cr, legend_b, x + 16.0, centredBaseline(legend_y, kSmallSize), kSmallSize);
+
+  detail::finishImage(image);
+}
+
+// ---------------------------------------------------------------------------
 // Trajectories on a world
 
 void renderTrajectoriesPng(const core::WorldSpec& world, const core::Protocol& protocol,

@@ -442,6 +442,85 @@ TEST_F(PlotsTest, TrajectoryOverlayRejectsABadScale) {
 }
 
 // ---------------------------------------------------------------------------
+// Paired per-world chart
+
+// 25 worlds; A rises from 0 to 0.24, B is A shifted by a wave; world 7 has no B value.
+PairedWorlds pairedWorlds() {
+  PairedWorlds pairs;
+  pairs.title = "mean score per world";
+  pairs.y_label = "mean score";
+  pairs.x_label = "world id, ordered by A";
+  pairs.label_a = "gazebo:dwa (barn2023)";
+  pairs.label_b = "pure_pursuit (barn2023)";
+  for (int i = 0; i < 25; ++i) {
+    pairs.labels.push_back(std::to_string(6 * i));
+    pairs.a.push_back(0.01 * i);
+    pairs.b.push_back(std::clamp(0.01 * i + 0.05 * std::sin(i), 0.0, 0.25));
+  }
+  pairs.b[7] = kNaN;
+  pairs.y_max = 0.25;
+  pairs.reference_lines = {0.25, 0.125};
+  return pairs;
+}
+
+TEST_F(PlotsTest, PairedChartPngHasTheDocumentedSizeAndBothMarkerColours) {
+  renderPairedWorlds(pairedWorlds(), png_);
+  const Size size = pngSize(png_);
+  EXPECT_EQ(size.width, 720 + 128);
+  EXPECT_EQ(size.height, 472);
+  const Image image(png_);
+  ASSERT_TRUE(image.ok());
+  // Plot area: x 72 ... 792, y 80 ... 400. A is blue, B orange, on a white background.
+  const auto blue = [](Pixel p) { return p.b > 150 && p.r < 80; };
+  const auto orange = [](Pixel p) { return p.r > 200 && p.g > 80 && p.g < 160 && p.b < 60; };
+  EXPECT_TRUE(image.any(72, 80, 792, 401, blue));
+  EXPECT_TRUE(image.any(72, 80, 792, 401, orange));
+  // The legend above the plot has both markers too.
+  EXPECT_TRUE(image.any(0, 44, size.width, 72, blue));
+  EXPECT_TRUE(image.any(0, 44, size.width, 72, orange));
+  // The first world's A value is 0: its dot sits on the zero line, at the left.
+  EXPECT_TRUE(image.any(72, 390, 92, 401, blue));
+}
+
+TEST_F(PlotsTest, PairedChartWritesPdfAndSvgByExtension) {
+  for (const std::string& extension : {std::string(".pdf"), std::string(".svg"), std::string(".PDF")}) {
+    fs::path out = png_;
+    out.replace_extension(extension);
+    renderPairedWorlds(pairedWorlds(), out);
+    const std::string text = [&] {
+      const std::vector<unsigned char> bytes = readBytes(out);
+      return std::string(bytes.begin(), bytes.end());
+    }();
+    if (extension == ".svg") {
+      EXPECT_THAT(text.substr(0, 200), HasSubstr("<svg")) << out;
+      EXPECT_THAT(text, HasSubstr("0 0 848 472"));  // the viewBox: 1 unit per px
+    } else {
+      EXPECT_EQ(text.substr(0, 5), "%PDF-") << out;
+    }
+    EXPECT_GT(text.size(), 2000u) << "a chart of 25 worlds is more than a blank page";
+    EXPECT_FALSE(fs::exists(fs::path(out.string() + ".partial")));
+    std::error_code ignored;
+    fs::remove(out, ignored);
+  }
+}
+
+TEST_F(PlotsTest, PairedChartRejectsBadInputAndUnknownExtensions) {
+  PairedWorlds pairs = pairedWorlds();
+  pairs.b.pop_back();
+  expectInputError([&] { renderPairedWorlds(pairs, png_); }, {png_.string(), "24 B values"});
+  expectInputError([&] { renderPairedWorlds(PairedWorlds{}, png_); }, {"no worlds"});
+  fs::path jpg = png_;
+  jpg.replace_extension(".jpg");
+  expectInputError([&] { renderPairedWorlds(pairedWorlds(), jpg); }, {jpg.string(), "'.jpg'"});
+  EXPECT_FALSE(fs::exists(jpg));
+  fs::path pdf = unwritable_;
+  pdf.replace_extension(".pdf");
+  expectInputError([&] { renderPairedWorlds(pairedWorlds(), pdf); }, {pdf.string(), "cannot write"});
+  expectInputError([&] { renderPairedWorlds(pairedWorlds(), unwritable_); }, {unwritable_.string(), "cannot write"});
+  EXPECT_FALSE(fs::exists(unwritable_.parent_path()));
+}
+
+// ---------------------------------------------------------------------------
 // Output errors
 
 TEST_F(PlotsTest, UnwritablePathThrowsInputErrorNamingThePath) {

@@ -36,6 +36,10 @@ struct RunManifest {
   std::string worlds_digest;      // FNV-1a 64 of the world files' text, hex
   int trials = 1;
   std::uint64_t seed = 0;
+  // Set for a record imported from another harness's results (barn import-out): nothing was
+  // run, so it has no seed or controller config (neither is written) and cannot be resumed.
+  std::string source;         // the imported file, as given
+  std::string source_digest;  // FNV-1a 64 of its bytes, hex
   // Which part of it this record holds.
   int shard_index = 0;  // 1-based; 0 = the whole run
   int shard_count = 0;
@@ -52,6 +56,8 @@ struct RunManifest {
   double sim_time_s = 0.0;
 };
 
+/// The manifest's text. An imported record (source set) has no seed or controller_config
+/// lines; a non-finite sim_time_s (unknown) is left out. Missing fields read back as defaults.
 std::string formatManifest(const RunManifest& manifest);
 /// Reads and checks a manifest; InputError naming the file and field on any problem.
 RunManifest readManifest(const std::filesystem::path& path);

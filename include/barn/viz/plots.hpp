@@ -77,6 +77,37 @@ struct WorldBars {
 void renderWorldBarsPng(const WorldBars& bars, const std::filesystem::path& png);
 
 // ---------------------------------------------------------------------------
+// Paired per-world comparison
+
+/// Two runs' values per world, in the given order (e.g. ordered by A).
+struct PairedWorlds {
+  std::string title;                    // e.g. "mean score per world"
+  std::string y_label;                  // e.g. "mean score"
+  std::string x_label;                  // e.g. "worlds, ordered by A"
+  std::string label_a;                  // legend name of A
+  std::string label_b;                  // legend name of B
+  std::vector<std::string> labels;      // (n) world ids as text, in plotting order
+  std::vector<double> a;                // (n) A's values; NaN = no marker
+  std::vector<double> b;                // (n) B's values; NaN = no marker
+  double y_max = 0.0;                   // top of the y axis; 0 = automatic (5 % above the data)
+  std::vector<double> reference_lines;  // y values drawn as labelled horizontal dashed lines
+};
+
+/// Draws `pairs` as a dumbbell chart: per world a grey line joining A's value (blue dot) and
+/// B's (orange diamond), a legend naming A and B above the plot, y ticks from 0 (or the
+/// smallest value, if negative), x tick labels thinned as for the bar chart. The file type
+/// follows the extension: .png (ARGB image), .pdf or .svg (vector, 1 pt per px); any other is an
+/// InputError. The file appears complete or not at all.
+///
+/// Layout [px]: the plot area is plot_w = max(720, 10 * n) wide and 320 tall, with margins 72
+/// left, 56 right, 80 top (title and legend) and 72 bottom, so
+///   width  = max(plot_w + 128, title width at 20 px + 48, legend width + 96)
+///   height = 472
+/// Throws InputError if there are no worlds, labels, a and b differ in length, y_max is negative
+/// or not finite, or the image is wider than 32767 px.
+void renderPairedWorlds(const PairedWorlds& pairs, const std::filesystem::path& output);
+
+// ---------------------------------------------------------------------------
 // Trajectories on a world
 
 /// One recorded robot pose.

@@ -1,0 +1,227 @@
+// barn compare: two run records (barnbench runs, or Gazebo results read by barn import-out)
+// side by side over their common worlds. It reports; it does not judge (exit 0).
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+
+#include "barn/bench/compare.hpp"
+#include "barn/bench/results_io.hpp"
+#include "barn/bench/run_record.hpp"
+#include "barn/core/config.hpp"
+#include "barn/core/errors.hpp"
+#include "barn/core/protocol.hpp"
+#include "barn/core/world_file.hpp"
+#include "barn/viz/plots.hpp"
+#include "commands.hpp"
+#include "json_writer.hpp"
+
+namespace barn::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CompareOptions {
+  std::string a;
+  std::string b;
+  std::string output;
+  std::string plot = "score";
+  std::uint64_t seed = 0;
+  int bootstrap = 10000;
+  bool json = false;
+};
+
+struct Record {
+  std::string dir;
+  bench::RunManifest manifest;
+  std::string protocol;
+  std::vector<bench::EpisodeResult> results;
+};
+
+Record readRecord(const std::string& dir) {
+  Record r;
+  r.dir = dir;
+  r.manifest = bench::readManifest(fs::path(dir) / bench::kManifestFile);
+  if (!r.manifest.complete) throw core::InputError(dir + ": the run is not complete (barn run --resume " + dir + ")");
+  r.protocol = core::readConfig<bench::EpisodeConfig>(
+                   core::ConfigNode::parseString(r.manifest.episode_config, dir + " manifest episode_config"))
+                   .protocol;
+  r.results = bench::readEpisodesCsv(fs::path(dir) / bench::kEpisodesFile);
+  return r;
+}
+
+// Worlds with the same id in both records but different files: the comparison of those is
+// meaningless, so say so. Empty if every common world is the same (or the folders are gone).
+std::vector<int> differentWorlds(const Record& a, const Record& b, const std::vector<int>& common, std::string& note) {
+  std::vector<int> different;
+  try {
+    const auto wa = bench::loadManifestWorlds(a.manifest);
+    const auto wb = bench::loadManifestWorlds(b.manifest);
+    std::map<int, std::string> text_a;
+    for (const auto& w : wa) text_a[w.id] = core::formatWorldFile(w);
+    for (const auto& w : wb)
+      if (std::binary_search(common.begin(), common.end(), w.id) && text_a.count(w.id) &&
+          text_a[w.id] != core::formatWorldFile(w))
+        different.push_back(w.id);
+  } catch (const core::InputError& e) {
+    note = std::string("world files not checked: ") + e.what();
+  }
+  return different;
+}
+
+void writeJson(const bench::Comparison& c, const Record& a, const Record& b, const std::vector<int>& different) {
+  JsonWriter j;
+  const auto side = [&](const Record& r) {
+    j.beginObject().key("record").value(r.dir).key("controller").value(r.manifest.controller).key("protocol").value(r.protocol);
+    if (!r.manifest.source.empty()) j.key("source").value(r.manifest.source);
+    j.endObject();
+  };
+  const auto interval = [&](const bench::BootstrapInterval& i) {
+    j.beginObject().key("estimate").value(i.estimate).key("low").value(i.low).key("high").value(i.high).endObject();
+  };
+  const auto ids = [&](const std::vector<int>& list) {
+    j.beginArray();
+    for (int id : list) j.value(id);
+    j.endArray();
+  };
+  const auto stats = [&](const bench::WorldStats& w) {
+    j.beginObject().key("trials").value(w.trials).key("successes").value(w.successes).key("collisions").value(w.collisions)
+        .key("timeouts").value(w.timeouts).key("errors").value(w.errors).key("success_rate").value(w.success_rate)
+        .key("mean_success_time_s").value(w.mean_success_time).key("mean_score").value(w.mean_score).endObject();
+  };
+  j.beginObject();
+  j.key("a");
+  side(a);
+  j.key("b");
+  side(b);
+  j.key("common_worlds").value(static_cast<int>(c.a.size()));
+  j.key("only_a");
+  ids(c.only_a);
+  j.key("only_b");
+  ids(c.only_b);
+  j.key("different_world_files");
+  ids(different);
+  j.key("score_a").value(c.score_a).key("score_b").value(c.score_b);
+  j.key("success_rate_a").value(c.success_a).key("success_rate_b").value(c.success_b);
+  j.key("score_difference");
+  interval(c.score_difference);
+  j.key("success_rate_difference");
+  interval(c.success_difference);
+  j.key("bootstrap").beginObject().key("resamples").value(c.resamples).key("seed").value(c.seed).key("level").value(0.95)
+      .endObject();
+  j.key("agreement").beginObject().key("both_mostly_succeed").value(c.both_succeed).key("both_mostly_fail")
+      .value(c.both_fail).key("disagree");
+  ids(c.disagree);
+  j.endObject();
+  j.key("spearman_success_time").value(c.spearman_time).key("spearman_success_time_worlds").value(c.spearman_time_worlds);
+  j.key("spearman_success_rate").value(c.spearman_success);
+  j.key("worlds").beginArray();
+  for (std::size_t i = 0; i < c.a.size(); ++i) {
+    j.beginObject().key("world").value(c.a[i].world_id).key("a");
+    stats(c.a[i]);
+    j.key("b");
+    stats(c.b[i]);
+    j.endObject();
+  }
+  j.endArray().endObject();
+  std::printf("%s\n", j.str().c_str());
+}
+
+void plotComparison(const bench::Comparison& c, const Record& a, const Record& b, const CompareOptions& o) {
+  const bool score = o.plot == "score";
+  std::vector<std::size_t> order(c.a.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  const auto value = [&](const bench::WorldStats& w) { return score ? w.mean_score : w.success_rate; };
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t i, std::size_t j) { return value(c.a[i]) < value(c.a[j]); });
+  viz::PairedWorlds pairs;
+  char title[128];
+  if (score)
+    std::snprintf(title, sizeof title, "mean score per world, %zu worlds (B - A %+.4f)", c.a.size(),
+                  c.score_difference.estimate);
+  else
+    std::snprintf(title, sizeof title, "success rate per world, %zu worlds (B - A %+.3f)", c.a.size(),
+                  c.success_difference.estimate);
+  pairs.title = title;
+  pairs.y_label = score ? "mean score (OT / clipped AT)" : "success rate (fraction of trials)";
+  pairs.x_label = "world id, ordered by A's " + std::string(score ? "mean score" : "success rate");
+  pairs.label_a = a.manifest.controller + " (" + a.protocol + ")";
+  pairs.label_b = b.manifest.controller + " (" + b.protocol + ")";
+  for (std::size_t i : order) {
+    pairs.labels.push_back(std::to_string(c.a[i].world_id));
+    pairs.a.push_back(value(c.a[i]));
+    pairs.b.push_back(value(c.b[i]));
+  }
+  if (score) {
+    const core::Protocol pa = core::protocolPreset(a.protocol), pb = core::protocolPreset(b.protocol);
+    pairs.y_max = std::max(1.0 / pa.clip_low, 1.0 / pb.clip_low);
+    pairs.reference_lines = {1.0 / pa.clip_low, 1.0 / pa.clip_high};
+  } else {
+    pairs.y_max = 1.0;
+  }
+  viz::renderPairedWorlds(pairs, o.output);
+  std::fprintf(o.json ? stderr : stdout, "wrote %s\n", o.output.c_str());  // stdout stays pure JSON
+}
+
+void compare(const CompareOptions& o) {
+  const Record a = readRecord(o.a);
+  const Record b = readRecord(o.b);
+  const bench::Comparison c = bench::compareResults(a.results, b.results, o.bootstrap, o.seed);
+  std::vector<int> common;
+  for (const auto& w : c.a) common.push_back(w.world_id);
+  std::string note;
+  const std::vector<int> different = differentWorlds(a, b, common, note);
+  if (o.json) {
+    writeJson(c, a, b, different);
+  } else {
+    const auto label = [](const Record& r) {
+      return r.manifest.controller + ", " + r.protocol + ", " + r.dir + (r.manifest.source.empty() ? "" : " (imported)");
+    };
+    std::printf("%s", bench::comparisonReport(c, label(a), label(b)).c_str());
+  }
+  if (a.protocol != b.protocol)
+    std::fprintf(stderr, "note: the records use different protocols (A %s, B %s): scores are on different scales\n",
+                 a.protocol.c_str(), b.protocol.c_str());
+  if (!different.empty()) {
+    std::string list;
+    for (int id : different) list += (list.empty() ? "" : ", ") + std::to_string(id);
+    std::fprintf(stderr, "warning: %zu common world ids are different worlds in the two world folders (%s vs %s): %s\n",
+                 different.size(), a.manifest.worlds_folder.c_str(), b.manifest.worlds_folder.c_str(), list.c_str());
+  }
+  if (!note.empty()) std::fprintf(stderr, "note: %s\n", note.c_str());
+  if (!o.output.empty()) plotComparison(c, a, b, o);
+}
+
+}  // namespace
+
+void addCompareCommand(CLI::App& app, CommandContext& /*context*/) {
+  auto options = std::make_shared<CompareOptions>();
+  CLI::App* cmd = app.add_subcommand("compare", "Compare two run records world by world (B - A); reports, never fails");
+  cmd->add_option("a", options->a, "Record A (the reference, e.g. imported Gazebo results)")->required();
+  cmd->add_option("b", options->b, "Record B")->required();
+  cmd->add_option("-o,--output", options->output, "Paired per-world plot (.png, .pdf or .svg)");
+  cmd->add_option("--plot", options->plot, "What the plot shows: score or success")
+      ->check(CLI::IsMember({"score", "success"}))
+      ->capture_default_str();
+  cmd->add_option("--seed", options->seed, "Bootstrap seed")->capture_default_str();
+  cmd->add_option("--bootstrap", options->bootstrap, "Bootstrap resamples of the worlds")
+      ->check(CLI::Range(1, 10000000))
+      ->capture_default_str();
+  cmd->add_flag("--json", options->json, "Print the numbers as JSON instead of the table");
+  cmd->callback([options] {
+    // An unknown plot extension is bad input: refuse it before any work.
+    if (!options->output.empty()) {
+      std::string ext = fs::path(options->output).extension().string();
+      for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+      if (ext != ".png" && ext != ".pdf" && ext != ".svg")
+        throw core::InputError(options->output + ": unknown image type '" + ext + "' (expected .png, .pdf or .svg)");
+    }
+    compare(*options);
+  });
+}
+
+}  // namespace barn::cli
