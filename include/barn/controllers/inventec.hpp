@@ -114,7 +114,18 @@ struct InventecConfig {
   double forward_speed = 0.1;            // [m/s] code: stuck_v (paper: 0.2)
   double forward_turn_rate = 0.1;        // [rad/s] code: stuck_w
   double forward_duration = 0.25;        // [s] code: backtrack.timeout
-  nav::NavStackConfig nav = LflhConfig::lflhNav();
+  nav::NavStackConfig nav = inventecNav();
+
+  /// LfLH's move_base stack with the global costmap updated at 10 Hz, the value of the team's
+  /// (and BARN's) simulation configuration; lflhNav() uses 5 Hz to save time. Neither rate
+  /// removes the HardTurn livelock: while the robot turns in place in front of an obstacle the
+  /// global plan can alternate between the two ways around it, and HardTurn, which waits for the
+  /// path direction to fall below 10 degrees, turns back and forth until the timeout.
+  static nav::NavStackConfig inventecNav() {
+    nav::NavStackConfig c = LflhConfig::lflhNav();
+    c.global_update_rate = 10.0;
+    return c;
+  }
 
   bool codeVariant() const { return variant == "code"; }
 
