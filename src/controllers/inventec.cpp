@@ -8,41 +8,61 @@ namespace barn::controllers {
 
 namespace {
 double degrees(double d) { return d * std::numbers::pi / 180.0; }
+constexpr std::uint64_t kWiggleStream = 0x57169;  // sub-stream of the episode seed for the Wiggle
 }  // namespace
 
 std::string_view toString(InventecState state) {
   switch (state) {
     case InventecState::Initial: return "Initial";
-    case InventecState::Heading: return "Heading";
     case InventecState::Lflh: return "LfLH";
-    case InventecState::Backtrack: return "Backtrack";
+    case InventecState::HardTurn: return "HardTurn";
+    case InventecState::BackTrack: return "BackTrack";
+    case InventecState::Wiggle: return "Wiggle";
     case InventecState::Forward: return "Forward";
   }
   return "";
 }
 
 void validate(const InventecConfig& c, core::Errors& errors, const std::string& prefix) {
+  errors.check(c.variant == "code" || c.variant == "paper", prefix + ".variant", "must be code or paper");
   errors.check(!c.policy.empty(), prefix + ".policy", "must name a policy file");
   errors.check(c.rate > 0.0, prefix + ".rate", "must be > 0");
   errors.check(c.max_speed > 0.0, prefix + ".max_speed", "must be > 0");
   errors.check(c.max_turn_rate > 0.0, prefix + ".max_turn_rate", "must be > 0");
+  errors.check(c.boost_speed > 0.0, prefix + ".boost_speed", "must be > 0");
+  errors.check(c.boost_clearance >= 0.0, prefix + ".boost_clearance", "must be >= 0");
   errors.check(c.local_goal_distance > 0.0, prefix + ".local_goal_distance", "must be > 0");
   errors.check(c.path_direction_distance > 0.0, prefix + ".path_direction_distance", "must be > 0");
   errors.check(c.heading_tolerance_deg > 0.0 && c.heading_tolerance_deg <= c.heading_limit_deg,
                prefix + ".heading_tolerance_deg", "must be in (0, heading_limit_deg]");
   errors.check(c.heading_limit_deg <= 180.0, prefix + ".heading_limit_deg", "must be <= 180");
   errors.check(c.heading_gain > 0.0, prefix + ".heading_gain", "must be > 0");
-  errors.check(c.min_turn_rate >= 0.0, prefix + ".min_turn_rate", "must be >= 0");
+  errors.check(c.min_turn_rate > 0.0, prefix + ".min_turn_rate", "must be > 0 (an alignment must always turn)");
   errors.check(c.footprint_length > 0.0 && c.footprint_width > 0.0, prefix + ".footprint_length", "the footprint must be > 0");
-  errors.check(c.safety.type == "fi" || c.safety.type == "mpc" || c.safety.type == "none", prefix + ".safety.type",
-               "must be fi, mpc or none");
-  errors.check(c.safety.fi_offset >= 0.0, prefix + ".safety.fi_offset", "must be >= 0");
-  errors.check(c.safety.mpc_steps >= 1, prefix + ".safety.mpc_steps", "must be >= 1");
-  errors.check(c.safety.mpc_dt > 0.0, prefix + ".safety.mpc_dt", "must be > 0");
+  const InventecSafetyConfig& s = c.safety;
+  errors.check(s.type == "front" || s.type == "fi" || s.type == "mpc" || s.type == "none", prefix + ".safety.type",
+               "must be front, fi, mpc or none");
+  errors.check(s.front_angle_deg > 0.0 && s.front_angle_deg <= 180.0, prefix + ".safety.front_angle_deg",
+               "must be in (0, 180]");
+  errors.check(s.front_pad_x >= 0.0 && s.front_pad_y >= 0.0, prefix + ".safety.front_pad_x", "pads must be >= 0");
+  errors.check(s.front_speed_gain >= 0.0, prefix + ".safety.front_speed_gain", "must be >= 0");
+  errors.check(s.rollout_length > 0.0 && s.rollout_width > 0.0, prefix + ".safety.rollout_length",
+               "the rollout rectangle must be > 0");
+  errors.check(s.rollout_tolerance >= 0.0, prefix + ".safety.rollout_tolerance", "must be >= 0");
+  errors.check(s.rollout_steps >= 1, prefix + ".safety.rollout_steps", "must be >= 1");
+  errors.check(s.rollout_dt > 0.0, prefix + ".safety.rollout_dt", "must be > 0");
+  errors.check(s.mpc_steps >= 1, prefix + ".safety.mpc_steps", "must be >= 1");
+  errors.check(s.mpc_dt > 0.0, prefix + ".safety.mpc_dt", "must be > 0");
+  errors.check(s.fi_offset >= 0.0, prefix + ".safety.fi_offset", "must be >= 0");
+  errors.check(s.ring_front > 0.0 && s.ring_edge > 0.0, prefix + ".safety.ring_front", "ring thresholds must be > 0");
   errors.check(c.roi_depth > 0.0, prefix + ".roi_depth", "must be > 0");
   errors.check(c.backtrack_distance > 0.0, prefix + ".backtrack_distance", "must be > 0");
   errors.check(c.backtrack_speed > 0.0, prefix + ".backtrack_speed", "must be > 0");
+  errors.check(c.backtrack_reverse >= 0.0, prefix + ".backtrack_reverse", "must be >= 0");
   errors.check(c.align_tolerance_deg > 0.0, prefix + ".align_tolerance_deg", "must be > 0");
+  errors.check(c.wiggle_min_deg >= 0.0, prefix + ".wiggle_min_deg", "must be >= 0");
+  errors.check(c.wiggle_span >= 0.0, prefix + ".wiggle_span", "must be >= 0");
+  errors.check(c.wiggle_choices >= 1, prefix + ".wiggle_choices", "must be >= 1");
   errors.check(c.forward_speed > 0.0, prefix + ".forward_speed", "must be > 0");
   errors.check(c.forward_duration > 0.0, prefix + ".forward_duration", "must be > 0");
   nav::validate(c.nav, errors, prefix + ".nav");
@@ -51,38 +71,88 @@ void validate(const InventecConfig& c, core::Errors& errors, const std::string& 
 InventecState nextInventecState(InventecState state, const InventecInputs& in, const InventecConfig& config) {
   switch (state) {
     case InventecState::Initial:
-      return in.has_path ? InventecState::Heading : InventecState::Initial;
-    case InventecState::Heading:
-      if (in.rotation_unsafe) return InventecState::Backtrack;
-      if (std::abs(in.heading_error) <= degrees(config.heading_tolerance_deg)) return InventecState::Lflh;
-      return InventecState::Heading;
+      if (!in.has_path) return InventecState::Initial;
+      // The code starts in LfLH; the paper turns toward the path first.
+      return config.codeVariant() ? InventecState::Lflh : InventecState::HardTurn;
     case InventecState::Lflh:
-      if (in.command_unsafe) return InventecState::Backtrack;
-      if (std::abs(in.heading_error) > degrees(config.heading_limit_deg)) return InventecState::Heading;
+      if (in.command_unsafe) return InventecState::BackTrack;
+      if (std::abs(in.heading_error) > degrees(config.heading_limit_deg)) return InventecState::HardTurn;
       return InventecState::Lflh;
-    case InventecState::Backtrack:
-      if (in.rear_blocked) return InventecState::Forward;
-      if (in.backtrack_done) return InventecState::Heading;
-      return InventecState::Backtrack;
+    case InventecState::HardTurn:
+      if (in.rotation_unsafe) return InventecState::BackTrack;
+      if (std::abs(in.heading_error) < degrees(config.heading_tolerance_deg)) return InventecState::Lflh;
+      return InventecState::HardTurn;
+    case InventecState::BackTrack:
+      if (in.rear_blocked) return config.codeVariant() ? InventecState::Wiggle : InventecState::Forward;
+      if (in.backtrack_done) return InventecState::HardTurn;
+      return InventecState::BackTrack;
+    case InventecState::Wiggle:
+      return in.wiggle_done ? InventecState::Forward : InventecState::Wiggle;
     case InventecState::Forward:
-      if (in.forward_unsafe) return InventecState::Backtrack;
-      if (in.forward_done) return InventecState::Heading;
+      if (in.forward_unsafe) return InventecState::BackTrack;
+      if (in.forward_done) return InventecState::HardTurn;
       return InventecState::Forward;
   }
   return state;
 }
 
+PathCues codePathCues(const nav::Path& local_path, double goal_distance, double direction_distance) {
+  PathCues cues;
+  if (local_path.empty()) return cues;
+  const Eigen::Vector2d start = local_path.front().norm() <= 0.05 ? Eigen::Vector2d::Zero() : local_path.front();
+
+  Eigen::Vector2d goal = local_path.back();
+  for (const auto& p : local_path) {
+    if ((p - start).norm() > goal_distance) {
+      goal = p;
+      break;
+    }
+  }
+  if ((goal - start).norm() > 1e-9) cues.goal_direction = (goal - start).normalized();
+
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+  Eigen::Vector2d previous = start;
+  double walked = 0.0;
+  for (const auto& p : local_path) {
+    walked += (p - previous).norm();
+    previous = p;
+    const Eigen::Vector2d d = p - start;
+    if (d.norm() > 0.1) sum += d.normalized();
+    if (walked > direction_distance) break;
+  }
+  if (sum.squaredNorm() > 1e-18) cues.path_direction = std::atan2(sum.y(), sum.x());
+  return cues;
+}
+
+double wiggleTarget(double yaw, double path_direction, double min_angle, double span, int choices, core::Rng& rng) {
+  const double k = static_cast<double>(rng.below(static_cast<std::uint64_t>(choices)));
+  const double offset = choices > 1 ? k * span / (choices - 1) : 0.0;
+  const double side = path_direction >= 0.0 ? 1.0 : -1.0;
+  return core::wrapAngle(yaw + side * (min_angle + offset));
+}
+
 InventecController::InventecController(const InventecConfig& config, std::shared_ptr<const learning::Policy> policy)
     : config_(config), policy_(std::move(policy)), nav_(config.nav),
-      footprint_(footprintBox(config.footprint_length, config.footprint_width, 0.0)) {}
+      footprint_(footprintBox(config.footprint_length, config.footprint_width, 0.0)) {
+  const InventecSafetyConfig& s = config_.safety;
+  front_.front_angle = degrees(s.front_angle_deg);
+  front_.half_width = config_.footprint_width / 2;
+  front_.half_length = config_.footprint_length / 2;
+  front_.pad_x = s.front_pad_x;
+  front_.pad_front = s.front_pad_y;
+  front_.speed_gain = s.front_speed_gain;
+  front_.rotate_gain = s.front_rotate_gain;
+}
 
 void InventecController::reset(const EpisodeInfo& info) {
   info_ = info;
   nav_.reset(info.goal);
+  rng_ = core::Rng(core::mixSeed(info.seed, kWiggleStream));
   state_ = InventecState::Initial;
   breadcrumbs_.clear();
-  has_backtrack_target_ = false;
   aligned_ = false;
+  reversed_ = 0.0;
+  reverse_ticks_ = 0;
 }
 
 core::Twist InventecController::turnToward(double error) const {
@@ -91,36 +161,90 @@ core::Twist InventecController::turnToward(double error) const {
   return {0.0, w};
 }
 
-bool InventecController::commandUnsafe(const std::vector<Eigen::Vector2d>& points, const core::Twist& command) const {
+bool InventecController::commandUnsafe(const std::vector<Eigen::Vector2d>& points, const core::LaserScan& scan,
+                                       const core::Twist& command) const {
   const InventecSafetyConfig& s = config_.safety;
-  if (s.type == "fi") {
-    // The static check of the paper's simulation entry: nothing inside the grown rectangle.
-    return footprintInflationHit(points, footprintBox(config_.footprint_length, config_.footprint_width, s.fi_offset));
+  if (s.type == "front") {
+    // The code's final-pose rollout compared, for each of 40 points on the 0.42 x 0.33
+    // rectangle at the final pose, the range of the beam toward that point with the point's
+    // |x| + |y| (an L1 "distance", larger than the Euclidean one) plus 0.02 m, ignoring the
+    // LiDAR offset. Here: any LiDAR point (with its offset) inside that rectangle grown by the
+    // 0.02 m tolerance, a consistent geometric version of the same test.
+    const Box final_box = footprintBox(s.rollout_length, s.rollout_width, s.rollout_tolerance);
+    return rolloutHit(points, final_box, command, s.rollout_dt, s.rollout_steps, RolloutPoses::Final) ||
+           frontCheckHit(scan, info_.lidar, command, front_);
   }
   if (s.type == "mpc") {
     return rolloutHit(points, footprintBox(config_.footprint_length, config_.footprint_width, s.mpc_offset), command,
-                      s.mpc_dt, s.mpc_steps);
+                      s.mpc_dt, s.mpc_steps, RolloutPoses::Every);
+  }
+  if (s.type == "fi") {
+    // The paper's static check: nothing inside the grown rectangle, all around.
+    return footprintInflationHit(points, footprintBox(config_.footprint_length, config_.footprint_width, s.fi_offset));
   }
   return false;
 }
 
-void InventecController::enter(InventecState state, const core::Pose2& pose, double time) {
-  if (state == InventecState::Backtrack) {
+bool InventecController::frontUnsafe(const std::vector<Eigen::Vector2d>& points, const core::LaserScan& scan,
+                                     const core::Twist& command) const {
+  // The code's Forward looks at the front check only (simulation) or the rollout (real world).
+  if (config_.safety.type == "front") return frontCheckHit(scan, info_.lidar, command, front_);
+  return commandUnsafe(points, scan, command);
+}
+
+bool InventecController::rotationUnsafe(const std::vector<Eigen::Vector2d>& points, const core::Twist& turn) const {
+  const InventecSafetyConfig& s = config_.safety;
+  if (s.type == "front") {
+    return rolloutHit(points, footprintBox(s.rollout_length, s.rollout_width, s.rollout_tolerance), turn, s.rollout_dt,
+                      s.rollout_steps, RolloutPoses::Final);
+  }
+  if (s.type == "mpc") {
+    return rolloutHit(points, footprintBox(config_.footprint_length, config_.footprint_width, s.mpc_offset), turn,
+                      s.mpc_dt, s.mpc_steps, RolloutPoses::Every);
+  }
+  if (s.type == "fi") {
+    return rolloutHit(points, footprint_, turn, s.rollout_dt, s.rollout_steps, RolloutPoses::Every);
+  }
+  return false;
+}
+
+core::Twist InventecController::shape(const core::Twist& raw, const core::LaserScan& scan) const {
+  core::Twist out = raw;
+  if (config_.boost && raw.linear > config_.boost_threshold &&
+      frontClear(scan, degrees(config_.safety.front_angle_deg), config_.boost_clearance)) {
+    out.linear = config_.boost_speed;
+  } else {
+    out.linear = std::clamp(raw.linear, -config_.max_speed, config_.max_speed);
+  }
+  out.angular = std::clamp(raw.angular, -config_.max_turn_rate, config_.max_turn_rate);
+  return out;
+}
+
+void InventecController::enter(InventecState state, const core::Pose2& pose, double time, double path_direction) {
+  if (state == InventecState::BackTrack) {
     // The breadcrumb: walking the driven path backwards, the first point at least
     // backtrack_distance away that lies behind the robot (the robot is within 60 degrees of
     // straight ahead of it, seen along the robot's heading). The path is cut there.
-    has_backtrack_target_ = false;
+    // Without one the code returned (0, 0) and went on to HardTurn, which can repeat without
+    // moving; here the target is then the point backtrack_distance straight behind, so the
+    // robot reverses straight (with the rear check) instead.
     aligned_ = false;
+    reversed_ = 0.0;
+    reverse_ticks_ = 0;
+    backtrack_target_ = pose.transform({-config_.backtrack_distance, 0.0});
     const Eigen::Vector2d heading(std::cos(pose.yaw), std::sin(pose.yaw));
     for (std::size_t k = breadcrumbs_.size(); k-- > 0;) {
       const Eigen::Vector2d away = pose.position() - breadcrumbs_[k];
       if (away.norm() < config_.backtrack_distance) continue;
       if (away.normalized().dot(heading) < std::cos(degrees(60.0))) continue;
       backtrack_target_ = breadcrumbs_[k];
-      has_backtrack_target_ = true;
       breadcrumbs_.resize(k);
       break;
     }
+  }
+  if (state == InventecState::Wiggle) {
+    wiggle_target_ = wiggleTarget(pose.yaw, path_direction, degrees(config_.wiggle_min_deg), config_.wiggle_span,
+                                  config_.wiggle_choices, rng_);
   }
   if (state == InventecState::Forward) forward_started_ = time;
   state_ = state;
@@ -128,76 +252,115 @@ void InventecController::enter(InventecState state, const core::Pose2& pose, dou
 
 core::Twist InventecController::act(const Observation& obs) {
   const core::Pose2 pose = obs.odom_pose;
-  nav_.update(obs.time, *obs.scan, sensorPose(pose, info_.lidar), pose);
-  const std::vector<Eigen::Vector2d> points = scanPoints(*obs.scan, info_.lidar);
+  const core::LaserScan& scan = *obs.scan;
+  nav_.update(obs.time, scan, sensorPose(pose, info_.lidar), pose);
+  const std::vector<Eigen::Vector2d> points = scanPoints(scan, info_.lidar);
+  const bool code = config_.codeVariant();
+  const bool checks = config_.safety.type != "none";
 
   InventecInputs in;
   in.has_path = nav_.hasPath();
-  in.heading_error = in.has_path ? nav::headingError(nav_.path(), pose, config_.path_direction_distance) : 0.0;
+  Eigen::Vector2d goal_direction = Eigen::Vector2d::UnitX();
+  if (in.has_path) {
+    const nav::Path& path = nav_.path();
+    if (code) {
+      // The code planned at 20 Hz from the robot's pose, so its path began at the robot; ours is
+      // replanned less often, so the part already driven is cut off at the closest point.
+      const nav::Path ahead(path.begin() + static_cast<std::ptrdiff_t>(nav::closestIndex(path, pose.position())),
+                            path.end());
+      const PathCues cues =
+          codePathCues(nav::pathInRobotFrame(ahead, pose), config_.local_goal_distance, config_.path_direction_distance);
+      in.heading_error = cues.path_direction;
+      goal_direction = cues.goal_direction;
+    } else {
+      in.heading_error = nav::headingError(path, pose, config_.path_direction_distance);
+      goal_direction = localGoalDirection(path, pose, config_.local_goal_distance);
+    }
+  }
+  const double turn_sign = in.heading_error >= 0.0 ? 1.0 : -1.0;
 
   // The checks of the current state, then at most one transition per tick.
-  core::Twist policy_command;
+  core::Twist command;
   switch (state_) {
     case InventecState::Initial:
       break;
-    case InventecState::Heading:
-      in.rotation_unsafe = config_.safety.type != "none" &&
-                           rolloutHit(points, footprint_, turnToward(in.heading_error), config_.safety.mpc_dt,
-                                      config_.safety.mpc_steps);
-      break;
     case InventecState::Lflh: {
-      const core::Twist raw =
-          policy_->act(*obs.scan, localGoalDirection(nav_.path(), pose, config_.local_goal_distance));
-      policy_command = {std::clamp(raw.linear, -config_.max_speed, config_.max_speed),
-                        std::clamp(raw.angular, -config_.max_turn_rate, config_.max_turn_rate)};
-      in.command_unsafe = commandUnsafe(points, policy_command);
+      const core::Twist raw = policy_->act(scan, goal_direction);
+      if (code) {
+        // The code checks the network's command and shapes the speed when publishing.
+        in.command_unsafe = commandUnsafe(points, scan, raw);
+        command = shape(raw, scan);
+      } else {
+        command = {std::clamp(raw.linear, -config_.max_speed, config_.max_speed),
+                   std::clamp(raw.angular, -config_.max_turn_rate, config_.max_turn_rate)};
+        in.command_unsafe = commandUnsafe(points, scan, command);
+      }
       break;
     }
-    case InventecState::Backtrack:
-      in.backtrack_done = !has_backtrack_target_ || (pose.position() - backtrack_target_).norm() < 0.05 ||
-                          (aligned_ && pose.inverseTransform(backtrack_target_).x() >= 0.0);
-      in.rear_blocked = aligned_ && config_.backtrack_roi &&
-                        rearRegionBlocked(nav_.localCostmap(), pose, footprint_, config_.roi_depth);
+    case InventecState::HardTurn:
+      command = turnToward(in.heading_error);
+      in.rotation_unsafe = checks && (rotationUnsafe(points, command) ||
+                                      (code && config_.safety.ring &&
+                                       ringHit(scan, config_.safety.ring_front, config_.safety.ring_edge)));
       break;
+    case InventecState::BackTrack: {
+      if (!aligned_) {
+        // Turn the rear toward the target; an unsafe turn ends the alignment early.
+        const Eigen::Vector2d away = pose.position() - backtrack_target_;
+        const double error = core::wrapAngle(std::atan2(away.y(), away.x()) - pose.yaw);
+        command = turnToward(error);
+        if (std::abs(error) <= degrees(config_.align_tolerance_deg) || (checks && rotationUnsafe(points, command))) {
+          aligned_ = true;
+          reverse_start_ = pose.position();
+          reversed_ = 0.0;
+          reverse_ticks_ = 0;
+        }
+      }
+      if (aligned_) {
+        const double reversed = (pose.position() - reverse_start_).norm();
+        // Done when far enough (code: ~0.1 m; paper: at or past the breadcrumb), or when the
+        // distance stopped growing (the code's loop condition; a stall cannot last).
+        const bool far_enough = config_.backtrack_reverse > 0.0
+                                    ? reversed > config_.backtrack_reverse
+                                    : (pose.position() - backtrack_target_).norm() < 0.05 ||
+                                          pose.inverseTransform(backtrack_target_).x() >= 0.0;
+        const bool stalled = reverse_ticks_ >= 2 && reversed <= reversed_ + 1e-4;
+        in.backtrack_done = far_enough || stalled;
+        in.rear_blocked = config_.backtrack_roi && rearRegionBlocked(nav_.localCostmap(), pose, footprint_, config_.roi_depth);
+        reversed_ = reversed;
+        ++reverse_ticks_;
+        command = {-config_.backtrack_speed, 0.0};
+      }
+      break;
+    }
+    case InventecState::Wiggle: {
+      const double error = core::wrapAngle(wiggle_target_ - pose.yaw);
+      command = turnToward(error);
+      in.wiggle_done =
+          std::abs(error) <= degrees(config_.align_tolerance_deg) || (checks && rotationUnsafe(points, command));
+      break;
+    }
     case InventecState::Forward: {
-      const core::Twist nudge{config_.forward_speed, std::copysign(config_.forward_turn_rate, in.heading_error)};
-      in.forward_unsafe = commandUnsafe(points, nudge) && config_.safety.type != "none";
+      command = {config_.forward_speed, turn_sign * config_.forward_turn_rate};
+      const bool unsafe = checks && frontUnsafe(points, scan, command);
+      if (code) {
+        if (unsafe) command.linear = -config_.forward_speed;  // the code backs off with the same turn
+      } else {
+        in.forward_unsafe = unsafe;
+      }
       in.forward_done = obs.time - forward_started_ >= config_.forward_duration - 1e-9;
       break;
     }
   }
   const InventecState next = nextInventecState(state_, in, config_);
   if (next != state_) {
-    enter(next, pose, obs.time);
+    enter(next, pose, obs.time, in.heading_error);
     return {};  // every transition stops the robot for one tick, as the original publishes (0, 0)
   }
-
-  switch (state_) {
-    case InventecState::Initial:
-      return {};
-    case InventecState::Heading:
-      return turnToward(in.heading_error);
-    case InventecState::Lflh:
-      if (breadcrumbs_.empty() || (breadcrumbs_.back() - pose.position()).norm() >= 0.05)
-        breadcrumbs_.push_back(pose.position());
-      return policy_command;
-    case InventecState::Backtrack: {
-      if (!aligned_) {
-        // Turn the rear toward the target, then reverse straight.
-        const Eigen::Vector2d away = pose.position() - backtrack_target_;
-        const double error = core::wrapAngle(std::atan2(away.y(), away.x()) - pose.yaw);
-        const core::Twist turn = turnToward(error);
-        const bool blocked = config_.safety.type != "none" &&
-                             rolloutHit(points, footprint_, turn, config_.safety.mpc_dt, config_.safety.mpc_steps);
-        if (std::abs(error) > degrees(config_.align_tolerance_deg) && !blocked) return turn;
-        aligned_ = true;
-      }
-      return {-config_.backtrack_speed, 0.0};
-    }
-    case InventecState::Forward:
-      return {config_.forward_speed, std::copysign(config_.forward_turn_rate, in.heading_error)};
-  }
-  return {};
+  if (state_ == InventecState::Lflh &&
+      (breadcrumbs_.empty() || (breadcrumbs_.back() - pose.position()).norm() >= 0.05))
+    breadcrumbs_.push_back(pose.position());
+  return command;
 }
 
 }  // namespace barn::controllers

@@ -1,16 +1,36 @@
 #pragma once
-/// `inventec`: the seed paper's controller (BARN 2023, 2nd place): the LfLH policy inside a
-/// finite state machine with forward safety checks and a backtracking recovery.
+/// `inventec`: the BARN 2023 second-place controller (Inventec): the LfLH policy inside a
+/// finite state machine with forward safety checks and backtracking recoveries.
 ///
-///   Initial --path--> Heading --aligned--> LfLH --dangerous command--> Backtrack
-///   LfLH --not aligned--> Heading        Heading --unsafe rotation--> Backtrack
-///   Backtrack --reversed to the breadcrumb--> Heading
-///   Backtrack --obstacle behind (costmap ROI)--> Forward --nudged--> Heading
-///   Forward --unsafe--> Backtrack
+/// Two variants of one state machine (`variant`):
 ///
-/// Defaults follow the paper where it gives a number, otherwise the team's published code as
-/// described in shared/research/controllers.md section 1; configs/controllers/inventec_*.yaml
-/// say which is which.
+/// code  — what the team's published simulation code (branch `simulation`) ran, the system
+///         that scored 0.2445 in Gazebo:
+///
+///   Initial --first path--> LfLH
+///   LfLH --command unsafe--> BackTrack          LfLH --|path direction| > 60 deg--> HardTurn
+///   HardTurn --|path direction| < 10 deg--> LfLH
+///   HardTurn --(0, w) rollout unsafe, or LiDAR ring hit--> BackTrack
+///   BackTrack --reversed ~0.1 m (or stalled)--> HardTurn
+///   BackTrack --obstacle behind (costmap strip)--> Wiggle --turned--> Forward
+///   Forward --0.25 s of (0.1, +-0.1), or (-0.1, +-0.1) when the front is blocked--> HardTurn
+///
+///   "Command unsafe" is the front check (beams within +-47 deg, a 0.45 m wide rectangle reaching
+///   0.254 + max(0.1, 0.25 v) ahead, turned by 0.2 w) or the 0.2 s final-pose rollout hitting.
+///   The code's start state is LfLH; Initial only waits for the first plan.
+///
+/// paper — the paper's prose: the same states, HardTurn being the paper's "Heading", with a
+///         static all-around footprint-inflation (0.04 m) box, entry through Heading, no
+///         Wiggle (a blocked rear goes straight to Forward), Forward at 0.2 m/s that backs off
+///         to BackTrack when unsafe, reversing all the way to the breadcrumb.
+///
+/// No state waits forever without moving: a HardTurn whose rotation is unsafe goes to
+/// BackTrack; BackTrack without a breadcrumb reverses straight back instead (the code returned
+/// (0, 0) there); a rotation that is unsafe ends the alignment instead of blocking it; Forward
+/// always drives (backwards if the front is blocked) and ends after its fixed time.
+///
+/// configs/controllers/inventec_*.yaml say for every default whether it is from the paper or
+/// the code.
 
 #include <memory>
 #include <string>
@@ -19,58 +39,109 @@
 #include "barn/controllers/lflh.hpp"
 #include "barn/controllers/safety_checks.hpp"
 #include "barn/core/errors.hpp"
+#include "barn/core/rng.hpp"
 #include "barn/learning/policy.hpp"
 #include "barn/nav/nav_stack.hpp"
 
 namespace barn::controllers {
 
-enum class InventecState { Initial, Heading, Lflh, Backtrack, Forward };
+enum class InventecState { Initial, Lflh, HardTurn, BackTrack, Wiggle, Forward };
 std::string_view toString(InventecState state);
 
 struct InventecSafetyConfig {
-  std::string type = "fi";      // fi (footprint inflation, the simulation entry), mpc, none
-  double fi_offset = 0.04;      // [m] paper: FI 0.04 m
-  int mpc_steps = 20;           // paper: 20 steps (~0.2 s)
-  double mpc_dt = 0.01;         // [s] code (simulation branch)
-  double mpc_offset = 0.0;      // [m] footprint growth in the rollout
+  /// front: the simulation code's front check + final-pose rollout; mpc: the real-world code's
+  /// rollout checking every pose; fi: the paper's static footprint inflation; none.
+  std::string type = "front";
+  // front (code, simulation branch)
+  double front_angle_deg = 47.0;   // code: lidar.front_angle
+  double front_pad_x = 0.01;       // [m] code: front_pad_x_m, lateral, each side
+  double front_pad_y = 0.1;        // [m] code: front_pad_y_m, minimum reach past the front edge
+  double front_speed_gain = 0.25;  // [s] code: linear_v_gain
+  double front_rotate_gain = 0.2;  // [s] code: rotate_w_gain
+  double rollout_length = 0.42;    // [m] code: the final-pose rectangle 0.42 x 0.33
+  double rollout_width = 0.33;     // [m]
+  double rollout_tolerance = 0.02; // [m] code: safety.dist_tolerance
+  int rollout_steps = 20;          // code: safety.step
+  double rollout_dt = 0.01;        // [s] code: safety.dt
+  // mpc (code, real-world branch): the 0.43 x 0.508 footprint at every pose
+  int mpc_steps = 20;              // code and paper: 20 steps
+  double mpc_dt = 0.02;            // [s] code (real-world): 0.4 s horizon
+  double mpc_offset = 0.0;         // [m] footprint growth in the rollout
+  // fi (paper)
+  double fi_offset = 0.04;         // [m] paper: FI 0.04 m (loaded but unused by the code)
+  // The LiDAR ring that aborts HardTurn (code: is_collide)
+  bool ring = true;
+  double ring_front = 0.30;        // [m] code: coll_min_m 0.28 + coll_offset_m 0.02, straight ahead
+  double ring_edge = 0.39;         // [m] code: coll_max_m 0.37 + 0.02, at +-135 deg
   template <class V> void visit(V& v) {
-    v("type", type); v("fi_offset", fi_offset); v("mpc_steps", mpc_steps); v("mpc_dt", mpc_dt); v("mpc_offset", mpc_offset);
+    v("type", type); v("front_angle_deg", front_angle_deg); v("front_pad_x", front_pad_x);
+    v("front_pad_y", front_pad_y); v("front_speed_gain", front_speed_gain); v("front_rotate_gain", front_rotate_gain);
+    v("rollout_length", rollout_length); v("rollout_width", rollout_width); v("rollout_tolerance", rollout_tolerance);
+    v("rollout_steps", rollout_steps); v("rollout_dt", rollout_dt); v("mpc_steps", mpc_steps); v("mpc_dt", mpc_dt);
+    v("mpc_offset", mpc_offset); v("fi_offset", fi_offset); v("ring", ring); v("ring_front", ring_front);
+    v("ring_edge", ring_edge);
   }
 };
 
 struct InventecConfig {
-  std::string policy = "configs/policies/lflh_1ms.policy";  // paper: the 1 m/s LfLH model
-  double rate = 25.0;                  // [Hz] policy rate (the code's FSM loop runs at 30 Hz)
-  double max_speed = 0.7;              // [m/s] paper: clip 0.7 m/s
+  std::string variant = "code";        // code | paper (see the header comment)
+  std::string policy = "configs/policies/lflh_1ms.policy";  // paper and code: the 1 m/s LfLH model
+  double rate = 25.0;                  // [Hz] code: recovery loops step 0.04 s (its main loop runs at 30 Hz)
+  double max_speed = 0.7;              // [m/s] paper and code: clip 0.7 m/s
   double max_turn_rate = 2.0;          // [rad/s] code: max_w
-  double local_goal_distance = 0.5;    // [m] paper: 0.5 m (code: 1.5 m)
-  double path_direction_distance = 0.5;  // [m] code: dir_dist
-  double heading_tolerance_deg = 30.0;   // paper: +-30 degrees to leave Heading (code: 10)
-  double heading_limit_deg = 60.0;       // code: LfLH hands over to Heading beyond 60 degrees
-  double heading_gain = 1.5;             // [1/s] code: w = 1.5 x heading error
+  bool boost = true;                   // code: v > 1.0 with a clear front -> 2.0 m/s
+  double boost_threshold = 1.0;        // [m/s] code: speed.acc_v
+  double boost_speed = 2.0;            // [m/s] code: max_v
+  double boost_clearance = 1.5;        // [m] code: front_dist_clear_m (beams within front_angle_deg)
+  double local_goal_distance = 1.5;    // [m] code: local.goal_dist (paper: 0.5)
+  double path_direction_distance = 0.5;  // [m] code: local.dir_dist
+  double heading_tolerance_deg = 10.0;   // code: hard_turn.stop_deg (paper: +-30 to leave Heading)
+  double heading_limit_deg = 60.0;       // code: hard_turn.max_deg
+  double heading_gain = 1.5;             // [1/s] code: p_gain
   double min_turn_rate = 0.2;            // [rad/s] code: rotate_align_min_w
-  double footprint_length = 0.508;       // [m] paper: 0.43 x 0.508 (x by y in our frame: 0.508 along x)
+  double footprint_length = 0.508;       // [m] paper and code: 0.43 x 0.508 (0.508 along x)
   double footprint_width = 0.43;         // [m]
   InventecSafetyConfig safety;
-  bool backtrack_roi = true;             // check the costmap strip behind before reversing
+  bool backtrack_roi = true;             // check the costmap strip behind while reversing
   double roi_depth = 0.1;                // [m] code (simulation): rear_length_m
-  double backtrack_distance = 0.3;       // [m] paper: the point 0.3 m behind along the driven path
+  double backtrack_distance = 0.3;       // [m] paper and code: breadcrumb at least 0.3 m away
   double backtrack_speed = 0.3;          // [m/s] code: rev_vel
+  double backtrack_reverse = 0.1;        // [m] code: l2_dist_m; 0 = reverse to the breadcrumb (paper)
   double align_tolerance_deg = 3.0;      // code: align_deg
-  double forward_speed = 0.2;            // [m/s] paper: 0.2 m/s (code: 0.1)
+  double wiggle_min_deg = 3.0;           // code: the Wiggle turns at least this far
+  double wiggle_span = 0.2;              // [rad] code: plus one of wiggle_choices offsets in [0, span]
+  int wiggle_choices = 20;               // code
+  double forward_speed = 0.1;            // [m/s] code: stuck_v (paper: 0.2)
   double forward_turn_rate = 0.1;        // [rad/s] code: stuck_w
   double forward_duration = 0.25;        // [s] code: backtrack.timeout
-  nav::NavStackConfig nav = LflhConfig::lflhNav();
+  nav::NavStackConfig nav = inventecNav();
+
+  /// LfLH's move_base stack with the global costmap updated at 10 Hz, the value of the team's
+  /// (and BARN's) simulation configuration; lflhNav() uses 5 Hz to save time. Neither rate
+  /// removes the HardTurn livelock: while the robot turns in place in front of an obstacle the
+  /// global plan can alternate between the two ways around it, and HardTurn, which waits for the
+  /// path direction to fall below 10 degrees, turns back and forth until the timeout.
+  static nav::NavStackConfig inventecNav() {
+    nav::NavStackConfig c = LflhConfig::lflhNav();
+    c.global_update_rate = 10.0;
+    return c;
+  }
+
+  bool codeVariant() const { return variant == "code"; }
 
   template <class V> void visit(V& v) {
-    v("policy", policy); v("rate", rate); v("max_speed", max_speed); v("max_turn_rate", max_turn_rate);
+    v("variant", variant); v("policy", policy); v("rate", rate); v("max_speed", max_speed);
+    v("max_turn_rate", max_turn_rate); v("boost", boost); v("boost_threshold", boost_threshold);
+    v("boost_speed", boost_speed); v("boost_clearance", boost_clearance);
     v("local_goal_distance", local_goal_distance); v("path_direction_distance", path_direction_distance);
     v("heading_tolerance_deg", heading_tolerance_deg); v("heading_limit_deg", heading_limit_deg);
     v("heading_gain", heading_gain); v("min_turn_rate", min_turn_rate); v("footprint_length", footprint_length);
     v("footprint_width", footprint_width); v("safety", safety); v("backtrack_roi", backtrack_roi);
     v("roi_depth", roi_depth); v("backtrack_distance", backtrack_distance); v("backtrack_speed", backtrack_speed);
-    v("align_tolerance_deg", align_tolerance_deg); v("forward_speed", forward_speed);
-    v("forward_turn_rate", forward_turn_rate); v("forward_duration", forward_duration); v("nav", nav);
+    v("backtrack_reverse", backtrack_reverse); v("align_tolerance_deg", align_tolerance_deg);
+    v("wiggle_min_deg", wiggle_min_deg); v("wiggle_span", wiggle_span); v("wiggle_choices", wiggle_choices);
+    v("forward_speed", forward_speed); v("forward_turn_rate", forward_turn_rate);
+    v("forward_duration", forward_duration); v("nav", nav);
   }
 };
 void validate(const InventecConfig& config, core::Errors& errors, const std::string& prefix);
@@ -79,17 +150,34 @@ void validate(const InventecConfig& config, core::Errors& errors, const std::str
 /// observation and the checks of the current state only.
 struct InventecInputs {
   bool has_path = false;
-  double heading_error = 0.0;    // [rad] to the path direction
+  double heading_error = 0.0;    // [rad] path direction in the robot frame
   bool command_unsafe = false;   // LfLH: the safety check rejects the policy's command
-  bool rotation_unsafe = false;  // Heading: turning in place would touch an obstacle
-  bool backtrack_done = false;   // Backtrack: reached the breadcrumb (or there is none)
-  bool rear_blocked = false;     // Backtrack: lethal cells in the region behind
+  bool rotation_unsafe = false;  // HardTurn: turning in place is unsafe (rollout or LiDAR ring)
+  bool backtrack_done = false;   // BackTrack: reversed far enough (or stalled)
+  bool rear_blocked = false;     // BackTrack: lethal cells in the strip behind
+  bool wiggle_done = false;      // Wiggle: turned to the target (or the turn became unsafe)
   bool forward_done = false;     // Forward: the nudge has lasted forward_duration
-  bool forward_unsafe = false;   // Forward: the nudge would touch an obstacle
+  bool forward_unsafe = false;   // Forward, paper variant: the nudge would touch an obstacle
 };
 
 /// The state machine's transitions (see the header comment), as one pure function.
 InventecState nextInventecState(InventecState state, const InventecInputs& in, const InventecConfig& config);
+
+/// The code's local goal and path direction, from the path in the robot frame (x forward):
+/// start = the first path point, or the robot if that point is within 0.05 m.
+/// goal_direction = unit vector from the start to the first point more than goal_distance
+/// (Euclidean) from it, else to the last point. path_direction = the angle of the sum of the
+/// unit vectors from the start to every point more than 0.1 m from it, summing until the arc
+/// length walked exceeds direction_distance.
+struct PathCues {
+  Eigen::Vector2d goal_direction = Eigen::Vector2d::UnitX();
+  double path_direction = 0.0;  // [rad]
+};
+PathCues codePathCues(const nav::Path& local_path, double goal_distance, double direction_distance);
+
+/// The Wiggle's target heading: yaw + side * (min_angle + k * span / (choices - 1)), k drawn
+/// uniformly from 0..choices-1; side = +1 if path_direction >= 0, else -1.
+double wiggleTarget(double yaw, double path_direction, double min_angle, double span, int choices, core::Rng& rng);
 
 class InventecController : public Controller {
  public:
@@ -101,20 +189,30 @@ class InventecController : public Controller {
   InventecState state() const { return state_; }
 
  private:
-  bool commandUnsafe(const std::vector<Eigen::Vector2d>& points, const core::Twist& command) const;
-  void enter(InventecState state, const core::Pose2& pose, double time);
+  bool commandUnsafe(const std::vector<Eigen::Vector2d>& points, const core::LaserScan& scan,
+                     const core::Twist& command) const;
+  bool frontUnsafe(const std::vector<Eigen::Vector2d>& points, const core::LaserScan& scan,
+                   const core::Twist& command) const;
+  bool rotationUnsafe(const std::vector<Eigen::Vector2d>& points, const core::Twist& turn) const;
+  core::Twist shape(const core::Twist& raw, const core::LaserScan& scan) const;
+  void enter(InventecState state, const core::Pose2& pose, double time, double path_direction);
   core::Twist turnToward(double error) const;
 
   InventecConfig config_;
   std::shared_ptr<const learning::Policy> policy_;
   nav::NavStack nav_;
   EpisodeInfo info_;
+  core::Rng rng_{0};                         // the Wiggle's draws, seeded from the episode seed
   InventecState state_ = InventecState::Initial;
-  Box footprint_;                            // the robot rectangle
+  Box footprint_;                            // the robot rectangle (0.508 x 0.43)
+  FrontCheck front_;
   std::vector<Eigen::Vector2d> breadcrumbs_;  // odom positions driven in LfLH
   Eigen::Vector2d backtrack_target_ = Eigen::Vector2d::Zero();
-  bool has_backtrack_target_ = false;
-  bool aligned_ = false;                     // Backtrack: rear faces the target
+  bool aligned_ = false;                     // BackTrack: rear faces the target, reversing
+  Eigen::Vector2d reverse_start_ = Eigen::Vector2d::Zero();
+  double reversed_ = 0.0;                    // [m] BackTrack: distance from reverse_start_ last tick
+  int reverse_ticks_ = 0;
+  double wiggle_target_ = 0.0;               // [rad] odom yaw
   double forward_started_ = 0.0;             // [s]
 };
 

@@ -27,9 +27,10 @@ struct LflhConfig {
     v("max_turn_rate", max_turn_rate); v("nav", nav);
   }
 
-  /// The LfLH/Inventec move_base costmaps (controllers.md 1.6): footprint padding 0.075, a wide
-  /// exponential inflation that keeps the NavFn path in the middle of gaps (k = 3 global,
-  /// 1 local; BARN's 5 m radius cut at 1 m, where the global cost has fallen to 26 of 252).
+  /// The LfLH/Inventec move_base costmaps (the Inventec team's published move_base
+  /// configuration): footprint padding 0.075, a wide exponential inflation that keeps the NavFn
+  /// path in the middle of gaps (k = 3 global, 1 local; BARN's 5 m radius cut at 1 m, where the
+  /// global cost has fallen to 26 of 252).
   static nav::NavStackConfig lflhNav();
 };
 void validate(const LflhConfig& config, core::Errors& errors, const std::string& prefix);

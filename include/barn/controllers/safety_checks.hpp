@@ -5,6 +5,7 @@
 /// Robot frame throughout: x forward, y left, origin at the robot centre. LiDAR points include
 /// the sensor's mounting offset.
 
+#include <numbers>
 #include <vector>
 
 #include <Eigen/Core>
@@ -34,12 +35,42 @@ std::vector<Eigen::Vector2d> scanPoints(const core::LaserScan& scan, const sim::
 /// A direct rectangle test, the whole of what the original did with a polygon library.
 bool footprintInflationHit(const std::vector<Eigen::Vector2d>& points, const Box& inflated);
 
-/// MPC rollout: rolls (v, w) forward with the unicycle model (x += v cos(psi) dt,
+/// Which poses of a rollout are checked.
+enum class RolloutPoses { Every, Final };
+
+/// Rollout: rolls (v, w) forward with the unicycle model (x += v cos(psi) dt,
 /// y += v sin(psi) dt, psi += w dt, one consistent model) for `steps` steps and returns true
-/// if the footprint at any step contains a point. (The published code measured distances as
-/// |x| + |y| and mirrored the lateral drift against the rotation; neither is copied here.)
+/// if the footprint at any step (RolloutPoses::Every, the team's real-world "MPC" check) or at
+/// the last step only (RolloutPoses::Final, their simulation check) contains a point. (The
+/// real-world code mirrored the lateral drift against the rotation; that is not copied here.)
 bool rolloutHit(const std::vector<Eigen::Vector2d>& points, const Box& footprint, const core::Twist& command,
-                double dt, int steps);
+                double dt, int steps, RolloutPoses poses = RolloutPoses::Every);
+
+/// The front check of the team's simulation code: a rectangle |y| <= half_width + pad_x
+/// (lateral), x from -half_length to half_length + max(pad_front, speed_gain * v) (forward),
+/// rotated about the robot centre by rotate_gain * w toward the turn. True if a return whose beam
+/// bearing is within +-front_angle of straight ahead lies inside. Returns at larger bearings are
+/// ignored, however close.
+struct FrontCheck {
+  double front_angle = 47.0 * std::numbers::pi / 180.0;  // [rad] code: lidar.front_angle 47 deg
+  double half_width = 0.215;   // [m] code: 0.43 / 2
+  double half_length = 0.254;  // [m] code: 0.508 / 2
+  double pad_x = 0.01;         // [m] code: front_pad_x_m (lateral, each side)
+  double pad_front = 0.1;      // [m] code: front_pad_y_m (the minimum reach past the front edge)
+  double speed_gain = 0.25;    // [s] code: linear_v_gain
+  double rotate_gain = 0.2;    // [s] code: rotate_w_gain
+};
+bool frontCheckHit(const core::LaserScan& scan, const sim::LidarConfig& lidar, const core::Twist& command,
+                   const FrontCheck& check);
+
+/// The LiDAR ring of the team's code (`is_collide`): true if any raw range (from the sensor, not
+/// the robot centre) is at or below a threshold that grows linearly with |bearing| from `front`
+/// straight ahead to `edge` at the scan's widest bearing (the code's linspace over beam indices).
+bool ringHit(const core::LaserScan& scan, double front, double edge);
+
+/// True if every return within +-angle of straight ahead is farther than `distance` from the
+/// sensor (misses count as far): the team's condition for the speed boost.
+bool frontClear(const core::LaserScan& scan, double angle, double distance);
 
 /// The backtrack region of interest: a strip as wide as the footprint and `depth` deep directly
 /// behind it. True if any cell of the (rolling, remembering) costmap there is lethal — the
