@@ -18,6 +18,9 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq "${missing[@]}"
 fi
 
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
+# CI (CI=true) builds with warnings as errors; elsewhere warnings stay warnings.
+werror=OFF
+[ "${CI:-}" = "true" ] && werror=ON
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DBARN_WARNINGS_AS_ERRORS="$werror"
 cmake --build build -j "$(nproc)"
 echo "setup: built build/barn"

@@ -54,6 +54,7 @@ void validate(const EpisodeConfig& config, core::Errors& errors) {
   errors.check(config.odometry.position_stddev >= 0.0, "odometry.position_stddev", "must be >= 0");
   errors.check(config.odometry.yaw_stddev >= 0.0, "odometry.yaw_stddev", "must be >= 0");
   errors.check(config.odometry.speed_stddev >= 0.0, "odometry.speed_stddev", "must be >= 0");
+  validate(config.odometry.drift, errors, "odometry.drift");
   if (config.physics.rate > 0 && config.lidar.rate > 0) {
     errors.check(stepsIn(1.0 / config.lidar.rate, config.physics.dt()).has_value(), "lidar.rate",
                  "the scan period must be a whole number of physics steps (physics.rate / lidar.rate integer)");
@@ -88,6 +89,8 @@ EpisodeResult runEpisode(const core::WorldSpec& world, const sim::ObstacleField&
   core::FastNoise noise(core::mixSeed(seed, 1));
   core::FastNoise odometry_noise(core::mixSeed(seed, 3));
   const OdometryNoise& odom_sigma = config.odometry;
+  std::optional<DriftingOdometry> drifting;
+  if (odom_sigma.drift.enabled()) drifting.emplace(odom_sigma.drift, start, core::mixSeed(seed, 4));
 
   controllers::EpisodeInfo info;
   info.start = {0.0, 0.0, protocol.start_yaw};
@@ -125,7 +128,7 @@ EpisodeResult runEpisode(const core::WorldSpec& world, const sim::ObstacleField&
       controllers::Observation obs;
       obs.time = now;
       obs.scan = &scan;
-      obs.odom_pose = {pose.x - odom_origin.x(), pose.y - odom_origin.y(), pose.yaw};
+      obs.odom_pose = drifting ? drifting->pose() : core::Pose2{pose.x - odom_origin.x(), pose.y - odom_origin.y(), pose.yaw};
       obs.odom_twist = {simulator.forwardSpeed(), simulator.yawRate()};
       if (odom_sigma.position_stddev > 0.0 || odom_sigma.yaw_stddev > 0.0 || odom_sigma.speed_stddev > 0.0) {
         obs.odom_pose.x += odom_sigma.position_stddev * odometry_noise.normal();
@@ -155,6 +158,7 @@ EpisodeResult runEpisode(const core::WorldSpec& world, const sim::ObstacleField&
 
     simulator.step();
     const core::Pose2 pose = simulator.pose();
+    if (drifting) drifting->update(pose, dt);
     result.path_length += (pose.position() - previous).norm();
     previous = pose.position();
 

@@ -177,18 +177,18 @@ std::optional<Demonstration> hallucinate(const Recording& recording, std::size_t
   constexpr int kMaxIterations = 200;
   constexpr double kMaxPush = 4.0;       // [m]
   constexpr double kOvershoot = 1e-7;    // [m] each step goes this far past the estimate
-  // Slides `shape` from `origin` along `direction` until its gap to the sweep is `clearance`:
+  // Slides `shape` from `from` along `direction` until its gap to the sweep is `clearance`:
   // each step covers the clearance still missing, so it stops at the first valid spot.
-  const auto pushOut = [&](const Obstacle& shape, const Eigen::Vector2d& origin, double direction,
+  const auto pushOut = [&](const Obstacle& shape, const Eigen::Vector2d& from, double direction,
                            double clearance) -> std::optional<Obstacle> {
     const Eigen::Vector2d ray(std::cos(direction), std::sin(direction));
     const double target = clearance + swept.inflation();
     double push = 0.0;
-    Obstacle placed = translated(shape, origin);
+    Obstacle placed = translated(shape, from);
     double missing = target - swept.gap(placed);
     for (int it = 0; it < kMaxIterations && missing > 0.0 && push < kMaxPush; ++it) {
       push += missing + kOvershoot;
-      placed = translated(shape, origin + push * ray);
+      placed = translated(shape, from + push * ray);
       missing = target - swept.gap(placed);
     }
     if (missing > 0.0) return std::nullopt;

@@ -17,6 +17,7 @@
 #include "barn/controllers/controller.hpp"
 #include "barn/core/protocol.hpp"
 #include "barn/core/world.hpp"
+#include "barn/bench/odometry_drift.hpp"
 #include "barn/sim/lidar.hpp"
 #include "barn/sim/obstacle_field.hpp"
 #include "barn/sim/robot_config.hpp"
@@ -24,14 +25,17 @@
 
 namespace barn::bench {
 
-/// Optional white Gaussian noise on the odometry a controller sees (0 = ground truth, the
-/// default: BARN's EKF odometry drifts little over a 100 s episode).
+/// The odometry a controller sees: the ground truth shifted to the start (the default), an
+/// integrated dead-reckoning estimate that drifts (`drift`, see odometry_drift.hpp), and/or
+/// white Gaussian noise added on top at every control tick.
 struct OdometryNoise {
   double position_stddev = 0.0;  // [m] on x and y
   double yaw_stddev = 0.0;       // [rad]
   double speed_stddev = 0.0;     // [m/s] on the forward speed; [rad/s] on the yaw rate
+  OdometryDriftConfig drift;
   template <class V> void visit(V& v) {
     v("position_stddev", position_stddev); v("yaw_stddev", yaw_stddev); v("speed_stddev", speed_stddev);
+    v("drift", drift);
   }
 };
 

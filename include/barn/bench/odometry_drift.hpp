@@ -1,0 +1,61 @@
+#pragma once
+/// Optional dead-reckoning odometry, a realism setting for fidelity studies (off by default).
+///
+/// BARN's controllers read `odometry/filtered`: robot_localization's EKF over the Jackal's wheel
+/// odometry (forward speed and yaw rate from the encoders) and its IMU gyro. Such an estimate
+/// is integrated, so its errors accumulate: a per-episode wheel scale error (tyre radius,
+/// skid), wheel speed noise, a gyro bias and gyro noise, and no sight of sideways slip (the
+/// wheels cannot measure it). The odom frame therefore drifts away from the world, the
+/// costmaps smear, and a robot turning in place is not at a perfectly fixed point.
+///
+/// With every value 0 (the default) the odometry is the ground truth shifted to the start.
+
+#include <cstdint>
+
+#include "barn/core/errors.hpp"
+#include "barn/core/rng.hpp"
+#include "barn/core/types.hpp"
+
+namespace barn::bench {
+
+struct OdometryDriftConfig {
+  double speed_scale_stddev = 0.0;    // [-] per-episode relative error of the wheel speed
+  double speed_noise_density = 0.0;   // [m/s/sqrt(Hz)] white noise on the measured speed
+  double gyro_bias_stddev = 0.0;      // [rad/s] per-episode constant gyro bias
+  double gyro_noise_density = 0.0;    // [rad/s/sqrt(Hz)] white noise on the measured yaw rate
+  bool see_sideways_slip = true;      // false: sideways slip is not in the estimate (wheels)
+  template <class V> void visit(V& v) {
+    v("speed_scale_stddev", speed_scale_stddev); v("speed_noise_density", speed_noise_density);
+    v("gyro_bias_stddev", gyro_bias_stddev); v("gyro_noise_density", gyro_noise_density);
+    v("see_sideways_slip", see_sideways_slip);
+  }
+  bool enabled() const {
+    return speed_scale_stddev > 0.0 || speed_noise_density > 0.0 || gyro_bias_stddev > 0.0 ||
+           gyro_noise_density > 0.0 || !see_sideways_slip;
+  }
+};
+
+void validate(const OdometryDriftConfig& config, core::Errors& errors, const std::string& prefix);
+
+/// The integrated estimate: feed it the true pose after every physics step.
+class DriftingOdometry {
+ public:
+  /// `start` is the true pose at which the estimate equals the odom origin with the true yaw.
+  DriftingOdometry(const OdometryDriftConfig& config, const core::Pose2& start, std::uint64_t seed);
+
+  /// Integrates the motion from the previous true pose to `now` over `dt` seconds.
+  void update(const core::Pose2& now, double dt);
+
+  /// The estimate in the odom frame (origin at the start position, yaw as the world's).
+  const core::Pose2& pose() const { return estimate_; }
+
+ private:
+  OdometryDriftConfig config_;
+  core::FastNoise noise_;
+  core::Pose2 previous_;   // true pose at the last update
+  core::Pose2 estimate_;   // odom frame
+  double speed_scale_ = 1.0;
+  double gyro_bias_ = 0.0;
+};
+
+}  // namespace barn::bench
