@@ -1,6 +1,7 @@
 #include "barn/bench/episode.hpp"
 
 #include <cmath>
+#include <deque>
 #include <exception>
 
 #include "barn/core/world_geometry.hpp"
@@ -55,6 +56,7 @@ void validate(const EpisodeConfig& config, core::Errors& errors) {
   errors.check(config.odometry.yaw_stddev >= 0.0, "odometry.yaw_stddev", "must be >= 0");
   errors.check(config.odometry.speed_stddev >= 0.0, "odometry.speed_stddev", "must be >= 0");
   validate(config.odometry.drift, errors, "odometry.drift");
+  errors.check(config.latency.command >= 0.0 && config.latency.command <= 1.0, "latency.command", "must be in [0, 1] s");
   if (config.physics.rate > 0 && config.lidar.rate > 0) {
     errors.check(stepsIn(1.0 / config.lidar.rate, config.physics.dt()).has_value(), "lidar.rate",
                  "the scan period must be a whole number of physics steps (physics.rate / lidar.rate integer)");
@@ -106,6 +108,8 @@ EpisodeResult runEpisode(const core::WorldSpec& world, const sim::ObstacleField&
   const long check_steps = *stepsIn(protocol.check_period, dt);
   const long control_steps = std::max(1L, std::lround(controller.period() / dt));
   const long max_steps = std::lround((protocol.timeout + 1.0) / dt);
+  const long latency_steps = std::lround(config.latency.command / dt);
+  std::deque<std::pair<long, core::Twist>> in_flight;  // (step it takes effect, command)
 
   try {
     controller.reset(info);
@@ -151,11 +155,16 @@ EpisodeResult runEpisode(const core::WorldSpec& world, const sim::ObstacleField&
         result.error = "controller returned a non-finite command";
         break;
       }
-      simulator.command(cmd);
+      if (latency_steps == 0) simulator.command(cmd);
+      else in_flight.emplace_back(step + latency_steps, cmd);
       countStateEntry(result.state_entries, last_state, controller.stateLabel());
       if (record_trajectory) result.trajectory.push_back({now, pose, cmd, std::string(controller.stateLabel())});
     }
 
+    while (!in_flight.empty() && in_flight.front().first <= step) {
+      simulator.command(in_flight.front().second);
+      in_flight.pop_front();
+    }
     simulator.step();
     const core::Pose2 pose = simulator.pose();
     if (drifting) drifting->update(pose, dt);

@@ -39,6 +39,15 @@ struct OdometryNoise {
   }
 };
 
+/// Delays between the controller and the robot, a realism setting (0 = none, the default).
+/// Under ROS a command reaches Gazebo's drive plugin some time after the scan it was computed
+/// from: costmap updates run in their own thread at 20 Hz, the controller reads whatever map is
+/// there, and cmd_vel crosses a topic. Rounded to whole physics steps.
+struct LatencyConfig {
+  double command = 0.0;  // [s] from the controller's tick to the drive applying its command
+  template <class V> void visit(V& v) { v("command", command); }
+};
+
 /// Everything about an episode except the world and the controller.
 struct EpisodeConfig {
   std::string protocol = "barn2023";  // protocol preset (barn2023, barn2024)
@@ -46,9 +55,11 @@ struct EpisodeConfig {
   sim::RobotConfig robot;
   sim::LidarConfig lidar;
   OdometryNoise odometry;
+  LatencyConfig latency;
 
   template <class V> void visit(V& v) {
     v("protocol", protocol); v("physics", physics); v("robot", robot); v("lidar", lidar); v("odometry", odometry);
+    v("latency", latency);
   }
 };
 
