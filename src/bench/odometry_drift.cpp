@@ -8,6 +8,7 @@ void validate(const OdometryDriftConfig& c, core::Errors& errors, const std::str
   errors.check(c.speed_scale_stddev >= 0.0 && c.speed_scale_stddev < 0.5, prefix + ".speed_scale_stddev",
                "must be in [0, 0.5)");
   errors.check(c.speed_noise_density >= 0.0, prefix + ".speed_noise_density", "must be >= 0");
+  errors.check(c.turn_scale_stddev >= 0.0 && c.turn_scale_stddev < 0.5, prefix + ".turn_scale_stddev", "must be in [0, 0.5)");
   errors.check(c.gyro_bias_stddev >= 0.0, prefix + ".gyro_bias_stddev", "must be >= 0");
   errors.check(c.gyro_noise_density >= 0.0, prefix + ".gyro_noise_density", "must be >= 0");
 }
@@ -16,6 +17,7 @@ DriftingOdometry::DriftingOdometry(const OdometryDriftConfig& config, const core
     : config_(config), noise_(seed), previous_(start), estimate_{0.0, 0.0, start.yaw} {
   speed_scale_ = 1.0 + config.speed_scale_stddev * noise_.normal();
   gyro_bias_ = config.gyro_bias_stddev * noise_.normal();
+  turn_scale_ = 1.0 + config.turn_scale_stddev * noise_.normal();
 }
 
 void DriftingOdometry::update(const core::Pose2& now, double dt) {
@@ -31,7 +33,7 @@ void DriftingOdometry::update(const core::Pose2& now, double dt) {
   const double sqrt_dt = std::sqrt(dt);
   const double measured_forward = forward * speed_scale_ + config_.speed_noise_density * sqrt_dt * noise_.normal();
   const double measured_sideways = config_.see_sideways_slip ? sideways : 0.0;
-  const double measured_turn = turn + gyro_bias_ * dt + config_.gyro_noise_density * sqrt_dt * noise_.normal();
+  const double measured_turn = turn * turn_scale_ + gyro_bias_ * dt + config_.gyro_noise_density * sqrt_dt * noise_.normal();
   const double ec = std::cos(estimate_.yaw), es = std::sin(estimate_.yaw);
   estimate_.x += ec * measured_forward - es * measured_sideways;
   estimate_.y += es * measured_forward + ec * measured_sideways;

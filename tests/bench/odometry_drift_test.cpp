@@ -9,7 +9,7 @@ namespace {
 
 TEST(OdometryDrift, WithoutErrorsTheEstimateIsTheTruthShiftedToTheStart) {
   const core::Pose2 start{-2.0, 3.0, 1.57};
-  DriftingOdometry odometry({}, start, 7);
+  DriftingOdometry odometry(OdometryDriftConfig::groundTruth(), start, 7);
   // A 1 s quarter-circle arc at 200 Hz: the estimate follows the truth exactly.
   core::Pose2 pose = start;
   for (int i = 1; i <= 200; ++i) {
@@ -24,7 +24,7 @@ TEST(OdometryDrift, WithoutErrorsTheEstimateIsTheTruthShiftedToTheStart) {
 }
 
 TEST(OdometryDrift, AWheelScaleErrorStretchesEveryDistanceByTheSameFactor) {
-  OdometryDriftConfig config;
+  OdometryDriftConfig config = OdometryDriftConfig::groundTruth();
   config.speed_scale_stddev = 0.02;
   DriftingOdometry odometry(config, {0.0, 0.0, 0.0}, 11);
   core::Pose2 pose{0.0, 0.0, 0.0};
@@ -41,7 +41,7 @@ TEST(OdometryDrift, AWheelScaleErrorStretchesEveryDistanceByTheSameFactor) {
 }
 
 TEST(OdometryDrift, AGyroBiasTurnsTheEstimateOfAStandingRobotLinearlyInTime) {
-  OdometryDriftConfig config;
+  OdometryDriftConfig config = OdometryDriftConfig::groundTruth();
   config.gyro_bias_stddev = 0.01;
   DriftingOdometry odometry(config, {0.0, 0.0, 0.0}, 5);
   for (int i = 1; i <= 100; ++i) odometry.update({0.0, 0.0, 0.0}, 0.01);  // 1 s
@@ -53,7 +53,7 @@ TEST(OdometryDrift, AGyroBiasTurnsTheEstimateOfAStandingRobotLinearlyInTime) {
 }
 
 TEST(OdometryDrift, WheelsDoNotSeeSidewaysSlip) {
-  OdometryDriftConfig config;
+  OdometryDriftConfig config = OdometryDriftConfig::groundTruth();
   config.see_sideways_slip = false;
   DriftingOdometry odometry(config, {0.0, 0.0, 0.0}, 3);
   core::Pose2 pose{0.0, 0.0, 0.0};
@@ -65,8 +65,29 @@ TEST(OdometryDrift, WheelsDoNotSeeSidewaysSlip) {
   EXPECT_NEAR(odometry.pose().y, 0.0, 1e-12);
 }
 
+TEST(OdometryDrift, ATurnRateErrorScalesEveryTurn) {
+  OdometryDriftConfig config = OdometryDriftConfig::groundTruth();
+  config.turn_scale_stddev = 0.05;
+  DriftingOdometry odometry(config, {0.0, 0.0, 0.0}, 9);
+  for (int i = 1; i <= 100; ++i) odometry.update({0.0, 0.0, 0.01 * i}, 0.01);  // 1 rad in place
+  const double after_1rad = odometry.pose().yaw;
+  for (int i = 101; i <= 200; ++i) odometry.update({0.0, 0.0, 0.01 * i}, 0.01);
+  EXPECT_NE(after_1rad, 1.0);
+  EXPECT_NEAR(odometry.pose().yaw, 2.0 * after_1rad, 1e-9);
+}
+
+TEST(OdometryDrift, TheDefaultsAreOnAndDrift) {
+  // The shipped defaults drift: a 1 m straight drive is not estimated as exactly 1 m.
+  DriftingOdometry odometry(OdometryDriftConfig{}, {0.0, 0.0, 0.0}, 1);
+  ASSERT_TRUE(OdometryDriftConfig{}.enabled());
+  for (int i = 1; i <= 200; ++i) odometry.update({0.005 * i, 0.0, 0.0}, 0.005);
+  EXPECT_NE(odometry.pose().x, 1.0);
+  EXPECT_NEAR(odometry.pose().x, 1.0, 0.1);
+  EXPECT_FALSE(OdometryDriftConfig::groundTruth().enabled());
+}
+
 TEST(OdometryDrift, TheSameSeedGivesTheSameEstimate) {
-  OdometryDriftConfig config;
+  OdometryDriftConfig config = OdometryDriftConfig::groundTruth();
   config.speed_noise_density = 0.01;
   config.gyro_noise_density = 0.01;
   DriftingOdometry a(config, {0.0, 0.0, 0.0}, 42), b(config, {0.0, 0.0, 0.0}, 42);
