@@ -116,7 +116,7 @@ void Simulator::step() {
   const double max_change = robot_.traction_coefficient * robot_.gravity * dt;
   if (change.norm() > max_change) change *= max_change / change.norm();
   velocity_ += change;
-  yaw_rate_ += clampAbs(wheel_.angular - yaw_rate_, robot_.max_angular_traction_accel * dt);
+  yaw_rate_ += clampAbs(robot_.turn_efficiency * wheel_.angular - yaw_rate_, robot_.max_angular_traction_accel * dt);
 
   // 4. Integrate with Box2D, then the exact collision test.
   b2Body* body = box2d_->robot;

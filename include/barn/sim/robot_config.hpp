@@ -46,6 +46,11 @@ struct RobotConfig {
   double gravity = 9.81;              // [m/s^2]
   double max_angular_traction_accel = 40.0;  // [rad/s^2] yaw acceleration friction allows
                                              // (mu g m (track/2) / I_zz, about 40 for the Jackal)
+  // Skid-steer turning: the yaw rate the body reaches per unit of the drive's turn set-point.
+  // diff_drive_controller scales wheel speeds by wheel_separation_multiplier (1.5 on the
+  // Jackal) to make up for the wheels' sideways slip; where the ground slips more or less than
+  // that assumes, the robot turns slower or faster than commanded. 1 = as commanded.
+  double turn_efficiency = 1.0;              // [-]
 
   template <class V> void visit(V& v) {
     v("chassis_length", chassis_length); v("chassis_width", chassis_width);
@@ -55,7 +60,7 @@ struct RobotConfig {
     v("max_linear_speed", max_linear_speed); v("max_linear_accel", max_linear_accel);
     v("max_angular_speed", max_angular_speed); v("max_angular_accel", max_angular_accel);
     v("cmd_timeout", cmd_timeout); v("traction_coefficient", traction_coefficient); v("gravity", gravity);
-    v("max_angular_traction_accel", max_angular_traction_accel);
+    v("max_angular_traction_accel", max_angular_traction_accel); v("turn_efficiency", turn_efficiency);
   }
 
   /// The five collision rectangles: chassis and four wheels.
