@@ -1,6 +1,11 @@
 #pragma once
-/// The global planner: Dijkstra on the costmap, as move_base's NavFn.
+/// The global planner, one of two algorithms (planner.algorithm):
+///  - navfn: ROS NavFn as move_base runs it (navfn.hpp): a potential field grown from the
+///    robot with NavFn's interpolated 4-neighbour update, and a path by gradient descent, so
+///    paths are not quantised to 45 degrees. Recomputed in full at every plan.
+///  - dijkstra (default): the 8-connected cell Dijkstra below.
 ///
+/// dijkstra:
 /// Each cell costs neutral_cost + cost_factor * (its costmap cost) to enter (NavFn's
 /// COST_NEUTRAL 50 and COST_FACTOR 0.8), times the step length (1 or sqrt 2 cells), so paths
 /// keep away from obstacles as much as the inflation says. Inscribed and lethal cells are
@@ -15,12 +20,14 @@
 /// list is a bucket queue (Dial's algorithm): exact Dijkstra on those integer costs.
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "barn/core/errors.hpp"
 #include "barn/nav/costmap.hpp"
+#include "barn/nav/navfn.hpp"
 
 namespace barn::nav {
 
@@ -29,10 +36,11 @@ struct PlannerConfig {
   bool allow_unknown = false;  // NavFn allow_unknown
   double neutral_cost = 50.0;  // cost of entering a free cell
   double cost_factor = 0.8;    // weight of the costmap cost
-  int smoothing_window = 0;    // cells of moving-average smoothing (0 = raw cell path)
+  int smoothing_window = 0;    // cells of moving-average smoothing (0 = raw cell path; dijkstra only)
+  std::string algorithm = "dijkstra";  // navfn | dijkstra (see the header comment)
 
   template <class V> void visit(V& v) {
-    v("rate", rate); v("allow_unknown", allow_unknown); v("neutral_cost", neutral_cost);
+    v("algorithm", algorithm); v("rate", rate); v("allow_unknown", allow_unknown); v("neutral_cost", neutral_cost);
     v("cost_factor", cost_factor); v("smoothing_window", smoothing_window);
   }
 };
@@ -41,8 +49,13 @@ void validate(const PlannerConfig& config, core::Errors& errors, const std::stri
 
 struct Plan {
   bool found = false;
-  std::vector<Eigen::Vector2d> path;  // [m] odom frame, start cell centre ... goal cell centre
-  std::int64_t cost = 0;              // total edge cost of the cell path (integer units)
+  // [m] odom frame. dijkstra: start cell centre ... goal cell centre. navfn: as NavfnROS, the
+  // robot cell's corner (origin + index res, no half cell), the descent's points likewise,
+  // then the requested goal itself.
+  std::vector<Eigen::Vector2d> path;
+  // dijkstra: total edge cost of the cell path (integer units). navfn: the goal's potential,
+  // rounded.
+  std::int64_t cost = 0;
 };
 
 class GlobalPlanner {
@@ -54,13 +67,18 @@ class GlobalPlanner {
   /// negative if the cell cannot be entered. round(10 (neutral + factor c) length).
   int stepCost(std::uint8_t c, bool diagonal) const;
 
-  /// Cells settled by the last field computation (for reports).
+  /// Cells settled by the last field computation (dijkstra), or cell updates of the last
+  /// propagation (navfn) (for reports).
   std::size_t lastExpanded() const { return last_expanded_; }
 
  private:
   void computeField(const Costmap& costmap, CellIndex goal, CellIndex start);
+  Plan planNavFn(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal);
 
   PlannerConfig config_;
+  bool use_navfn_ = false;
+  NavFn navfn_;
+  std::vector<Eigen::Vector2f> navfn_points_;  // scratch: the descent's points
   std::vector<int> straight_cost_;  // by costmap cost (256 entries), -1 impassable
   std::vector<int> diagonal_cost_;
   // The cost-to-goal field and where it was computed.
