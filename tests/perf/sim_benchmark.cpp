@@ -101,14 +101,17 @@ void BM_GlobalPlan(benchmark::State& state) {
   if (state.range(2) > 0) planner_config.algorithm = "navfn";  // a full propagation every plan
   nav::GlobalPlanner planner(planner_config);
   std::size_t plans = 0;
+  std::size_t found = 0;
   for (auto _ : state) {
     // Alternate between two goals so each plan recomputes the whole field.
     const Eigen::Vector2d goal(plans % 2 ? 0.12 : 0.02, 10.0);
     auto plan = planner.plan(costmap, {0.0, 0.0}, goal);
     benchmark::DoNotOptimize(plan.path.data());
+    found += plan.found ? 1 : 0;
     ++plans;
   }
   state.counters["expanded_cells"] = static_cast<double>(planner.lastExpanded());
+  state.counters["found"] = plans > 0 ? static_cast<double>(found) / static_cast<double>(plans) : 0.0;
 }
 // Args: world id, LfLH inflation, navfn (0 = dijkstra).
 BENCHMARK(BM_GlobalPlan)

@@ -3,7 +3,11 @@
 ///  - navfn: ROS NavFn as move_base runs it (navfn.hpp): a potential field grown from the
 ///    robot with NavFn's interpolated 4-neighbour update, and a path by gradient descent, so
 ///    paths are not quantised to 45 degrees. Recomputed in full at every plan.
-///  - dijkstra (default): the 8-connected cell Dijkstra below.
+///  - dijkstra (default): the 8-connected cell Dijkstra below. Its paths follow parent cells
+///    (45-degree steps) and, at a fork around an obstacle cluster, can flip between two
+///    near-equal routes from one plan to the next.
+/// neutral_cost and cost_factor are NavFn's COST_NEUTRAL and COST_FACTOR for both;
+/// smoothing_window applies to dijkstra only.
 ///
 /// dijkstra:
 /// Each cell costs neutral_cost + cost_factor * (its costmap cost) to enter (NavFn's
@@ -13,11 +17,11 @@
 /// the corner of an impassable cell. The start cell may be impassable (a robot brushing an
 /// obstacle must still be able to leave); the goal may not.
 ///
-/// Like NavFn, the search runs from the goal and yields a cost-to-goal field; the path from the
-/// start follows it downhill. The search stops once the start's cost is final, and the field
+/// Unlike NavFn (whose field is rooted at the robot), the search runs from the goal and yields
+/// a cost-to-goal field; the path from the start follows it downhill. The search stops once the start's cost is final, and the field
 /// is reused while the costmap and the goal are unchanged and the new start is settled, so
-/// replanning at 20 Hz between 10 Hz map updates mostly costs only the path extraction. Edge costs are rounded to integers (tenths of the NavFn unit) so the open
-/// list is a bucket queue (Dial's algorithm): exact Dijkstra on those integer costs.
+/// replanning at 20 Hz between 10 Hz map updates mostly costs only the path extraction. Edge
+/// costs are rounded to integers (tenths of the NavFn unit) so the open list is a bucket queue (Dial's algorithm): exact Dijkstra on those integer costs.
 
 #include <cstdint>
 #include <string>
