@@ -40,6 +40,7 @@ void NavFn::resize(int nx, int ny) {
   grady_.assign(n, 0.0f);
   pending_.assign(n, 0);
   for (auto& b : buf_) b.assign(n, 0);
+  grad_cells_.clear();
   map_ = nullptr;
   cleared_cell_ = -1;
 }
@@ -72,8 +73,9 @@ bool NavFn::propagate(CellIndex robot, CellIndex goal) {
   cost_[static_cast<std::size_t>(robot_)] = static_cast<std::uint8_t>(cost_lut_[kFreeCost]);
 
   std::fill(pot_.begin(), pot_.end(), kPotHigh);
-  std::fill(gradx_.begin(), gradx_.end(), 0.0f);
-  std::fill(grady_.begin(), grady_.end(), 0.0f);
+  // setupNavFn zeroes every gradient; only the cells the last descent computed can be nonzero.
+  for (const int c : grad_cells_) gradx_[static_cast<std::size_t>(c)] = grady_[static_cast<std::size_t>(c)] = 0.0f;
+  grad_cells_.clear();
   std::fill(pending_.begin(), pending_.end(), 0);
   cur_ = buf_[0].data();
   next_ = buf_[1].data();
@@ -205,6 +207,7 @@ void NavFn::gradCell(int n) {
     const float inv = 1.0f / norm;
     gradx_[i] = inv * dx;
     grady_[i] = inv * dy;
+    grad_cells_.push_back(n);
   }
 }
 

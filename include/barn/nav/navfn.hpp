@@ -79,7 +79,8 @@ class NavFn {
   int nx_ = 0, ny_ = 0, ns_ = 0;
   std::vector<std::uint8_t> cost_;  // NavFn costarr
   std::vector<float> pot_;          // NavFn potarr
-  std::vector<float> gradx_, grady_;
+  std::vector<float> gradx_, grady_;  // normalised gradient cache (0, 0 = not computed)
+  std::vector<int> grad_cells_;        // cells with a cached gradient, to reset
   std::vector<char> pending_;
   // The current / next / overflow buffers. NavFn caps each at 10000 cells and drops pushes
   // beyond; here each is a preallocated array of ns cells (a cell is in at most one buffer at
