@@ -14,7 +14,7 @@ constexpr float kPathStep = 0.5f;  // [cells] NavFn pathStep
 }  // namespace
 
 NavFn::NavFn(bool allow_unknown, double neutral_cost, double cost_factor)
-    : allow_unknown_(allow_unknown), neutral_(static_cast<float>(neutral_cost)), cost_lut_(256, kCostObs) {
+    : allow_unknown_(allow_unknown), neutral_(static_cast<float>(neutral_cost)), cost_lut_(256, kCostObs), edge_lut_(256, 0.0f) {
   for (int c = 0; c < 256; ++c) {
     int v = kCostObs;
     if (c < kInscribedCost) {
@@ -25,6 +25,8 @@ NavFn::NavFn(bool allow_unknown, double neutral_cost, double cost_factor)
       v = kCostObs - 1;
     }
     cost_lut_[static_cast<std::size_t>(c)] = v;
+    // float(INVSQRT2 * cost), computed in double as NavFn does, for every NavFn cost.
+    edge_lut_[static_cast<std::size_t>(c)] = static_cast<float>(kInvSqrt2 * c);
   }
 }
 
@@ -159,10 +161,10 @@ void NavFn::updateCell(int n) {
   pot_[i] = pot;
   // Queue each neighbour whose potential exceeds pot + cost(neighbour) / sqrt 2 (compared
   // with the values read before this update, as NavFn does).
-  const float le = static_cast<float>(kInvSqrt2 * cost_[i - 1]);
-  const float re = static_cast<float>(kInvSqrt2 * cost_[i + 1]);
-  const float ue = static_cast<float>(kInvSqrt2 * cost_[i - w]);
-  const float de = static_cast<float>(kInvSqrt2 * cost_[i + w]);
+  const float le = edge_lut_[cost_[i - 1]];
+  const float re = edge_lut_[cost_[i + 1]];
+  const float ue = edge_lut_[cost_[i - w]];
+  const float de = edge_lut_[cost_[i + w]];
   int* buffer = next_;
   int* size = &next_size_;
   if (!(pot < threshold_)) {

@@ -74,7 +74,8 @@ class NavFn {
 
   bool allow_unknown_;
   float neutral_;
-  std::vector<int> cost_lut_;  // NavFn cost by costmap cost (256 entries)
+  std::vector<int> cost_lut_;    // NavFn cost by costmap cost (256 entries)
+  std::vector<float> edge_lut_;  // INVSQRT2 * NavFn cost, by NavFn cost (256 entries)
 
   int nx_ = 0, ny_ = 0, ns_ = 0;
   std::vector<std::uint8_t> cost_;  // NavFn costarr
