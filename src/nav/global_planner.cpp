@@ -1,5 +1,6 @@
 #include "barn/nav/global_planner.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -15,9 +16,11 @@ void validate(const PlannerConfig& c, core::Errors& errors, const std::string& p
   errors.check(c.neutral_cost > 0.0 && c.neutral_cost <= 1000.0, prefix + ".neutral_cost", "must be in (0, 1000]");
   errors.check(c.cost_factor >= 0.0 && c.cost_factor <= 100.0, prefix + ".cost_factor", "must be in [0, 100]");
   errors.check(c.smoothing_window >= 0, prefix + ".smoothing_window", "must be >= 0");
+  errors.check(c.algorithm == "navfn" || c.algorithm == "dijkstra", prefix + ".algorithm", "must be navfn or dijkstra");
 }
 
-GlobalPlanner::GlobalPlanner(const PlannerConfig& config) : config_(config) {
+GlobalPlanner::GlobalPlanner(const PlannerConfig& config)
+    : config_(config), use_navfn_(config.algorithm == "navfn"), navfn_(config.allow_unknown, config.neutral_cost, config.cost_factor) {
   straight_cost_.resize(256);
   diagonal_cost_.resize(256);
   for (int c = 0; c < 256; ++c) {
@@ -103,7 +106,37 @@ void GlobalPlanner::computeField(const Costmap& costmap, CellIndex goal, CellInd
   last_expanded_ = expanded;
 }
 
+Plan GlobalPlanner::planNavFn(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal) {
+  Plan result;
+  CellIndex s, g;
+  if (!costmap.toCell(start, s) || !costmap.toCell(goal, g)) return result;  // off the map (tolerance 0)
+  navfn_.setCostmap(costmap);
+  const bool reached = navfn_.propagate(s, g);
+  last_expanded_ = navfn_.lastUpdates();
+  if (!reached) return result;
+  // getPlanFromPotential: calcPath(4 nx). ROS's global costmap is square (800 x 800), ours is
+  // a tall corridor (6 x 15 m = 120 x 300 cells) whose length is along y, so the longer side
+  // stands for nx: 4 x 300 half-cell steps = 30 m of path.
+  const int max_steps = 4 * std::max(navfn_.width(), navfn_.height());
+  // A failed descent leaves NavFn's partial path (from the goal, not reaching the robot) in
+  // ROS; here it is no plan, so move_base's behaviour of keeping the last path applies.
+  if (!navfn_.extractPath(g, max_steps, navfn_points_)) return result;
+  result.found = true;
+  result.cost = std::llround(static_cast<double>(navfn_.potential(g.x, g.y)));
+  result.path.reserve(navfn_points_.size() + 1);
+  // NavfnROS::mapToWorld is origin + index * resolution WITHOUT the half-cell offset: every
+  // point sits half a cell (-0.025 m at 0.05 m) below and left of where the potential put it.
+  // Kept on purpose, as the Gazebo runs had it.
+  const Eigen::Vector2d origin = costmap.origin();
+  const double res = costmap.resolution();
+  for (auto it = navfn_points_.rbegin(); it != navfn_points_.rend(); ++it)
+    result.path.push_back(origin + res * it->cast<double>());
+  result.path.push_back(goal);  // makePlan appends the requested goal pose
+  return result;
+}
+
 Plan GlobalPlanner::plan(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal) {
+  if (use_navfn_) return planNavFn(costmap, start, goal);
   Plan result;
   CellIndex s, g;
   if (!costmap.toCell(start, s) || !costmap.toCell(goal, g)) return result;

@@ -1,6 +1,15 @@
 #pragma once
-/// The global planner: Dijkstra on the costmap, as move_base's NavFn.
+/// The global planner, one of two algorithms (planner.algorithm):
+///  - navfn: ROS NavFn as move_base runs it (navfn.hpp): a potential field grown from the
+///    robot with NavFn's interpolated 4-neighbour update, and a path by gradient descent, so
+///    paths are not quantised to 45 degrees. Recomputed in full at every plan.
+///  - dijkstra (default): the 8-connected cell Dijkstra below. Its paths follow parent cells
+///    (45-degree steps) and, at a fork around an obstacle cluster, can flip between two
+///    near-equal routes from one plan to the next.
+/// neutral_cost and cost_factor are NavFn's COST_NEUTRAL and COST_FACTOR for both;
+/// smoothing_window applies to dijkstra only.
 ///
+/// dijkstra:
 /// Each cell costs neutral_cost + cost_factor * (its costmap cost) to enter (NavFn's
 /// COST_NEUTRAL 50 and COST_FACTOR 0.8), times the step length (1 or sqrt 2 cells), so paths
 /// keep away from obstacles as much as the inflation says. Inscribed and lethal cells are
@@ -8,19 +17,21 @@
 /// the corner of an impassable cell. The start cell may be impassable (a robot brushing an
 /// obstacle must still be able to leave); the goal may not.
 ///
-/// Like NavFn, the search runs from the goal and yields a cost-to-goal field; the path from the
-/// start follows it downhill. The search stops once the start's cost is final, and the field
+/// Unlike NavFn (whose field is rooted at the robot), the search runs from the goal and yields
+/// a cost-to-goal field; the path from the start follows it downhill. The search stops once the start's cost is final, and the field
 /// is reused while the costmap and the goal are unchanged and the new start is settled, so
-/// replanning at 20 Hz between 10 Hz map updates mostly costs only the path extraction. Edge costs are rounded to integers (tenths of the NavFn unit) so the open
-/// list is a bucket queue (Dial's algorithm): exact Dijkstra on those integer costs.
+/// replanning at 20 Hz between 10 Hz map updates mostly costs only the path extraction. Edge
+/// costs are rounded to integers (tenths of the NavFn unit) so the open list is a bucket queue (Dial's algorithm): exact Dijkstra on those integer costs.
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "barn/core/errors.hpp"
 #include "barn/nav/costmap.hpp"
+#include "barn/nav/navfn.hpp"
 
 namespace barn::nav {
 
@@ -29,10 +40,11 @@ struct PlannerConfig {
   bool allow_unknown = false;  // NavFn allow_unknown
   double neutral_cost = 50.0;  // cost of entering a free cell
   double cost_factor = 0.8;    // weight of the costmap cost
-  int smoothing_window = 0;    // cells of moving-average smoothing (0 = raw cell path)
+  int smoothing_window = 0;    // cells of moving-average smoothing (0 = raw cell path; dijkstra only)
+  std::string algorithm = "dijkstra";  // navfn | dijkstra (see the header comment)
 
   template <class V> void visit(V& v) {
-    v("rate", rate); v("allow_unknown", allow_unknown); v("neutral_cost", neutral_cost);
+    v("algorithm", algorithm); v("rate", rate); v("allow_unknown", allow_unknown); v("neutral_cost", neutral_cost);
     v("cost_factor", cost_factor); v("smoothing_window", smoothing_window);
   }
 };
@@ -41,8 +53,13 @@ void validate(const PlannerConfig& config, core::Errors& errors, const std::stri
 
 struct Plan {
   bool found = false;
-  std::vector<Eigen::Vector2d> path;  // [m] odom frame, start cell centre ... goal cell centre
-  std::int64_t cost = 0;              // total edge cost of the cell path (integer units)
+  // [m] odom frame. dijkstra: start cell centre ... goal cell centre. navfn: as NavfnROS, the
+  // robot cell's corner (origin + index res, no half cell), the descent's points likewise,
+  // then the requested goal itself.
+  std::vector<Eigen::Vector2d> path;
+  // dijkstra: total edge cost of the cell path (integer units). navfn: the goal's potential,
+  // rounded.
+  std::int64_t cost = 0;
 };
 
 class GlobalPlanner {
@@ -54,13 +71,18 @@ class GlobalPlanner {
   /// negative if the cell cannot be entered. round(10 (neutral + factor c) length).
   int stepCost(std::uint8_t c, bool diagonal) const;
 
-  /// Cells settled by the last field computation (for reports).
+  /// Cells settled by the last field computation (dijkstra), or cell updates of the last
+  /// propagation (navfn) (for reports).
   std::size_t lastExpanded() const { return last_expanded_; }
 
  private:
   void computeField(const Costmap& costmap, CellIndex goal, CellIndex start);
+  Plan planNavFn(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal);
 
   PlannerConfig config_;
+  bool use_navfn_ = false;
+  NavFn navfn_;
+  std::vector<Eigen::Vector2f> navfn_points_;  // scratch: the descent's points
   std::vector<int> straight_cost_;  // by costmap cost (256 entries), -1 impassable
   std::vector<int> diagonal_cost_;
   // The cost-to-goal field and where it was computed.
