@@ -3,6 +3,8 @@
 #include <cairo.h>
 
 #include <algorithm>
+#include <utility>
+#include <initializer_list>
 #include <array>
 #include <charconv>
 #include <cmath>
@@ -19,6 +21,25 @@
 
 namespace barn::viz {
 namespace {
+
+// A value axis from 0 (or below, for negative values) to y_max, or 5 % above the finite data
+// when y_max is 0 (automatic).
+std::pair<double, double> valueAxisRange(std::initializer_list<const std::vector<double>*> series, double y_max) {
+  double lo = 0.0;
+  double top = -std::numeric_limits<double>::infinity();
+  for (const std::vector<double>* values : series) {
+    for (double v : *values) {
+      if (!std::isfinite(v)) continue;
+      lo = std::min(lo, v);
+      top = std::max(top, v);
+    }
+  }
+  double hi = y_max;
+  if (hi == 0.0) hi = std::isfinite(top) ? top + 0.05 * (top - lo) : 1.0;
+  if (!(hi > lo)) hi = lo + 1.0;
+  return {lo, hi};
+}
+
 
 using detail::drawText;
 using detail::Rgb;
@@ -542,21 +563,7 @@ void renderWorldBarsPng(const WorldBars& bars, const std::filesystem::path& png)
   }
 
   // y range: from 0 (or below, for negative values) to y_max or 5 % above the data.
-  double lo = 0.0;
-  double top = -std::numeric_limits<double>::infinity();
-  for (double v : bars.values) {
-    if (!std::isfinite(v)) continue;
-    lo = std::min(lo, v);
-    top = std::max(top, v);
-  }
-  for (double y : bars.reference_lines) {
-    if (!std::isfinite(y)) continue;
-    lo = std::min(lo, y);
-    top = std::max(top, y);
-  }
-  double hi = bars.y_max;
-  if (hi == 0.0) hi = std::isfinite(top) ? top + 0.05 * (top - lo) : 1.0;
-  if (!(hi > lo)) hi = lo + 1.0;
+  const auto [lo, hi] = valueAxisRange({&bars.values, &bars.reference_lines}, bars.y_max);
 
   const double plot_w = std::max(kBarsMinPlotWidth, kBarsPitch * static_cast<double>(n));
   const int width =
@@ -684,23 +691,7 @@ void renderPairedWorlds(const PairedWorlds& pairs, const std::filesystem::path& 
   constexpr Rgb kColourB{0.90, 0.45, 0.05};  // orange
   constexpr Rgb kJoin{0.70, 0.70, 0.70};
 
-  double lo = 0.0;
-  double top = -std::numeric_limits<double>::infinity();
-  for (const std::vector<double>* values : {&pairs.a, &pairs.b}) {
-    for (double v : *values) {
-      if (!std::isfinite(v)) continue;
-      lo = std::min(lo, v);
-      top = std::max(top, v);
-    }
-  }
-  for (double y : pairs.reference_lines) {
-    if (!std::isfinite(y)) continue;
-    lo = std::min(lo, y);
-    top = std::max(top, y);
-  }
-  double hi = pairs.y_max;
-  if (hi == 0.0) hi = std::isfinite(top) ? top + 0.05 * (top - lo) : 1.0;
-  if (!(hi > lo)) hi = lo + 1.0;
+  const auto [lo, hi] = valueAxisRange({&pairs.a, &pairs.b, &pairs.reference_lines}, pairs.y_max);
 
   const std::string legend_a = "A: " + pairs.label_a;
   const std::string legend_b = "B: " + pairs.label_b;

@@ -7,27 +7,10 @@
 
 #include "barn/core/rng.hpp"
 
+#include "picture_map.hpp"
+
 namespace barn::nav {
 namespace {
-
-// A costmap of 1 m cells built from a picture: '#' lethal, '.' free.
-// Row 0 of the picture is the top (largest y).
-Costmap pictureMap(const std::vector<std::string>& rows) {
-  CostmapConfig c;
-  c.resolution = 1.0;
-  c.width = static_cast<double>(rows.front().size());
-  c.height = static_cast<double>(rows.size());
-  c.origin_x = 0.0;
-  c.origin_y = 0.0;
-  c.inscribed_radius = 0.0;
-  c.inflation_radius = 0.0;
-  Costmap map(c);
-  for (std::size_t r = 0; r < rows.size(); ++r)
-    for (std::size_t col = 0; col < rows[r].size(); ++col)
-      if (rows[r][col] == '#')
-        map.markObstacle({static_cast<double>(col) + 0.5, static_cast<double>(rows.size() - 1 - r) + 0.5});
-  return map;
-}
 
 // Exhaustive check: Bellman-Ford relaxation over every cell until nothing changes, with the
 // planner's own step costs. Slow but obviously correct.
