@@ -86,7 +86,7 @@ EpisodeResult runEpisode(const core::WorldSpec& world, const sim::ObstacleField&
   const core::Pose2 start{protocol.start_x, protocol.start_y, protocol.start_yaw};
   const Eigen::Vector2d odom_origin = protocol.start();  // odom = world shifted to the start
   const Eigen::Vector2d goal_world = protocol.goal();
-  sim::Simulator simulator(field, config.robot, config.physics, start);
+  sim::Simulator simulator(field, config.robot, config.physics, start, core::mixSeed(seed, 5));
   sim::LidarCaster lidar(config.lidar, field);
   core::FastNoise noise(core::mixSeed(seed, 1));
   core::FastNoise odometry_noise(core::mixSeed(seed, 3));

@@ -40,9 +40,9 @@ struct Simulator::Box2D {
 };
 
 Simulator::Simulator(const ObstacleField& field, const RobotConfig& robot, const PhysicsConfig& physics,
-                     const core::Pose2& start)
+                     const core::Pose2& start, std::uint64_t seed)
     : field_(&field), robot_(robot), physics_(physics), rects_(robot.collisionRects()),
-      box2d_(std::make_unique<Box2D>()), pose_(start) {
+      box2d_(std::make_unique<Box2D>()), pose_(start), slip_noise_(seed) {
   b2World& world = box2d_->world;
   world.SetAllowSleeping(false);
 
@@ -112,7 +112,13 @@ void Simulator::step() {
 
   // 3. Traction: one friction circle for the change of the body's linear velocity.
   const Eigen::Vector2d heading(std::cos(pose_.yaw), std::sin(pose_.yaw));
-  Eigen::Vector2d change = wheel_.linear * heading - velocity_;
+  if (robot_.turn_slip_speed > 0.0) {
+    // Gauss-Markov slip: decays over turn_slip_time, driven in proportion to the yaw rate.
+    const double decay = std::exp(-dt / robot_.turn_slip_time);
+    const double sigma = robot_.turn_slip_speed * std::abs(yaw_rate_) * std::sqrt(1.0 - decay * decay);
+    slip_ = decay * slip_ + sigma * Eigen::Vector2d(slip_noise_.normal(), slip_noise_.normal());
+  }
+  Eigen::Vector2d change = wheel_.linear * heading + slip_ - velocity_;
   const double max_change = robot_.traction_coefficient * robot_.gravity * dt;
   if (change.norm() > max_change) change *= max_change / change.norm();
   velocity_ += change;

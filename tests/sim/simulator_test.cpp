@@ -46,6 +46,39 @@ TEST(Simulator, YawRateFollowsTheControllerAccelerationLimit) {
   EXPECT_NEAR(sim.yawRate(), 4.0, 1e-9);
 }
 
+TEST(Simulator, WithoutTurnSlipATurnInPlaceStaysOnTheSpot) {
+  const ObstacleField empty;
+  RobotConfig robot;
+  robot.turn_slip_speed = 0.0;
+  Simulator sim(empty, robot, PhysicsConfig{}, {1.0, 2.0, 0.3}, 7);
+  drive(sim, {0.0, 1.5}, 5.0);
+  EXPECT_NEAR(sim.pose().x, 1.0, 1e-6);
+  EXPECT_NEAR(sim.pose().y, 2.0, 1e-6);
+}
+
+TEST(Simulator, TurnSlipMakesATurningBodyWanderReproduciblyPerSeed) {
+  // 5 s at 1.5 rad/s with 0.02 m/s of slip per rad/s: slip speed stddev 0.03 m/s, correlated
+  // over 0.5 s, so the body wanders a few centimetres (random walk ~ sqrt(2 0.03^2 0.5 5) =
+  // 0.047 m), never metres; the same seed wanders the same way, another seed differently.
+  RobotConfig robot;
+  robot.turn_slip_speed = 0.02;
+  const ObstacleField empty;
+  const auto wander = [&](std::uint64_t seed) {
+    Simulator sim(empty, robot, PhysicsConfig{}, {0.0, 0.0, 0.0}, seed);
+    drive(sim, {0.0, 1.5}, 5.0);
+    return sim.pose().position();
+  };
+  const Eigen::Vector2d a = wander(1), again = wander(1), b = wander(2);
+  EXPECT_GT(a.norm(), 1e-4);
+  EXPECT_LT(a.norm(), 0.5);
+  EXPECT_EQ(a, again);
+  EXPECT_NE(a, b);
+  // Driving straight (no yaw rate) is untouched by turn slip.
+  Simulator straight(empty, robot, PhysicsConfig{}, {0.0, 0.0, 0.0}, 3);
+  drive(straight, {0.5, 0.0}, 2.0);
+  EXPECT_NEAR(straight.pose().y, 0.0, 1e-9);
+}
+
 // Commanded to a speed, then to 0: the wheels stop within 0.1 s (20 m/s^2) but the body
 // slides at the traction limit, covering v^2 / (2 mu g).
 double stoppingDistance(double speed) {

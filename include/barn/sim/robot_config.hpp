@@ -51,6 +51,13 @@ struct RobotConfig {
   // Jackal) to make up for the wheels' sideways slip; where the ground slips more or less than
   // that assumes, the robot turns slower or faster than commanded. 1 = as commanded.
   double turn_efficiency = 1.0;              // [-]
+  // Skid-steer slip while turning: the body wanders sideways and forward as its four wheels
+  // skid, a random velocity (first-order Gauss-Markov, per episode seed) whose standard
+  // deviation grows with the yaw rate. 0 = the body turns about its centre exactly, a perfect
+  // fixed point no real skid-steer base (nor Gazebo's) has; on by default because it improves
+  // agreement with Gazebo (docs/fidelity.md), the value a guess of a few cm per turn, not fitted.
+  double turn_slip_speed = 0.02;             // [m/s per rad/s] slip velocity stddev per unit yaw rate
+  double turn_slip_time = 0.5;               // [s] correlation time of the slip
 
   template <class V> void visit(V& v) {
     v("chassis_length", chassis_length); v("chassis_width", chassis_width);
@@ -61,6 +68,7 @@ struct RobotConfig {
     v("max_angular_speed", max_angular_speed); v("max_angular_accel", max_angular_accel);
     v("cmd_timeout", cmd_timeout); v("traction_coefficient", traction_coefficient); v("gravity", gravity);
     v("max_angular_traction_accel", max_angular_traction_accel); v("turn_efficiency", turn_efficiency);
+    v("turn_slip_speed", turn_slip_speed); v("turn_slip_time", turn_slip_time);
   }
 
   /// The five collision rectangles: chassis and four wheels.

@@ -19,6 +19,7 @@
 ///     exact rectangle-circle overlap test of the five collision rectangles against the
 ///     cylinders that Box2D's broad-phase returns near the robot.
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -26,6 +27,7 @@
 #include <Eigen/Core>
 
 #include "barn/core/errors.hpp"
+#include "barn/core/rng.hpp"
 #include "barn/core/types.hpp"
 #include "barn/sim/lidar.hpp"
 #include "barn/sim/obstacle_field.hpp"
@@ -55,8 +57,9 @@ struct CollisionInfo {
 
 class Simulator {
  public:
+  /// `seed` drives the robot's random turn slip (RobotConfig::turn_slip_speed), if any.
   Simulator(const ObstacleField& field, const RobotConfig& robot, const PhysicsConfig& physics,
-            const core::Pose2& start);
+            const core::Pose2& start, std::uint64_t seed = 0);
   ~Simulator();
   Simulator(const Simulator&) = delete;
   Simulator& operator=(const Simulator&) = delete;
@@ -107,6 +110,8 @@ class Simulator {
   core::Twist cmd_;                  // last command received
   double cmd_time_ = -1e9;           // [s] when it arrived
   core::Twist wheel_;                // diff_drive_controller set-point
+  core::FastNoise slip_noise_;
+  Eigen::Vector2d slip_ = Eigen::Vector2d::Zero();  // [m/s] world frame, turn slip velocity
   std::optional<CollisionInfo> collision_;
 };
 
