@@ -74,7 +74,7 @@ void addRegressCommand(CLI::App& app, CommandContext& context) {
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
   cmd->add_option("--set", options->overrides,
-                  "Override a controller config key for the rerun, KEY=VALUE (e.g. inventec.safety.fi_offset=0)");
+                  "Override a controller config key for the rerun, KEY=VALUE (e.g. inventec.safety.front_pad_y=0)");
   cmd->add_flag("--update", options->update, "Rewrite the baseline with the reruns (after an intended change)");
   cmd->add_option("--jobs", options->jobs, "Threads (0 = all cores)")->check(CLI::Range(0, 4096));
   cmd->add_option("--work", options->work, "Folder for the reruns (default results/regress)");
