@@ -40,7 +40,6 @@ std::pair<double, double> valueAxisRange(std::initializer_list<const std::vector
   return {lo, hi};
 }
 
-
 using detail::drawText;
 using detail::Rgb;
 using detail::setColour;
@@ -287,6 +286,26 @@ std::string tickText(double value, double step) {
 
 /// Smallest label stride in 1, 2, 5, 10, 20, 25, 50, 100, 200, 250, 500, ... that leaves `gap`
 /// px between neighbouring labels up to `label_width` px wide, with bars `pitch` px apart.
+// Horizontal grid lines and labelled y ticks at a nice step over [lo, hi], between the plot's
+// left and right edges; `py` maps a value to its pixel row.
+template <class ToPixel>
+void drawValueGrid(cairo_t* cr, double lo, double hi, double left, double right, const ToPixel& py) {
+  const double step = niceStep(hi - lo, 6);
+  cairo_set_line_width(cr, 1.0);
+  for (double y = std::ceil(lo / step - 1e-9) * step; y <= hi + 1e-9 * step; y += step) {
+    const double yp = std::round(py(y)) + 0.5;
+    setColour(cr, kGridLine);
+    cairo_move_to(cr, left, yp);
+    cairo_line_to(cr, right, yp);
+    cairo_stroke(cr);
+    setColour(cr, kInk);
+    cairo_move_to(cr, left - 5.0, yp);
+    cairo_line_to(cr, left, yp);
+    cairo_stroke(cr);
+    drawRightAligned(cr, tickText(y, step), left - 8.0, centredBaseline(py(y), kSmallSize), kSmallSize);
+  }
+}
+
 std::size_t labelStride(double pitch, double label_width, double gap) {
   const double needed = label_width + gap;  // [px]
   for (std::size_t k : {1, 2, 5}) {
@@ -579,21 +598,7 @@ void renderWorldBarsPng(const WorldBars& bars, const std::filesystem::path& png)
   const double pitch = plot_w / static_cast<double>(n);
 
   // Horizontal grid and y ticks.
-  const double step = niceStep(hi - lo, 6);
-  cairo_set_line_width(cr, 1.0);
-  for (double y = std::ceil(lo / step - 1e-9) * step; y <= hi + 1e-9 * step; y += step) {
-    const double yp = std::round(py(y)) + 0.5;
-    setColour(cr, kGridLine);
-    cairo_move_to(cr, left, yp);
-    cairo_line_to(cr, right, yp);
-    cairo_stroke(cr);
-    setColour(cr, kInk);
-    cairo_move_to(cr, left - 5.0, yp);
-    cairo_line_to(cr, left, yp);
-    cairo_stroke(cr);
-    drawRightAligned(cr, tickText(y, step), left - 8.0, centredBaseline(py(y), kSmallSize),
-                     kSmallSize);
-  }
+  drawValueGrid(cr, lo, hi, left, right, py);
 
   // Bars, clipped to the plot area (a fixed y_max may cut the tallest). Edges on whole pixels
   // keep 300 narrow bars crisp; a 20 % gap separates them once they are 4 px apart.
@@ -712,20 +717,7 @@ void renderPairedWorlds(const PairedWorlds& pairs, const std::filesystem::path& 
   const auto px = [&](std::size_t i) { return left + (static_cast<double>(i) + 0.5) * pitch; };
 
   // Horizontal grid and y ticks.
-  const double step = niceStep(hi - lo, 6);
-  cairo_set_line_width(cr, 1.0);
-  for (double y = std::ceil(lo / step - 1e-9) * step; y <= hi + 1e-9 * step; y += step) {
-    const double yp = std::round(py(y)) + 0.5;
-    setColour(cr, kGridLine);
-    cairo_move_to(cr, left, yp);
-    cairo_line_to(cr, right, yp);
-    cairo_stroke(cr);
-    setColour(cr, kInk);
-    cairo_move_to(cr, left - 5.0, yp);
-    cairo_line_to(cr, left, yp);
-    cairo_stroke(cr);
-    drawRightAligned(cr, tickText(y, step), left - 8.0, centredBaseline(py(y), kSmallSize), kSmallSize);
-  }
+  drawValueGrid(cr, lo, hi, left, right, py);
 
   // Reference lines under the markers, labelled right of the plot.
   const double dashes[] = {6.0, 4.0};
