@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "barn/nav/grid_line.hpp"
@@ -30,18 +31,17 @@ Costmap::Costmap(const CostmapConfig& config) : config_(config) {
   obstacle_.assign(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_), unseen);
   cost_.assign(obstacle_.size(), unseen);
   inflation_cells_ = static_cast<int>(std::ceil(config.inflation_radius / config.resolution));
-  const int max_sq = (inflation_cells_ + 1) * (inflation_cells_ + 1) * 2;
-  cost_by_squared_cells_.resize(static_cast<std::size_t>(max_sq) + 1);
   // InflationLayer's table, in cell units: a cell is inflated only within ceil(radius / res)
   // cells of its source, and the cost is taken at the cell distance times the resolution.
-  for (int sq = 0; sq <= max_sq; ++sq) {
-    const double cells = std::sqrt(static_cast<double>(sq));
-    cost_by_squared_cells_[static_cast<std::size_t>(sq)] =
-        cells > inflation_cells_ ? kFreeCost : inflationCostAtCells(cells);
-  }
-  dirty_x0_ = width_;
-  dirty_y0_ = height_;
-  dirty_x1_ = dirty_y1_ = 0;
+  const int r = inflation_cells_;
+  const int side = 2 * r + 1;
+  kernel_.assign(static_cast<std::size_t>(side) * static_cast<std::size_t>(side), kFreeCost);
+  for (int dy = -r; dy <= r; ++dy)
+    for (int dx = -r; dx <= r; ++dx) {
+      const double cells = std::sqrt(static_cast<double>(dx * dx + dy * dy));
+      kernel_[static_cast<std::size_t>((dy + r) * side + dx + r)] = cells > r ? kFreeCost : inflationCostAtCells(cells);
+    }
+  dirty_ = {width_, height_, 0, 0};
 }
 
 std::uint8_t Costmap::inflationCostAtCells(double cells) const {
@@ -71,14 +71,35 @@ Eigen::Vector2d Costmap::cellCentre(CellIndex cell) const {
 
 std::uint8_t Costmap::costAt(const Eigen::Vector2d& p) const {
   CellIndex cell;
-  return toCell(p, cell) ? cost_[index(cell.x, cell.y)] : kUnknownCost;
+  return toCell(p, cell) ? cost(cell.x, cell.y) : kUnknownCost;
 }
 
 void Costmap::markDirty(int x, int y) {
-  dirty_x0_ = std::min(dirty_x0_, x);
-  dirty_y0_ = std::min(dirty_y0_, y);
-  dirty_x1_ = std::max(dirty_x1_, x + 1);
-  dirty_y1_ = std::max(dirty_y1_, y + 1);
+  dirty_.x0 = std::min(dirty_.x0, x);
+  dirty_.y0 = std::min(dirty_.y0, y);
+  dirty_.x1 = std::max(dirty_.x1, x + 1);
+  dirty_.y1 = std::max(dirty_.y1, y + 1);
+}
+
+void Costmap::commitDirty() {
+  if (!dirty_.empty()) queueReinflation(dirty_);
+  dirty_ = {width_, height_, 0, 0};
+}
+
+void Costmap::queueReinflation(CellBox box) {
+  // A handful of boxes is cheaper to recompute one by one than their bounding box; beyond
+  // that, one box bounds the work of keeping the list.
+  constexpr std::size_t kMaxPending = 8;
+  if (pending_.size() == kMaxPending) {
+    for (const CellBox& b : pending_) box = {std::min(box.x0, b.x0), std::min(box.y0, b.y0), std::max(box.x1, b.x1), std::max(box.y1, b.y1)};
+    pending_.clear();
+  }
+  pending_.push_back(box);
+}
+
+void Costmap::inflatePending() const {
+  for (const CellBox& box : pending_) reinflate(box);
+  pending_.clear();
 }
 
 void Costmap::setObstacle(int x, int y, std::uint8_t value) {
@@ -86,8 +107,7 @@ void Costmap::setObstacle(int x, int y, std::uint8_t value) {
   if (cell == value) return;
   // Only a change to or from "obstacle" moves the inflation; unknown <-> free changes the cost
   // of that one cell.
-  if (cell == kLethalCost || value == kLethalCost) markDirty(x, y);
-  else if (cost_[index(x, y)] == kUnknownCost || value == kUnknownCost) markDirty(x, y);
+  if (cell == kLethalCost || value == kLethalCost || cell == kUnknownCost || value == kUnknownCost) markDirty(x, y);
   cell = value;
   ++version_;
 }
@@ -151,77 +171,41 @@ void Costmap::integrateScan(const core::LaserScan& scan, const core::Pose2& sens
     if (toCell(origin + range * Eigen::Vector2d(std::cos(angle), std::sin(angle)), cell))
       setObstacle(cell.x, cell.y, kLethalCost);
   }
-  if (dirty_x1_ > dirty_x0_ && dirty_y1_ > dirty_y0_) reinflate(dirty_x0_, dirty_y0_, dirty_x1_, dirty_y1_);
-  dirty_x0_ = width_;
-  dirty_y0_ = height_;
-  dirty_x1_ = dirty_y1_ = 0;
+  commitDirty();
 }
 
-void Costmap::reinflate(int x0, int y0, int x1, int y1) {
-  // Cells whose cost may change: the dirty box grown by the inflation reach. Obstacles that
-  // influence them: that box grown once more.
-  const int r = inflation_cells_ + 1;
-  const int tx0 = std::max(0, x0 - r), ty0 = std::max(0, y0 - r);
-  const int tx1 = std::min(width_, x1 + r), ty1 = std::min(height_, y1 + r);
+void Costmap::reinflate(CellBox changed) const {
+  // Cells whose cost may change: the changed box grown by the inflation reach (and one more
+  // cell). Obstacles that influence them: that box grown by the reach.
+  const int r = inflation_cells_;
+  const int tx0 = std::max(0, changed.x0 - r - 1), ty0 = std::max(0, changed.y0 - r - 1);
+  const int tx1 = std::min(width_, changed.x1 + r + 1), ty1 = std::min(height_, changed.y1 + r + 1);
+  if (tx1 <= tx0 || ty1 <= ty0) return;
+  for (int y = ty0; y < ty1; ++y) {
+    const std::size_t row = index(0, y);
+    for (int x = tx0; x < tx1; ++x) {
+      const std::uint8_t state = obstacle_[row + static_cast<std::size_t>(x)];
+      cost_[row + static_cast<std::size_t>(x)] = state == kLethalCost || state == kUnknownCost ? state : kFreeCost;
+    }
+  }
+  // Each obstacle stamps its kernel on the free cells of the target; a cell keeps the largest
+  // stamp, the cost at its nearest obstacle.
+  const int side = 2 * r + 1;
   const int ix0 = std::max(0, tx0 - r), iy0 = std::max(0, ty0 - r);
   const int ix1 = std::min(width_, tx1 + r), iy1 = std::min(height_, ty1 + r);
-  const int w = ix1 - ix0;
-  const int h = iy1 - iy0;
-
-  // Exact squared Euclidean distance transform (Felzenszwalb & Huttenlocher), in cells.
-  constexpr double kFar = 1e20;
-  edt_.assign(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), kFar);
-  for (int y = iy0; y < iy1; ++y)
-    for (int x = ix0; x < ix1; ++x)
-      if (obstacle_[index(x, y)] == kLethalCost) edt_[static_cast<std::size_t>((y - iy0) * w + (x - ix0))] = 0.0;
-  const auto transform1d = [this](double* f, int n, int stride) {
-    edt_row_.resize(static_cast<std::size_t>(n));
-    edt_v_.resize(static_cast<std::size_t>(n));
-    edt_z_.resize(static_cast<std::size_t>(n) + 1);
-    for (int i = 0; i < n; ++i) edt_row_[static_cast<std::size_t>(i)] = f[static_cast<std::ptrdiff_t>(i) * stride];
-    const double* g = edt_row_.data();
-    // Lower envelope of the parabolas (q - p)^2 + g[p]: v holds their apexes, z the borders.
-    int k = 0;
-    edt_v_[0] = 0;
-    edt_z_[0] = -kFar;
-    edt_z_[1] = kFar;
-    for (int q = 1; q < n; ++q) {
-      const auto intersection = [&](int p) { return ((g[q] + q * q) - (g[p] + p * p)) / (2.0 * q - 2.0 * p); };
-      double sq = intersection(edt_v_[static_cast<std::size_t>(k)]);
-      while (sq <= edt_z_[static_cast<std::size_t>(k)]) {  // z[0] = -far stops this at k = 0
-        --k;
-        sq = intersection(edt_v_[static_cast<std::size_t>(k)]);
+  for (int oy = iy0; oy < iy1; ++oy) {
+    for (int ox = ix0; ox < ix1; ++ox) {
+      if (obstacle_[index(ox, oy)] != kLethalCost) continue;
+      const int y0 = std::max(ty0, oy - r), y1 = std::min(ty1, oy + r + 1);
+      const int x0 = std::max(tx0, ox - r), x1 = std::min(tx1, ox + r + 1);
+      for (int y = y0; y < y1; ++y) {
+        const std::uint8_t* k = &kernel_[static_cast<std::size_t>((y - oy + r) * side + (x0 - ox + r))];
+        const std::size_t row = index(0, y);
+        for (int x = x0; x < x1; ++x, ++k) {
+          std::uint8_t& c = cost_[row + static_cast<std::size_t>(x)];
+          if (c < *k && obstacle_[row + static_cast<std::size_t>(x)] == kFreeCost) c = *k;
+        }
       }
-      ++k;
-      edt_v_[static_cast<std::size_t>(k)] = q;
-      edt_z_[static_cast<std::size_t>(k)] = sq;
-      edt_z_[static_cast<std::size_t>(k) + 1] = kFar;
-    }
-    k = 0;
-    for (int q = 0; q < n; ++q) {
-      while (edt_z_[static_cast<std::size_t>(k) + 1] < q) ++k;
-      const int p = edt_v_[static_cast<std::size_t>(k)];
-      f[static_cast<std::ptrdiff_t>(q) * stride] = (q - p) * (q - p) + g[p];
-    }
-  };
-  for (int x = 0; x < w; ++x) transform1d(edt_.data() + x, h, w);
-  for (int y = 0; y < h; ++y) transform1d(edt_.data() + static_cast<std::ptrdiff_t>(y) * w, w, 1);
-
-  const int table_max = static_cast<int>(cost_by_squared_cells_.size()) - 1;
-  for (int y = ty0; y < ty1; ++y) {
-    for (int x = tx0; x < tx1; ++x) {
-      const std::size_t i = index(x, y);
-      const std::uint8_t state = obstacle_[i];
-      if (state == kLethalCost) {
-        cost_[i] = kLethalCost;
-        continue;
-      }
-      if (state == kUnknownCost) {
-        cost_[i] = kUnknownCost;
-        continue;
-      }
-      const double sq = edt_[static_cast<std::size_t>((y - iy0) * w + (x - ix0))];
-      cost_[i] = sq > table_max ? kFreeCost : cost_by_squared_cells_[static_cast<std::size_t>(sq)];
     }
   }
 }
@@ -235,33 +219,46 @@ void Costmap::recentre(const Eigen::Vector2d& position) {
   const int shift_x = static_cast<int>(std::lround((wanted.x() - origin_.x()) / res));
   const int shift_y = static_cast<int>(std::lround((wanted.y() - origin_.y()) / res));
   if (shift_x == 0 && shift_y == 0) return;
+  commitDirty();
+  // Cell (x, y) takes the old cell (x + shift_x, y + shift_y), in place: rows are visited in
+  // the direction that reads each source row before it is overwritten.
   const std::uint8_t unseen = config_.track_unknown ? kUnknownCost : kFreeCost;
-  std::vector<std::uint8_t> obstacle(obstacle_.size(), unseen);
-  std::vector<std::uint8_t> cost(cost_.size(), unseen);
-  for (int y = 0; y < height_; ++y) {
-    const int old_y = y + shift_y;
-    if (old_y < 0 || old_y >= height_) continue;
-    for (int x = 0; x < width_; ++x) {
-      const int old_x = x + shift_x;
-      if (old_x < 0 || old_x >= width_) continue;
-      obstacle[index(x, y)] = obstacle_[index(old_x, old_y)];
-      cost[index(x, y)] = cost_[index(old_x, old_y)];
+  const int keep_x0 = std::clamp(-shift_x, 0, width_), keep_x1 = std::clamp(width_ - shift_x, 0, width_);
+  const auto shiftGrid = [&](std::vector<std::uint8_t>& grid) {
+    for (int k = 0; k < height_; ++k) {
+      const int y = shift_y >= 0 ? k : height_ - 1 - k;
+      std::uint8_t* row = &grid[index(0, y)];
+      const int old_y = y + shift_y;
+      if (old_y < 0 || old_y >= height_ || keep_x1 <= keep_x0) {
+        std::fill(row, row + width_, unseen);
+        continue;
+      }
+      std::memmove(row + keep_x0, &grid[index(keep_x0 + shift_x, old_y)], static_cast<std::size_t>(keep_x1 - keep_x0));
+      std::fill(row, row + keep_x0, unseen);
+      std::fill(row + keep_x1, row + width_, unseen);
     }
-  }
-  obstacle_.swap(obstacle);
-  cost_.swap(cost);
+  };
+  shiftGrid(obstacle_);
+  shiftGrid(cost_);
   origin_ = wanted;
   ++version_;
+  // Regions still to re-inflate move with the cells.
+  std::size_t kept = 0;
+  for (const CellBox& b : pending_) {
+    const CellBox m{std::max(0, b.x0 - shift_x), std::max(0, b.y0 - shift_y), std::min(width_, b.x1 - shift_x), std::min(height_, b.y1 - shift_y)};
+    if (!m.empty()) pending_[kept++] = m;
+  }
+  pending_.resize(kept);
   // Costs near the edges that moved lost (or gained) obstacles beyond the old window.
   const int band = inflation_cells_ + 1;
   if (std::abs(shift_x) >= width_ || std::abs(shift_y) >= height_) {
-    reinflate(0, 0, width_, height_);
+    queueReinflation({0, 0, width_, height_});
     return;
   }
-  if (shift_x > 0) reinflate(width_ - shift_x - band, 0, width_, height_);
-  if (shift_x < 0) reinflate(0, 0, -shift_x + band, height_);
-  if (shift_y > 0) reinflate(0, height_ - shift_y - band, width_, height_);
-  if (shift_y < 0) reinflate(0, 0, width_, -shift_y + band);
+  if (shift_x > 0) queueReinflation({width_ - shift_x - band, 0, width_, height_});
+  if (shift_x < 0) queueReinflation({0, 0, -shift_x + band, height_});
+  if (shift_y > 0) queueReinflation({0, height_ - shift_y - band, width_, height_});
+  if (shift_y < 0) queueReinflation({0, 0, width_, -shift_y + band});
 }
 
 std::vector<CellIndex> Costmap::polygonCells(const std::vector<Eigen::Vector2d>& polygon) const {
@@ -300,20 +297,14 @@ std::vector<CellIndex> Costmap::polygonCells(const std::vector<Eigen::Vector2d>&
 void Costmap::clearPolygon(const std::vector<Eigen::Vector2d>& polygon) {
   for (const CellIndex& cell : polygonCells(polygon))
     if (obstacle_[index(cell.x, cell.y)] == kLethalCost) setObstacle(cell.x, cell.y, kFreeCost);
-  if (dirty_x1_ > dirty_x0_ && dirty_y1_ > dirty_y0_) reinflate(dirty_x0_, dirty_y0_, dirty_x1_, dirty_y1_);
-  dirty_x0_ = width_;
-  dirty_y0_ = height_;
-  dirty_x1_ = dirty_y1_ = 0;
+  commitDirty();
 }
 
 void Costmap::markObstacle(const Eigen::Vector2d& p) {
   CellIndex cell;
   if (!toCell(p, cell)) return;
   setObstacle(cell.x, cell.y, kLethalCost);
-  if (dirty_x1_ > dirty_x0_ && dirty_y1_ > dirty_y0_) reinflate(dirty_x0_, dirty_y0_, dirty_x1_, dirty_y1_);
-  dirty_x0_ = width_;
-  dirty_y0_ = height_;
-  dirty_x1_ = dirty_y1_ = 0;
+  commitDirty();
 }
 
 void Costmap::clearOutside(const Eigen::Vector2d& centre, double radius) {
@@ -321,10 +312,9 @@ void Costmap::clearOutside(const Eigen::Vector2d& centre, double radius) {
   for (int y = 0; y < height_; ++y)
     for (int x = 0; x < width_; ++x)
       if ((cellCentre({x, y}) - centre).norm() > radius && obstacle_[index(x, y)] == kLethalCost) setObstacle(x, y, unseen);
-  reinflate(0, 0, width_, height_);
-  dirty_x0_ = width_;
-  dirty_y0_ = height_;
-  dirty_x1_ = dirty_y1_ = 0;
+  dirty_ = {width_, height_, 0, 0};
+  pending_.clear();
+  queueReinflation({0, 0, width_, height_});
 }
 
 }  // namespace barn::nav

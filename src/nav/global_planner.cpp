@@ -46,26 +46,46 @@ void GlobalPlanner::computeField(const Costmap& costmap, CellIndex goal, CellInd
   field_.assign(n, kUnreached);
   next_.assign(n, -1);
   settled_.assign(n, 0);
-  cost_.resize(n);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) cost_[static_cast<std::size_t>(y * w + x)] = costmap.cost(x, y);
-  const std::vector<std::uint8_t>& cost = cost_;
+  const std::uint8_t* cost = costmap.costs();
   const auto passable = [&](int x, int y) { return straight_cost_[cost[static_cast<std::size_t>(y * w + x)]] >= 0; };
   const int start_index = start.y * w + start.x;
 
-  // Dial's algorithm: a ring of buckets, one per integer distance modulo (largest edge + 1).
+  // Dial's algorithm: a ring of buckets, one per integer distance modulo (largest edge + 1),
+  // and a bitmap of the non-empty ones so the scan jumps over the (many) empty distances.
   const int ring = diagonal_cost_[kInscribedCost - 1] + 1;
   buckets_.resize(static_cast<std::size_t>(ring));
   for (auto& b : buckets_) b.clear();
   std::vector<std::vector<int>>& buckets = buckets_;
+  std::vector<std::uint64_t>& occupied = occupied_buckets_;
+  occupied.assign(static_cast<std::size_t>(ring + 63) / 64, 0);
+  const auto push = [&](std::int64_t distance, int cell) {
+    const auto slot = static_cast<std::size_t>(distance % ring);
+    buckets[slot].push_back(cell);
+    occupied[slot / 64] |= std::uint64_t{1} << (slot % 64);
+  };
+  // The first non-empty slot at or after `slot`, cyclically (some slot is non-empty).
+  const auto nextOccupied = [&](int slot) {
+    std::size_t word = static_cast<std::size_t>(slot) / 64;
+    std::uint64_t bits = occupied[word] & (~std::uint64_t{0} << (slot % 64));
+    while (bits == 0) {
+      word = (word + 1) % occupied.size();
+      bits = occupied[word];
+    }
+    return static_cast<int>(word * 64 + static_cast<std::size_t>(__builtin_ctzll(bits)));
+  };
   const int goal_index = goal.y * w + goal.x;
   field_[static_cast<std::size_t>(goal_index)] = 0;
-  buckets[0].push_back(goal_index);
+  push(0, goal_index);
   std::size_t pending = 1;
   std::size_t expanded = 0;
   bool start_settled = false;
-  for (std::int64_t d = 0; pending > 0 && !start_settled; ++d) {
-    std::vector<int>& bucket = buckets[static_cast<std::size_t>(d % ring)];
+  std::int64_t d = 0;
+  int slot = 0;
+  while (pending > 0 && !start_settled) {
+    const int next = nextOccupied(slot);
+    d += (next - slot + ring) % ring;
+    slot = next;
+    std::vector<int>& bucket = buckets[static_cast<std::size_t>(slot)];
     // Entries may be appended to this bucket while it is scanned only with d (zero-cost
     // edges), which do not exist: every step costs at least 10 * neutral.
     for (std::size_t k = 0; k < bucket.size(); ++k) {
@@ -94,11 +114,12 @@ void GlobalPlanner::computeField(const Costmap& costmap, CellIndex goal, CellInd
         // An impassable neighbour gets a cost (a start may sit there) but is never expanded:
         // nothing can pass through it.
         if (!passable(px, py)) continue;
-        buckets[static_cast<std::size_t>(candidate % ring)].push_back(static_cast<int>(p));
+        push(candidate, static_cast<int>(p));
         ++pending;
       }
     }
     bucket.clear();
+    occupied[static_cast<std::size_t>(slot) / 64] &= ~(std::uint64_t{1} << (slot % 64));
     // Stop once the start's cost is final: every cell on its path is settled by then, and
     // later starts reuse the field only if their cell is settled too.
     start_settled = settled_[static_cast<std::size_t>(start_index)] != 0;

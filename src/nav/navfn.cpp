@@ -53,10 +53,8 @@ void NavFn::setCostmap(const Costmap& costmap) {
   map_ = &costmap;
   map_version_ = costmap.version();
   cleared_cell_ = -1;
-  for (int y = 0; y < ny_; ++y) {
-    std::uint8_t* row = cost_.data() + index(0, y);
-    for (int x = 0; x < nx_; ++x) row[x] = static_cast<std::uint8_t>(cost_lut_[costmap.cost(x, y)]);
-  }
+  const std::uint8_t* costs = costmap.costs();
+  for (std::size_t i = 0; i < cost_.size(); ++i) cost_[i] = static_cast<std::uint8_t>(cost_lut_[costs[i]]);
   // setupNavFn: the outer rows and columns are obstacles.
   for (int x = 0; x < nx_; ++x) cost_[index(x, 0)] = cost_[index(x, ny_ - 1)] = kCostObs;
   for (int y = 0; y < ny_; ++y) cost_[index(0, y)] = cost_[index(nx_ - 1, y)] = kCostObs;

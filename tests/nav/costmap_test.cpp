@@ -179,6 +179,46 @@ TEST(Costmap, ClearingAnObstacleRemovesItsInflation) {
   EXPECT_EQ(map.costAt({1.0, 0.2}), kFreeCost);
 }
 
+// The cost every cell should have, from scratch: the inflation cost at the nearest obstacle
+// cell within the reach (cell units), lethal on obstacles, unknown where unseen.
+std::uint8_t bruteForceCost(const Costmap& map, int x, int y) {
+  if (map.isObstacle(x, y)) return kLethalCost;
+  const int reach = static_cast<int>(std::ceil(map.config().inflation_radius / map.resolution()));
+  double nearest = kInf;
+  for (int oy = y - reach; oy <= y + reach; ++oy)
+    for (int ox = x - reach; ox <= x + reach; ++ox)
+      if (map.isObstacle(ox, oy)) nearest = std::min(nearest, std::hypot(ox - x, oy - y));
+  return nearest > reach ? kFreeCost : map.inflationCostAtCells(nearest);
+}
+
+TEST(Costmap, IncrementalInflationEqualsInflatingFromScratch) {
+  // Scans of random ranges from random poses mark and clear cells in many places; after each,
+  // some cells are read (so some updates are folded in lazily, several at once) and at the end
+  // every cell must cost what a from-scratch inflation gives.
+  Costmap map(smallMap());
+  core::LaserScan scan = scanAhead(1.0);
+  std::uint64_t state = 12345;
+  const auto uniform = [&state] {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(state >> 11) / 9007199254740992.0;
+  };
+  for (int step = 0; step < 200; ++step) {
+    for (double& r : scan.ranges) r = 0.3 + 2.5 * uniform();
+    const core::Pose2 pose{-1.5 + 3.0 * uniform(), -1.5 + 3.0 * uniform(), 6.283 * uniform()};
+    map.integrateScan(scan, pose, pose.position());
+    if (step % 3 == 0) map.costAt(pose.position());
+  }
+  int obstacles = 0, inflated = 0;
+  for (int y = 0; y < map.heightCells(); ++y)
+    for (int x = 0; x < map.widthCells(); ++x) {
+      ASSERT_EQ(map.cost(x, y), bruteForceCost(map, x, y)) << "cell " << x << ", " << y;
+      obstacles += map.isObstacle(x, y);
+      inflated += map.cost(x, y) > kFreeCost && map.cost(x, y) < kLethalCost;
+    }
+  EXPECT_GT(obstacles, 50);  // the scans left a real map behind
+  EXPECT_GT(inflated, 200);
+}
+
 TEST(Costmap, RollingWindowKeepsObstaclesSeenEarlierWhileTheyStayInside) {
   CostmapConfig c;
   c.rolling = true;  // 10 x 10 m around the robot

@@ -11,7 +11,9 @@
 ///   d > inflation_radius                  -> 0
 ///
 /// A scan only changes cells along its rays; the inflation is recomputed in the window around
-/// the cells that became or stopped being obstacles, so an update costs what it changed.
+/// the cells that became or stopped being obstacles, so an update costs what it changed. It is
+/// recomputed lazily, at the first cost read after a change: a map nobody reads between scans
+/// (the local costmap of a controller that plans on the global one) costs only its ray traces.
 
 #include <cstdint>
 #include <vector>
@@ -101,7 +103,16 @@ class Costmap {
   Eigen::Vector2d cellCentre(CellIndex cell) const;
 
   /// Final (inflated) cost of a cell; cells outside the map are unknown.
-  std::uint8_t cost(int x, int y) const { return inBounds(x, y) ? cost_[index(x, y)] : kUnknownCost; }
+  std::uint8_t cost(int x, int y) const {
+    if (!inBounds(x, y)) return kUnknownCost;
+    if (!pending_.empty()) inflatePending();
+    return cost_[index(x, y)];
+  }
+  /// All final costs, row-major (x fastest), widthCells() x heightCells().
+  const std::uint8_t* costs() const {
+    if (!pending_.empty()) inflatePending();
+    return cost_.data();
+  }
   std::uint8_t costAt(const Eigen::Vector2d& p) const;
   /// True if the cell holds an obstacle (marked and not cleared since).
   bool isObstacle(int x, int y) const { return inBounds(x, y) && obstacle_[index(x, y)] == kLethalCost; }
@@ -117,9 +128,20 @@ class Costmap {
 
  private:
   std::size_t index(int x, int y) const { return static_cast<std::size_t>(y) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(x); }
+  /// Cells [x0, x1) x [y0, y1).
+  struct CellBox {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    bool empty() const { return x1 <= x0 || y1 <= y0; }
+  };
+
   void setObstacle(int x, int y, std::uint8_t value);
   void markDirty(int x, int y);
-  void reinflate(int x0, int y0, int x1, int y1);  // cells [x0, x1) x [y0, y1)
+  /// Queues the cells changed since the last call for re-inflation.
+  void commitDirty();
+  void queueReinflation(CellBox box);
+  void inflatePending() const;
+  /// Recomputes the costs of the cells within the inflation reach of `changed`.
+  void reinflate(CellBox changed) const;
   void clearRay(CellIndex from, const Eigen::Vector2d& to);
 
   CostmapConfig config_;
@@ -127,15 +149,19 @@ class Costmap {
   int height_ = 0;
   Eigen::Vector2d origin_;
   std::vector<std::uint8_t> obstacle_;  // kLethalCost, kFreeCost or kUnknownCost per cell
-  std::vector<std::uint8_t> cost_;      // final cost per cell
+  // Final cost per cell: a cache of obstacle_ and the inflation, brought up to date by the
+  // first read after a change (hence mutable).
+  mutable std::vector<std::uint8_t> cost_;
+  // Changed regions whose inflation is not yet recomputed (a few boxes, merged when many).
+  mutable std::vector<CellBox> pending_;
   int inflation_cells_ = 0;             // ceil(inflation_radius / resolution)
-  std::vector<std::uint8_t> cost_by_squared_cells_;  // inflation cost indexed by squared cell distance
-  // Cells whose obstacle state changed since the last re-inflation (bounding box).
-  int dirty_x0_ = 0, dirty_y0_ = 0, dirty_x1_ = 0, dirty_y1_ = 0;
+  // The inflation cost of an obstacle cell at each offset (dx, dy) in [-r, r]^2, r the
+  // inflation reach in cells, row-major: a cell's cost is the largest any obstacle stamps on it
+  // (cost falls with distance, so that is the cost at the nearest obstacle).
+  std::vector<std::uint8_t> kernel_;
+  // Cells whose obstacle state changed since the last commitDirty().
+  CellBox dirty_;
   std::uint64_t version_ = 0;
-  // Scratch for the distance transform.
-  std::vector<double> edt_, edt_row_, edt_z_;
-  std::vector<int> edt_v_;
 };
 
 }  // namespace barn::nav

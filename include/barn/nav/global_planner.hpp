@@ -89,8 +89,8 @@ class GlobalPlanner {
   std::vector<std::int64_t> field_;
   std::vector<int> next_;           // flat index of the next cell toward the goal, -1 none
   std::vector<char> settled_;       // cells whose field value is final
-  std::vector<std::uint8_t> cost_;  // scratch: the costmap's costs
   std::vector<std::vector<int>> buckets_;  // scratch: Dial's bucket ring
+  std::vector<std::uint64_t> occupied_buckets_;  // scratch: a bit per non-empty bucket
   std::uint64_t field_version_ = 0;
   const Costmap* field_map_ = nullptr;
   CellIndex field_goal_{-1, -1};
