@@ -30,6 +30,7 @@ Costmap::Costmap(const CostmapConfig& config) : config_(config) {
   const std::uint8_t unseen = config.track_unknown ? kUnknownCost : kFreeCost;
   obstacle_.assign(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_), unseen);
   cost_.assign(obstacle_.size(), unseen);
+  inflated_state_ = obstacle_;
   inflation_cells_ = static_cast<int>(std::ceil(config.inflation_radius / config.resolution));
   // InflationLayer's table, in cell units: a cell is inflated only within ceil(radius / res)
   // cells of its source, and the cost is taken at the cell distance times the resolution.
@@ -39,9 +40,12 @@ Costmap::Costmap(const CostmapConfig& config) : config_(config) {
   for (int dy = -r; dy <= r; ++dy)
     for (int dx = -r; dx <= r; ++dx) {
       const double cells = std::sqrt(static_cast<double>(dx * dx + dy * dy));
-      kernel_[static_cast<std::size_t>((dy + r) * side + dx + r)] = cells > r ? kFreeCost : inflationCostAtCells(cells);
+      const std::uint8_t cost = cells > r ? kFreeCost : inflationCostAtCells(cells);
+      kernel_[static_cast<std::size_t>((dy + r) * side + dx + r)] = cost;
+      if (cost > kFreeCost && (dx != 0 || dy != 0)) offsets_by_distance_.push_back({dx, dy, dy * width_ + dx, cost});
     }
-  dirty_ = {width_, height_, 0, 0};
+  std::stable_sort(offsets_by_distance_.begin(), offsets_by_distance_.end(),
+                   [](const KernelOffset& a, const KernelOffset& b) { return a.dx * a.dx + a.dy * a.dy < b.dx * b.dx + b.dy * b.dy; });
 }
 
 std::uint8_t Costmap::inflationCostAtCells(double cells) const {
@@ -74,18 +78,6 @@ std::uint8_t Costmap::costAt(const Eigen::Vector2d& p) const {
   return toCell(p, cell) ? cost(cell.x, cell.y) : kUnknownCost;
 }
 
-void Costmap::markDirty(int x, int y) {
-  dirty_.x0 = std::min(dirty_.x0, x);
-  dirty_.y0 = std::min(dirty_.y0, y);
-  dirty_.x1 = std::max(dirty_.x1, x + 1);
-  dirty_.y1 = std::max(dirty_.y1, y + 1);
-}
-
-void Costmap::commitDirty() {
-  if (!dirty_.empty()) queueReinflation(dirty_);
-  dirty_ = {width_, height_, 0, 0};
-}
-
 void Costmap::queueReinflation(CellBox box) {
   // A handful of boxes is cheaper to recompute one by one than their bounding box; beyond
   // that, one box bounds the work of keeping the list.
@@ -95,21 +87,92 @@ void Costmap::queueReinflation(CellBox box) {
     pending_.clear();
   }
   pending_.push_back(box);
+  stale_ = true;
+}
+
+void Costmap::foldCellChangesIntoBox() {
+  CellBox box{width_, height_, 0, 0};
+  for (const CellIndex& c : changed_)
+    if (obstacle_[index(c.x, c.y)] != inflated_state_[index(c.x, c.y)])
+      box = {std::min(box.x0, c.x), std::min(box.y0, c.y), std::max(box.x1, c.x + 1), std::max(box.y1, c.y + 1)};
+  changed_.clear();
+  if (!box.empty()) queueReinflation(box);
 }
 
 void Costmap::inflatePending() const {
-  for (const CellBox& box : pending_) reinflate(box);
+  bool changed = false;
+  // Regions first: recomputed in full, their cells are up to date.
+  for (const CellBox& box : pending_) {
+    reinflate(box, inflation_cells_ + 1);
+    for (int y = std::max(0, box.y0); y < std::min(height_, box.y1); ++y)
+      for (int x = std::max(0, box.x0); x < std::min(width_, box.x1); ++x) inflated_state_[index(x, y)] = obstacle_[index(x, y)];
+    changed = true;
+  }
   pending_.clear();
+  // Then single cells, by what changed since their costs were last computed (a cell cleared
+  // and marked again by the same scan did not change). A cell that stopped being an obstacle
+  // may lower the costs within the reach that it set: they are recomputed from the obstacles
+  // around them, each once (windows overlap along an obstacle's edge). A new obstacle only raises costs: its
+  // kernel is stamped. Free <-> unknown changes only the cell itself.
+  const int r = inflation_cells_;
+  if (++recompute_round_ == 0) {  // wrapped: forget old marks
+    std::fill(recomputed_in_round_.begin(), recomputed_in_round_.end(), 0);
+    recompute_round_ = 1;
+  }
+  recomputed_in_round_.resize(obstacle_.size(), 0);
+  const auto recomputeOnce = [&](int x, int y) {
+    std::uint32_t& mark = recomputed_in_round_[index(x, y)];
+    if (mark == recompute_round_) return;
+    mark = recompute_round_;
+    recomputeCell(x, y);
+  };
+  for (const CellIndex& c : changed_) {
+    const std::size_t i = index(c.x, c.y);
+    if (obstacle_[i] == inflated_state_[i] || obstacle_[i] == kLethalCost) continue;
+    if (inflated_state_[i] != kLethalCost) {
+      recomputeOnce(c.x, c.y);
+      continue;
+    }
+    // Only cells whose cost this obstacle gave (or tied) can drop; the others owe theirs to a
+    // nearer obstacle that is still there.
+    recomputeOnce(c.x, c.y);
+    const int side = 2 * r + 1;
+    for (int y = std::max(0, c.y - r); y <= std::min(height_ - 1, c.y + r); ++y)
+      for (int x = std::max(0, c.x - r); x <= std::min(width_ - 1, c.x + r); ++x)
+        {
+        const std::uint8_t gave = kernel_[static_cast<std::size_t>((y - c.y + r) * side + (x - c.x + r))];
+        if (gave != kFreeCost && cost_[index(x, y)] == gave) recomputeOnce(x, y);
+      }
+  }
+  for (const CellIndex& c : changed_) {
+    const std::size_t i = index(c.x, c.y);
+    if (obstacle_[i] == inflated_state_[i] || obstacle_[i] != kLethalCost) continue;
+    cost_[i] = kLethalCost;
+    stampObstacle(c.x, c.y, {0, 0, width_, height_});
+  }
+  for (const CellIndex& c : changed_) {
+    const std::size_t i = index(c.x, c.y);
+    if (obstacle_[i] == inflated_state_[i]) continue;
+    inflated_state_[i] = obstacle_[i];
+    changed = true;
+  }
+  changed_.clear();
+  stale_ = false;
+  if (changed) ++version_;
 }
 
 void Costmap::setObstacle(int x, int y, std::uint8_t value) {
   std::uint8_t& cell = obstacle_[index(x, y)];
   if (cell == value) return;
-  // Only a change to or from "obstacle" moves the inflation; unknown <-> free changes the cost
-  // of that one cell.
-  if (cell == kLethalCost || value == kLethalCost || cell == kUnknownCost || value == kUnknownCost) markDirty(x, y);
+  // Listed at its first change since its costs were computed (again if it returns to that
+  // state and changes once more; the list is read against the state).
+  if (cell == inflated_state_[index(x, y)]) changed_.push_back({x, y});
   cell = value;
-  ++version_;
+  stale_ = true;
+  // Past a few hundred changes one region is cheaper to re-inflate; this also bounds the list
+  // of a map nobody reads.
+  constexpr std::size_t kMaxChanged = 512;
+  if (changed_.size() > kMaxChanged) foldCellChangesIntoBox();
 }
 
 void Costmap::clearRay(CellIndex from, const Eigen::Vector2d& to) {
@@ -171,43 +234,73 @@ void Costmap::integrateScan(const core::LaserScan& scan, const core::Pose2& sens
     if (toCell(origin + range * Eigen::Vector2d(std::cos(angle), std::sin(angle)), cell))
       setObstacle(cell.x, cell.y, kLethalCost);
   }
-  commitDirty();
 }
 
-void Costmap::reinflate(CellBox changed) const {
-  // Cells whose cost may change: the changed box grown by the inflation reach (and one more
-  // cell). Obstacles that influence them: that box grown by the reach.
+void Costmap::stampObstacle(int ox, int oy, CellBox target) const {
   const int r = inflation_cells_;
-  const int tx0 = std::max(0, changed.x0 - r - 1), ty0 = std::max(0, changed.y0 - r - 1);
-  const int tx1 = std::min(width_, changed.x1 + r + 1), ty1 = std::min(height_, changed.y1 + r + 1);
-  if (tx1 <= tx0 || ty1 <= ty0) return;
-  for (int y = ty0; y < ty1; ++y) {
+  const int side = 2 * r + 1;
+  const int y0 = std::max(target.y0, oy - r), y1 = std::min(target.y1, oy + r + 1);
+  const int x0 = std::max(target.x0, ox - r), x1 = std::min(target.x1, ox + r + 1);
+  for (int y = y0; y < y1; ++y) {
+    const std::uint8_t* k = &kernel_[static_cast<std::size_t>((y - oy + r) * side + (x0 - ox + r))];
     const std::size_t row = index(0, y);
-    for (int x = tx0; x < tx1; ++x) {
+    for (int x = x0; x < x1; ++x, ++k) {
+      std::uint8_t& c = cost_[row + static_cast<std::size_t>(x)];
+      if (c < *k && obstacle_[row + static_cast<std::size_t>(x)] == kFreeCost) c = *k;
+    }
+  }
+}
+
+void Costmap::recomputeCell(int x, int y) const {
+  const std::size_t i = index(x, y);
+  const std::uint8_t state = obstacle_[i];
+  if (state != kFreeCost) {
+    cost_[i] = state;
+    return;
+  }
+  // The nearest obstacle decides: offsets are visited nearest first.
+  const int r = inflation_cells_;
+  if (x >= r && y >= r && x + r < width_ && y + r < height_) {  // the whole kernel on the map
+    const std::uint8_t* here = &obstacle_[i];
+    for (const KernelOffset& o : offsets_by_distance_)
+      if (here[o.flat] == kLethalCost) {
+        cost_[i] = o.cost;
+        return;
+      }
+    cost_[i] = kFreeCost;
+    return;
+  }
+  for (const KernelOffset& o : offsets_by_distance_) {
+    const int ox = x + o.dx, oy = y + o.dy;
+    if (inBounds(ox, oy) && obstacle_[index(ox, oy)] == kLethalCost) {
+      cost_[i] = o.cost;
+      return;
+    }
+  }
+  cost_[i] = kFreeCost;
+}
+
+void Costmap::reinflate(CellBox changed, int grow) const {
+  // Cells recomputed: the changed box grown by `grow`. Obstacles that influence them: that
+  // box grown by the inflation reach.
+  const int r = inflation_cells_;
+  const CellBox target{std::max(0, changed.x0 - grow), std::max(0, changed.y0 - grow), std::min(width_, changed.x1 + grow),
+                       std::min(height_, changed.y1 + grow)};
+  if (target.empty()) return;
+  for (int y = target.y0; y < target.y1; ++y) {
+    const std::size_t row = index(0, y);
+    for (int x = target.x0; x < target.x1; ++x) {
       const std::uint8_t state = obstacle_[row + static_cast<std::size_t>(x)];
       cost_[row + static_cast<std::size_t>(x)] = state == kLethalCost || state == kUnknownCost ? state : kFreeCost;
     }
   }
   // Each obstacle stamps its kernel on the free cells of the target; a cell keeps the largest
   // stamp, the cost at its nearest obstacle.
-  const int side = 2 * r + 1;
-  const int ix0 = std::max(0, tx0 - r), iy0 = std::max(0, ty0 - r);
-  const int ix1 = std::min(width_, tx1 + r), iy1 = std::min(height_, ty1 + r);
-  for (int oy = iy0; oy < iy1; ++oy) {
-    for (int ox = ix0; ox < ix1; ++ox) {
-      if (obstacle_[index(ox, oy)] != kLethalCost) continue;
-      const int y0 = std::max(ty0, oy - r), y1 = std::min(ty1, oy + r + 1);
-      const int x0 = std::max(tx0, ox - r), x1 = std::min(tx1, ox + r + 1);
-      for (int y = y0; y < y1; ++y) {
-        const std::uint8_t* k = &kernel_[static_cast<std::size_t>((y - oy + r) * side + (x0 - ox + r))];
-        const std::size_t row = index(0, y);
-        for (int x = x0; x < x1; ++x, ++k) {
-          std::uint8_t& c = cost_[row + static_cast<std::size_t>(x)];
-          if (c < *k && obstacle_[row + static_cast<std::size_t>(x)] == kFreeCost) c = *k;
-        }
-      }
-    }
-  }
+  const int ix0 = std::max(0, target.x0 - r), iy0 = std::max(0, target.y0 - r);
+  const int ix1 = std::min(width_, target.x1 + r), iy1 = std::min(height_, target.y1 + r);
+  for (int oy = iy0; oy < iy1; ++oy)
+    for (int ox = ix0; ox < ix1; ++ox)
+      if (obstacle_[index(ox, oy)] == kLethalCost) stampObstacle(ox, oy, target);
 }
 
 void Costmap::recentre(const Eigen::Vector2d& position) {
@@ -219,7 +312,6 @@ void Costmap::recentre(const Eigen::Vector2d& position) {
   const int shift_x = static_cast<int>(std::lround((wanted.x() - origin_.x()) / res));
   const int shift_y = static_cast<int>(std::lround((wanted.y() - origin_.y()) / res));
   if (shift_x == 0 && shift_y == 0) return;
-  commitDirty();
   // Cell (x, y) takes the old cell (x + shift_x, y + shift_y), in place: rows are visited in
   // the direction that reads each source row before it is overwritten.
   const std::uint8_t unseen = config_.track_unknown ? kUnknownCost : kFreeCost;
@@ -240,6 +332,7 @@ void Costmap::recentre(const Eigen::Vector2d& position) {
   };
   shiftGrid(obstacle_);
   shiftGrid(cost_);
+  shiftGrid(inflated_state_);
   origin_ = wanted;
   ++version_;
   // Regions still to re-inflate move with the cells.
@@ -249,6 +342,10 @@ void Costmap::recentre(const Eigen::Vector2d& position) {
     if (!m.empty()) pending_[kept++] = m;
   }
   pending_.resize(kept);
+  kept = 0;
+  for (const CellIndex& c : changed_)
+    if (inBounds(c.x - shift_x, c.y - shift_y)) changed_[kept++] = {c.x - shift_x, c.y - shift_y};
+  changed_.resize(kept);
   // Costs near the edges that moved lost (or gained) obstacles beyond the old window.
   const int band = inflation_cells_ + 1;
   if (std::abs(shift_x) >= width_ || std::abs(shift_y) >= height_) {
@@ -297,14 +394,12 @@ std::vector<CellIndex> Costmap::polygonCells(const std::vector<Eigen::Vector2d>&
 void Costmap::clearPolygon(const std::vector<Eigen::Vector2d>& polygon) {
   for (const CellIndex& cell : polygonCells(polygon))
     if (obstacle_[index(cell.x, cell.y)] == kLethalCost) setObstacle(cell.x, cell.y, kFreeCost);
-  commitDirty();
 }
 
 void Costmap::markObstacle(const Eigen::Vector2d& p) {
   CellIndex cell;
   if (!toCell(p, cell)) return;
   setObstacle(cell.x, cell.y, kLethalCost);
-  commitDirty();
 }
 
 void Costmap::clearOutside(const Eigen::Vector2d& centre, double radius) {
@@ -312,7 +407,7 @@ void Costmap::clearOutside(const Eigen::Vector2d& centre, double radius) {
   for (int y = 0; y < height_; ++y)
     for (int x = 0; x < width_; ++x)
       if ((cellCentre({x, y}) - centre).norm() > radius && obstacle_[index(x, y)] == kLethalCost) setObstacle(x, y, unseen);
-  dirty_ = {width_, height_, 0, 0};
+  changed_.clear();
   pending_.clear();
   queueReinflation({0, 0, width_, height_});
 }

@@ -105,20 +105,24 @@ class Costmap {
   /// Final (inflated) cost of a cell; cells outside the map are unknown.
   std::uint8_t cost(int x, int y) const {
     if (!inBounds(x, y)) return kUnknownCost;
-    if (!pending_.empty()) inflatePending();
+    if (stale_) inflatePending();
     return cost_[index(x, y)];
   }
   /// All final costs, row-major (x fastest), widthCells() x heightCells().
   const std::uint8_t* costs() const {
-    if (!pending_.empty()) inflatePending();
+    if (stale_) inflatePending();
     return cost_.data();
   }
   std::uint8_t costAt(const Eigen::Vector2d& p) const;
   /// True if the cell holds an obstacle (marked and not cleared since).
   bool isObstacle(int x, int y) const { return inBounds(x, y) && obstacle_[index(x, y)] == kLethalCost; }
 
-  /// Changes whenever any cost may have changed (planners cache on it).
-  std::uint64_t version() const { return version_; }
+  /// Changes whenever a cost changed (planners cache on it); a scan that only confirms what
+  /// the map held leaves it.
+  std::uint64_t version() const {
+    if (stale_) inflatePending();
+    return version_;
+  }
 
   /// The inflation cost for a distance d [m] to the nearest obstacle (see the header comment).
   std::uint8_t inflationCost(double distance) const;
@@ -135,13 +139,15 @@ class Costmap {
   };
 
   void setObstacle(int x, int y, std::uint8_t value);
-  void markDirty(int x, int y);
-  /// Queues the cells changed since the last call for re-inflation.
-  void commitDirty();
   void queueReinflation(CellBox box);
+  void foldCellChangesIntoBox();
   void inflatePending() const;
-  /// Recomputes the costs of the cells within the inflation reach of `changed`.
-  void reinflate(CellBox changed) const;
+  /// Recomputes the costs of the cells of `changed` grown by `grow` cells on every side.
+  void reinflate(CellBox changed, int grow) const;
+  /// Sets one cell's cost from the obstacles within the reach.
+  void recomputeCell(int x, int y) const;
+  /// Raises the free cells of `target` around obstacle (ox, oy) to its kernel.
+  void stampObstacle(int ox, int oy, CellBox target) const;
   void clearRay(CellIndex from, const Eigen::Vector2d& to);
 
   CostmapConfig config_;
@@ -152,16 +158,29 @@ class Costmap {
   // Final cost per cell: a cache of obstacle_ and the inflation, brought up to date by the
   // first read after a change (hence mutable).
   mutable std::vector<std::uint8_t> cost_;
-  // Changed regions whose inflation is not yet recomputed (a few boxes, merged when many).
+  // Changes whose inflation is not yet folded in: cells whose state may differ from the one
+  // their costs were computed for (inflated_state_), and regions (a few boxes, merged when
+  // many; re-inflated with a margin of the reach plus one cell).
+  mutable std::vector<std::uint8_t> inflated_state_;
+  mutable std::vector<CellIndex> changed_;
   mutable std::vector<CellBox> pending_;
+  mutable bool stale_ = false;
   int inflation_cells_ = 0;             // ceil(inflation_radius / resolution)
   // The inflation cost of an obstacle cell at each offset (dx, dy) in [-r, r]^2, r the
   // inflation reach in cells, row-major: a cell's cost is the largest any obstacle stamps on it
   // (cost falls with distance, so that is the cost at the nearest obstacle).
   std::vector<std::uint8_t> kernel_;
-  // Cells whose obstacle state changed since the last commitDirty().
-  CellBox dirty_;
-  std::uint64_t version_ = 0;
+  // The kernel's non-zero offsets (the centre excluded), nearest first.
+  struct KernelOffset {
+    int dx = 0, dy = 0;
+    std::ptrdiff_t flat = 0;  // dy * width + dx
+    std::uint8_t cost = 0;
+  };
+  std::vector<KernelOffset> offsets_by_distance_;
+  // Scratch of inflatePending(): the round in which each cell was last recomputed.
+  mutable std::vector<std::uint32_t> recomputed_in_round_;
+  mutable std::uint32_t recompute_round_ = 0;
+  mutable std::uint64_t version_ = 0;
 };
 
 }  // namespace barn::nav
