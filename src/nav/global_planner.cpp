@@ -40,15 +40,26 @@ int GlobalPlanner::stepCost(std::uint8_t c, bool diagonal) const {
 }
 
 void GlobalPlanner::computeField(const Costmap& costmap, CellIndex goal, CellIndex start) {
-  const int w = costmap.widthCells();
-  const int h = costmap.heightCells();
+  // The field lives on the map padded by one impassable cell on every side, so neighbours
+  // need no bounds checks and a cell is one flat index.
+  const int w = costmap.widthCells() + 2;
+  const int h = costmap.heightCells() + 2;
   const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
   field_.assign(n, kUnreached);
   next_.assign(n, -1);
   settled_.assign(n, 0);
-  const std::uint8_t* cost = costmap.costs();
-  const auto passable = [&](int x, int y) { return straight_cost_[cost[static_cast<std::size_t>(y * w + x)]] >= 0; };
-  const int start_index = start.y * w + start.x;
+  padded_cost_.assign(n, kLethalCost);
+  const std::uint8_t* costs = costmap.costs();
+  for (int y = 0; y < costmap.heightCells(); ++y)
+    std::copy_n(costs + static_cast<std::ptrdiff_t>(y) * costmap.widthCells(), costmap.widthCells(),
+                padded_cost_.begin() + static_cast<std::ptrdiff_t>(y + 1) * w + 1);
+  const std::uint8_t* cost = padded_cost_.data();
+  const int* straight_cost = straight_cost_.data();
+  const int* diagonal_cost = diagonal_cost_.data();
+  const auto passable = [&](int i) { return straight_cost[cost[i]] >= 0; };
+  const int start_index = paddedIndex(start, w);
+  int offset[8];
+  for (int k = 0; k < 8; ++k) offset[k] = kSteps[k][1] * w + kSteps[k][0];
 
   // Dial's algorithm: a ring of buckets, one per integer distance modulo (largest edge + 1),
   // and a bitmap of the non-empty ones so the scan jumps over the (many) empty distances.
@@ -73,7 +84,7 @@ void GlobalPlanner::computeField(const Costmap& costmap, CellIndex goal, CellInd
     }
     return static_cast<int>(word * 64 + static_cast<std::size_t>(__builtin_ctzll(bits)));
   };
-  const int goal_index = goal.y * w + goal.x;
+  const int goal_index = paddedIndex(goal, w);
   field_[static_cast<std::size_t>(goal_index)] = 0;
   push(0, goal_index);
   std::size_t pending = 1;
@@ -94,27 +105,22 @@ void GlobalPlanner::computeField(const Costmap& costmap, CellIndex goal, CellInd
       if (field_[static_cast<std::size_t>(i)] != d || settled_[static_cast<std::size_t>(i)]) continue;  // stale entry
       settled_[static_cast<std::size_t>(i)] = 1;
       ++expanded;
-      const int x = i % w;
-      const int y = i / w;
       // Reverse search: a neighbour p reaches this cell by entering it.
-      const std::uint8_t here = cost[static_cast<std::size_t>(i)];
-      for (const auto& step : kSteps) {
-        const int px = x + step[0];
-        const int py = y + step[1];
-        if (px < 0 || py < 0 || px >= w || py >= h) continue;
-        const bool diagonal = step[0] != 0 && step[1] != 0;
-        if (diagonal && (!passable(px, y) || !passable(x, py))) continue;  // no corner cutting
-        const std::int64_t candidate = d + stepCost(here, diagonal);
-        const std::size_t p = static_cast<std::size_t>(py * w + px);
-        if (candidate >= field_[p]) continue;
-        field_[p] = candidate;
-        next_[p] = i;
+      const std::uint8_t here = cost[i];
+      for (int dir = 0; dir < 8; ++dir) {
+        const int p = i + offset[dir];
+        const bool diagonal = dir >= 4;
+        if (diagonal && (!passable(i + kSteps[dir][0]) || !passable(i + kSteps[dir][1] * w))) continue;  // no corner cutting
+        const std::int64_t candidate = d + (diagonal ? diagonal_cost[here] : straight_cost[here]);
+        if (candidate >= field_[static_cast<std::size_t>(p)]) continue;
+        field_[static_cast<std::size_t>(p)] = candidate;
+        next_[static_cast<std::size_t>(p)] = i;
         // The start is done once reached if it cannot be entered (it is never expanded).
-        if (static_cast<int>(p) == start_index && !passable(px, py)) settled_[p] = 1;
+        if (p == start_index && !passable(p)) settled_[static_cast<std::size_t>(p)] = 1;
         // An impassable neighbour gets a cost (a start may sit there) but is never expanded:
-        // nothing can pass through it.
-        if (!passable(px, py)) continue;
-        push(candidate, static_cast<int>(p));
+        // nothing can pass through it. (The padding is impassable too.)
+        if (!passable(p)) continue;
+        push(candidate, p);
         ++pending;
       }
     }
@@ -162,21 +168,21 @@ Plan GlobalPlanner::plan(const Costmap& costmap, const Eigen::Vector2d& start, c
   CellIndex s, g;
   if (!costmap.toCell(start, s) || !costmap.toCell(goal, g)) return result;
   if (straight_cost_[costmap.cost(g.x, g.y)] < 0) return result;
-  const std::size_t start_index = static_cast<std::size_t>(s.y * costmap.widthCells() + s.x);
+  const int w = costmap.widthCells() + 2;
+  const auto start_index = static_cast<std::size_t>(paddedIndex(s, w));
   if (field_map_ != &costmap || field_version_ != costmap.version() || !(field_goal_ == g) ||
-      field_.size() != static_cast<std::size_t>(costmap.widthCells()) * static_cast<std::size_t>(costmap.heightCells()) ||
+      field_.size() != static_cast<std::size_t>(w) * static_cast<std::size_t>(costmap.heightCells() + 2) ||
       !settled_[start_index]) {
     computeField(costmap, g, s);
     field_map_ = &costmap;
     field_version_ = costmap.version();
     field_goal_ = g;
   }
-  const int w = costmap.widthCells();
   if (field_[start_index] == kUnreached) return result;
   result.found = true;
   result.cost = field_[start_index];
   for (int i = static_cast<int>(start_index); i >= 0; i = next_[static_cast<std::size_t>(i)])
-    result.path.push_back(costmap.cellCentre({i % w, i / w}));
+    result.path.push_back(costmap.cellCentre({i % w - 1, i / w - 1}));
   if (config_.smoothing_window > 1 && result.path.size() > 2) {
     // Moving average over the cell path, end points kept: removes the 45-degree staircase.
     const std::vector<Eigen::Vector2d> raw = result.path;

@@ -77,6 +77,8 @@ class GlobalPlanner {
 
  private:
   void computeField(const Costmap& costmap, CellIndex goal, CellIndex start);
+  /// A cell's flat index on the padded grid `padded_width` wide.
+  static int paddedIndex(CellIndex cell, int padded_width) { return (cell.y + 1) * padded_width + cell.x + 1; }
   Plan planNavFn(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal);
 
   PlannerConfig config_;
@@ -89,6 +91,7 @@ class GlobalPlanner {
   std::vector<std::int64_t> field_;
   std::vector<int> next_;           // flat index of the next cell toward the goal, -1 none
   std::vector<char> settled_;       // cells whose field value is final
+  std::vector<std::uint8_t> padded_cost_;  // scratch: the costs, padded by a lethal border
   std::vector<std::vector<int>> buckets_;  // scratch: Dial's bucket ring
   std::vector<std::uint64_t> occupied_buckets_;  // scratch: a bit per non-empty bucket
   std::uint64_t field_version_ = 0;
