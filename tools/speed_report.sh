@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# The speed figures of the README: each controller's simulated seconds per wall second per
+# core, measured by `barn run`'s own performance line, as the median of repeats, and as a ratio
+# to pure_pursuit (the simulator with a trivial controller) measured in the same round, so a
+# busy machine moves both alike. Then the scaling of --jobs 2 over --jobs 1.
+#
+#   tools/speed_report.sh [BUILD_DIR] [WORLDS] [REPEATS]
+#   defaults: build, 0:300:10 (30 worlds spread over the difficulty range), 3
+#
+# Run it on an idle machine; it takes a few minutes on 2 cores.
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+build="${1:-$here/build}"
+worlds="${2:-0:300:10}"
+repeats="${3:-3}"
+controllers=(pure_pursuit inventec_fi inventec_mpc lflh dwa)
+cd "$here"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+
+# Prints the "per core" figure and the wall seconds of one run.
+measure() {  # controller jobs
+  local out="$work/$1-$2-$RANDOM$RANDOM"
+  "$build/barn" run --controller "$1" --worlds "$worlds" --jobs "$2" --out "$out" 2>/dev/null |
+    sed -n 's/.*performance: wall \([0-9.]*\) s, simulated [0-9.]* s, [0-9]* simulated s per wall s (\([0-9]*\) per core.*/\2 \1/p'
+  rm -rf "$out"
+}
+
+median() { sort -g | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
+
+declare -A rate ratio scaling
+for c in "${controllers[@]}"; do rate[$c]=""; ratio[$c]=""; scaling[$c]=""; done
+for ((r = 1; r <= repeats; ++r)); do
+  base=$(measure pure_pursuit 1 | cut -d' ' -f1)
+  for c in "${controllers[@]}"; do
+    read -r per_core wall1 < <(measure "$c" 1)
+    read -r _ wall2 < <(measure "$c" 2)
+    rate[$c]+="$per_core "
+    ratio[$c]+="$(awk -v a="$per_core" -v b="$base" 'BEGIN {printf "%.4f", a / b}') "
+    scaling[$c]+="$(awk -v a="$wall1" -v b="$wall2" 'BEGIN {printf "%.3f", a / b}') "
+    echo "round $r/$repeats: $c $per_core sim-s per wall-s per core (--jobs 1), --jobs 2 speed-up $(awk -v a="$wall1" -v b="$wall2" 'BEGIN {printf "%.2f", a / b}')" >&2
+  done
+done
+
+echo
+echo "worlds $worlds, 1 trial, medians of $repeats rounds ($(nproc) cores)"
+printf "%-14s %18s %16s %14s\n" controller "sim-s/s per core" "vs pure_pursuit" "--jobs 2 / 1"
+for c in "${controllers[@]}"; do
+  m=$(tr ' ' '\n' <<<"${rate[$c]}" | grep . | median)
+  q=$(tr ' ' '\n' <<<"${ratio[$c]}" | grep . | median)
+  s=$(tr ' ' '\n' <<<"${scaling[$c]}" | grep . | median)
+  printf "%-14s %18s %16s %14s\n" "$c" "$m" "$(awk -v q="$q" 'BEGIN {printf "%.3f", q}')" "$(awk -v s="$s" 'BEGIN {printf "%.2f", s}')"
+done
