@@ -161,9 +161,8 @@ void Costmap::inflatePending() const {
   if (changed) ++version_;
 }
 
-void Costmap::setObstacle(int x, int y, std::uint8_t value) {
+void Costmap::changeObstacle(int x, int y, std::uint8_t value) {
   std::uint8_t& cell = obstacle_[index(x, y)];
-  if (cell == value) return;
   // Listed at its first change since its costs were computed (again if it returns to that
   // state and changes once more; the list is read against the state).
   if (cell == inflated_state_[index(x, y)]) changed_.push_back({x, y});
@@ -218,11 +217,21 @@ void Costmap::integrateScan(const core::LaserScan& scan, const core::Pose2& sens
   // cleared ray stays an obstacle. Nothing is traced if the sensor is off the map.
   CellIndex sensor_cell;
   if (toCell(origin, sensor_cell)) {
+    // The beams' directions in the sensor frame are the same every scan.
+    if (beam_cos_.size() != scan.ranges.size() || beam_angle_min_ != scan.angle_min || beam_angle_increment_ != scan.angle_increment) {
+      beam_cos_.resize(scan.ranges.size());
+      beam_sin_.resize(scan.ranges.size());
+      for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
+        beam_cos_[i] = std::cos(scan.angle(i));
+        beam_sin_[i] = std::sin(scan.angle(i));
+      }
+      beam_angle_min_ = scan.angle_min;
+      beam_angle_increment_ = scan.angle_increment;
+    }
     for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
       double range = 0.0;
       if (!usable(scan.ranges[i], range)) continue;
-      const double angle = scan.angle(i);
-      const Eigen::Vector2d u(c * std::cos(angle) - s * std::sin(angle), s * std::cos(angle) + c * std::sin(angle));
+      const Eigen::Vector2d u(c * beam_cos_[i] - s * beam_sin_[i], s * beam_cos_[i] + c * beam_sin_[i]);
       clearRay(sensor_cell, origin + range * u);
     }
   }

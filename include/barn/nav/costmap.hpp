@@ -138,7 +138,10 @@ class Costmap {
     bool empty() const { return x1 <= x0 || y1 <= y0; }
   };
 
-  void setObstacle(int x, int y, std::uint8_t value);
+  void setObstacle(int x, int y, std::uint8_t value) {
+    if (obstacle_[index(x, y)] != value) changeObstacle(x, y, value);  // most ray cells are free already
+  }
+  void changeObstacle(int x, int y, std::uint8_t value);
   void queueReinflation(CellBox box);
   void foldCellChangesIntoBox();
   void inflatePending() const;
@@ -181,6 +184,9 @@ class Costmap {
   mutable std::vector<std::uint32_t> recomputed_in_round_;
   mutable std::uint32_t recompute_round_ = 0;
   mutable std::uint64_t version_ = 0;
+  // The beams' directions in the sensor frame, for the scan geometry they were computed for.
+  std::vector<double> beam_cos_, beam_sin_;
+  double beam_angle_min_ = 0.0, beam_angle_increment_ = 0.0;
 };
 
 }  // namespace barn::nav
