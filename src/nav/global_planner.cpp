@@ -69,10 +69,12 @@ void GlobalPlanner::computeField(const Costmap& costmap, CellIndex goal, CellInd
   std::vector<std::vector<int>>& buckets = buckets_;
   std::vector<std::uint64_t>& occupied = occupied_buckets_;
   occupied.assign(static_cast<std::size_t>(ring + 63) / 64, 0);
-  const auto push = [&](std::int64_t distance, int cell) {
-    const auto slot = static_cast<std::size_t>(distance % ring);
-    buckets[slot].push_back(cell);
-    occupied[slot / 64] |= std::uint64_t{1} << (slot % 64);
+  // A cell at `ahead` (< ring) past the current distance, whose slot is `slot`.
+  const auto push = [&](int slot, int ahead, int cell) {
+    int target = slot + ahead;
+    if (target >= ring) target -= ring;
+    buckets[static_cast<std::size_t>(target)].push_back(cell);
+    occupied[static_cast<std::size_t>(target) / 64] |= std::uint64_t{1} << (target % 64);
   };
   // The first non-empty slot at or after `slot`, cyclically (some slot is non-empty).
   const auto nextOccupied = [&](int slot) {
@@ -86,7 +88,7 @@ void GlobalPlanner::computeField(const Costmap& costmap, CellIndex goal, CellInd
   };
   const int goal_index = paddedIndex(goal, w);
   field_[static_cast<std::size_t>(goal_index)] = 0;
-  push(0, goal_index);
+  push(0, 0, goal_index);
   std::size_t pending = 1;
   std::size_t expanded = 0;
   bool start_settled = false;
@@ -111,7 +113,8 @@ void GlobalPlanner::computeField(const Costmap& costmap, CellIndex goal, CellInd
         const int p = i + offset[dir];
         const bool diagonal = dir >= 4;
         if (diagonal && (!passable(i + kSteps[dir][0]) || !passable(i + kSteps[dir][1] * w))) continue;  // no corner cutting
-        const std::int64_t candidate = d + (diagonal ? diagonal_cost[here] : straight_cost[here]);
+        const int step = diagonal ? diagonal_cost[here] : straight_cost[here];
+        const std::int64_t candidate = d + step;
         if (candidate >= field_[static_cast<std::size_t>(p)]) continue;
         field_[static_cast<std::size_t>(p)] = candidate;
         next_[static_cast<std::size_t>(p)] = i;
@@ -120,7 +123,7 @@ void GlobalPlanner::computeField(const Costmap& costmap, CellIndex goal, CellInd
         // An impassable neighbour gets a cost (a start may sit there) but is never expanded:
         // nothing can pass through it. (The padding is impassable too.)
         if (!passable(p)) continue;
-        push(candidate, p);
+        push(slot, step, p);
         ++pending;
       }
     }

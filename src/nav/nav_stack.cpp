@@ -43,6 +43,7 @@ NavStack::NavStack(const NavStackConfig& config)
 void NavStack::reset(const Eigen::Vector2d& goal) {
   global_ = Costmap(config_.global_costmap);
   local_ = Costmap(config_.local_costmap);
+  local_updates_queued_ = 0;
   goal_ = goal;
   path_.clear();
   last_global_update_ = last_local_update_ = last_plan_ = last_scan_stamp_ = -1e9;
@@ -59,26 +60,50 @@ void NavStack::update(double time, const core::LaserScan& scan, const core::Pose
                       const core::Pose2& robot_pose) {
   constexpr double kSlack = 1e-9;  // periods are multiples of the control period up to rounding
   const bool new_scan = scan.stamp != last_scan_stamp_;
-  std::vector<Eigen::Vector2d> footprint;
-  if (config_.footprint_clearing)
-    for (const auto& corner : paddedFootprint()) footprint.push_back(robot_pose.transform(corner));
   if (new_scan && time - last_global_update_ >= 1.0 / config_.global_update_rate - kSlack) {
     global_.integrateScan(scan, sensor_pose, robot_pose.position());
-    global_.clearPolygon(footprint);
+    if (config_.footprint_clearing) global_.clearPolygon(footprintAt(robot_pose));
     last_global_update_ = time;
   }
-  if (new_scan && time - last_local_update_ >= 1.0 / config_.local_update_rate - kSlack) {
-    local_.integrateScan(scan, sensor_pose, robot_pose.position());
-    local_.clearPolygon(footprint);
+  if (local_updates_queued_ == local_updates_.size()) local_updates_.emplace_back();
+  LocalUpdate& update = local_updates_[local_updates_queued_++];
+  update.has_scan = new_scan && time - last_local_update_ >= 1.0 / config_.local_update_rate - kSlack;
+  update.robot_pose = robot_pose;
+  if (update.has_scan) {
+    update.scan.stamp = scan.stamp;
+    update.scan.angle_min = scan.angle_min;
+    update.scan.angle_increment = scan.angle_increment;
+    update.scan.range_min = scan.range_min;
+    update.scan.range_max = scan.range_max;
+    update.scan.ranges.assign(scan.ranges.begin(), scan.ranges.end());
+    update.sensor_pose = sensor_pose;
     last_local_update_ = time;
-  } else {
-    local_.recentre(robot_pose.position());
   }
   last_scan_stamp_ = scan.stamp;
   if (time - last_plan_ >= 1.0 / config_.planner.rate - kSlack) {
     replan(robot_pose);
     last_plan_ = time;
   }
+}
+
+std::vector<Eigen::Vector2d> NavStack::footprintAt(const core::Pose2& robot_pose) const {
+  std::vector<Eigen::Vector2d> footprint;
+  for (const auto& corner : paddedFootprint()) footprint.push_back(robot_pose.transform(corner));
+  return footprint;
+}
+
+void NavStack::applyLocalUpdate(const LocalUpdate& update) const {
+  if (!update.has_scan) {
+    local_.recentre(update.robot_pose.position());
+    return;
+  }
+  local_.integrateScan(update.scan, update.sensor_pose, update.robot_pose.position());
+  if (config_.footprint_clearing) local_.clearPolygon(footprintAt(update.robot_pose));
+}
+
+void NavStack::applyLocalUpdates() const {
+  for (std::size_t i = 0; i < local_updates_queued_; ++i) applyLocalUpdate(local_updates_[i]);
+  local_updates_queued_ = 0;
 }
 
 void NavStack::replan(const core::Pose2& robot_pose) {

@@ -2,6 +2,10 @@
 //   BM_Scan/fast      one 720-beam scan with LidarCaster (the simulator's caster)
 //   BM_Scan/box2d     the same scan with one b2World::RayCast per beam (the reference)
 //   BM_SimulatedSecond  one simulated second: physics at the configured rate + 50 Hz LiDAR
+//   BM_CostmapUpdate/{global,local}/{read,unread}  one scan folded into a costmap as a robot drives
+//                     through a dense world, with or without reading a cost afterwards (the
+//                     inflation is brought up to date only when read)
+//   BM_GlobalPlan     one full planner field on a dense world
 // Run: build/tests/perf/barn_sim_benchmark --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 
 #include <benchmark/benchmark.h>
@@ -81,6 +85,36 @@ void BM_SimulatedSecond(benchmark::State& state) {
   state.counters["real_time_factor"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_SimulatedSecond)->Arg(200)->Arg(1000)->Unit(benchmark::kMicrosecond);
+
+// One scan folded into the global (fixed) or local (rolling) costmap while the robot drives up
+// the corridor of a dense world; with `read`, one cost is read after it, which brings the
+// inflation up to date (a map nobody reads pays only for its ray traces).
+void BM_CostmapUpdate(benchmark::State& state) {
+  Fixture f;
+  const bool local = state.range(0) > 0;
+  const bool read = state.range(1) > 0;
+  // The scans along the corridor, cast beforehand (casting is BM_Scan's); driven up and back
+  // down so the rolling window never jumps.
+  sim::LidarCaster caster(f.lidar, f.field);
+  core::FastNoise noise(7);
+  const Eigen::Vector2d odom_origin(-2.25, 3.0);
+  std::vector<std::pair<core::LaserScan, core::Pose2>> drive;
+  for (std::size_t k = 0; k < 2 * f.poses.size(); ++k) {
+    const core::Pose2 pose = f.poses[k < f.poses.size() ? k : 2 * f.poses.size() - 1 - k];
+    drive.emplace_back(caster.scan(pose, 0.0, &noise), core::Pose2{pose.x - odom_origin.x(), pose.y - odom_origin.y(), pose.yaw});
+  }
+  nav::Costmap costmap(local ? nav::NavStackConfig::defaultLocalCostmap() : nav::NavStackConfig::defaultGlobalCostmap());
+  std::size_t i = 0;
+  long cost_sum = 0;
+  for (auto _ : state) {
+    const auto& [scan, odom] = drive[i++ % drive.size()];
+    costmap.integrateScan(scan, f.lidar.sensorPose(odom), odom.position());
+    if (read) cost_sum += costmap.costAt(odom.position());
+  }
+  benchmark::DoNotOptimize(cost_sum);
+}
+// Args: local map, read a cost after each scan.
+BENCHMARK(BM_CostmapUpdate)->Args({0, 1})->Args({1, 1})->Args({1, 0})->Unit(benchmark::kMicrosecond);
 
 // One global plan (a full Dijkstra field, as after every costmap update) on the default
 // global costmap with every cylinder of a dense world marked: the planner's worst case.

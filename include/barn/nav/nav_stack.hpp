@@ -52,6 +52,8 @@ class NavStack {
 
   /// The padded footprint's corners in the robot frame (counter-clockwise).
   std::vector<Eigen::Vector2d> paddedFootprint() const;
+  /// The same in the odom frame, the robot at `robot_pose`.
+  std::vector<Eigen::Vector2d> footprintAt(const core::Pose2& robot_pose) const;
 
   /// Forces a replan now (e.g. after a recovery cleared the costmaps).
   void replan(const core::Pose2& robot_pose);
@@ -59,17 +61,40 @@ class NavStack {
   bool hasPath() const { return !path_.empty(); }
   const Path& path() const { return path_; }  // odom frame, robot -> goal; empty if none
   const Costmap& globalCostmap() const { return global_; }
-  const Costmap& localCostmap() const { return local_; }
+  /// The local costmap, brought up to date first (see local_updates_).
+  const Costmap& localCostmap() const {
+    applyLocalUpdates();
+    return local_;
+  }
   Costmap& mutableGlobalCostmap() { return global_; }
-  Costmap& mutableLocalCostmap() { return local_; }
+  Costmap& mutableLocalCostmap() {
+    applyLocalUpdates();
+    return local_;
+  }
   const Eigen::Vector2d& goal() const { return goal_; }
   int plansMade() const { return plans_; }
   int plansFailed() const { return failed_plans_; }
 
  private:
+  /// One update of the local costmap: a scan (folded in, then the footprint cleared) or only
+  /// a re-centring on the robot.
+  struct LocalUpdate {
+    bool has_scan = false;
+    core::LaserScan scan;
+    core::Pose2 sensor_pose;
+    core::Pose2 robot_pose;
+  };
+  void applyLocalUpdates() const;
+  void applyLocalUpdate(const LocalUpdate& update) const;
+
   NavStackConfig config_;
   Costmap global_;
-  Costmap local_;
+  // The local costmap is only read by some controllers (DWA every tick, Inventec's rear check
+  // now and then, LfLH never), so its updates are queued and applied, in order, when it is read:
+  // the same map, paid for only when used. Hence mutable.
+  mutable Costmap local_;
+  mutable std::vector<LocalUpdate> local_updates_;  // entries [0, queued) are pending; the rest keep their buffers
+  mutable std::size_t local_updates_queued_ = 0;
   GlobalPlanner planner_;
   Eigen::Vector2d goal_ = Eigen::Vector2d::Zero();
   Path path_;
