@@ -44,6 +44,9 @@ void NavStack::reset(const Eigen::Vector2d& goal) {
   global_ = Costmap(config_.global_costmap);
   local_ = Costmap(config_.local_costmap);
   local_updates_queued_ = 0;
+  // A fresh planner too: its cache is keyed on the costmap's address and version, which the
+  // new costmap can repeat.
+  planner_ = GlobalPlanner(config_.planner);
   goal_ = goal;
   path_.clear();
   last_global_update_ = last_local_update_ = last_plan_ = last_scan_stamp_ = -1e9;

@@ -10,7 +10,10 @@
 #include <string>
 #include <vector>
 
+#include "barn/controllers/registry.hpp"
+#include "barn/core/config.hpp"
 #include "barn/core/protocol.hpp"
+#include "barn/core/world_file.hpp"
 #include "barn/core/world_geometry.hpp"
 
 namespace barn::bench {
@@ -315,6 +318,26 @@ TEST(Episode, SameControllerObjectRunsTwoEpisodesIdentically) {
   const EpisodeResult a = run(emptyWorld(), controller, {}, 5, true);
   const EpisodeResult b = run(emptyWorld(), controller, {}, 5, true);
   expectSameTrajectory(a, b);
+}
+
+TEST(Episode, EveryBuiltInControllerObjectReusedGivesWhatAFreshOneGives) {
+  // reset() must forget everything of the previous episode, planner caches included (a new
+  // costmap may sit at the old one's address with the same version and goal).
+  const std::string root = BARN_SOURCE_DIR;
+  const core::WorldSpec first_world = core::readWorldFile(root + "/worlds/world_000.yaml");
+  const core::WorldSpec second_world = core::readWorldFile(root + "/worlds/world_010.yaml");
+  for (const std::string name : {"pure_pursuit", "dwa", "lflh", "inventec_fi", "inventec_mpc"}) {
+    const controllers::ControllerFactory factory =
+        controllers::makeControllerFactory(core::ConfigNode::parseFile(root + "/configs/controllers/" + name + ".yaml"));
+    const auto reused = factory();
+    run(first_world, *reused, {}, 3);
+    const EpisodeResult again = run(second_world, *reused, {}, 4, true);
+    const auto fresh = factory();
+    const EpisodeResult expected = run(second_world, *fresh, {}, 4, true);
+    SCOPED_TRACE(name);
+    EXPECT_EQ(again.outcome, expected.outcome);
+    expectSameTrajectory(again, expected);
+  }
 }
 
 TEST(Episode, DifferentSeedGivesDifferentScanNoise) {
