@@ -1,7 +1,6 @@
 #include "barn/bench/episode.hpp"
 
 #include <cmath>
-#include <deque>
 #include <exception>
 
 #include "barn/core/world_geometry.hpp"
@@ -74,144 +73,177 @@ std::vector<Eigen::Vector2d> referencePathInOdom(const core::WorldSpec& world, c
   return path;
 }
 
+Episode::Episode(const core::WorldSpec& world, const sim::ObstacleField& field, const EpisodeConfig& config,
+                 std::uint64_t seed, double controller_period)
+    : protocol_(core::protocolPreset(config.protocol)),
+      config_(config),
+      simulator_(field, config.robot, config.physics, core::Pose2{protocol_.start_x, protocol_.start_y, protocol_.start_yaw},
+                 core::mixSeed(seed, 5)),
+      lidar_(config.lidar, field),
+      scan_noise_(core::mixSeed(seed, 1)),
+      odometry_noise_(core::mixSeed(seed, 3)) {
+  if (!(controller_period > 0.0) || !std::isfinite(controller_period))
+    throw core::InputError("controller period must be a positive number of seconds");
+  start_ = {protocol_.start_x, protocol_.start_y, protocol_.start_yaw};
+  odom_origin_ = protocol_.start();  // odom = world shifted to the start
+  goal_world_ = protocol_.goal();
+  if (config.odometry.drift.enabled()) drifting_.emplace(config.odometry.drift, start_, core::mixSeed(seed, 4));
+  result_.world_id = world.id;
+  result_.seed = seed;
+  result_.optimal_time = core::optimalTime(world.path, protocol_);
+
+  info_.start = {0.0, 0.0, protocol_.start_yaw};
+  info_.goal = goal_world_ - odom_origin_;
+  info_.goal_tolerance = protocol_.success_radius;
+  info_.seed = core::mixSeed(seed, 2);
+  info_.lidar = config.lidar;
+  info_.robot = config.robot;
+  info_.reference_path = referencePathInOdom(world, protocol_);
+
+  const double dt = simulator_.dt();
+  scan_steps_ = *stepsIn(1.0 / config.lidar.rate, dt);
+  check_steps_ = *stepsIn(protocol_.check_period, dt);
+  control_steps_ = std::max(1L, std::lround(controller_period / dt));
+  max_steps_ = std::lround((protocol_.timeout + 1.0) / dt);
+  latency_steps_ = std::lround(config.latency.command / dt);
+  previous_position_ = start_.position();
+  scan_ = lidar_.scan(simulator_.pose(), simulator_.time(), &scan_noise_);
+  arriveAtTick();
+}
+
+void Episode::arriveAtTick() {
+  const core::Pose2 pose = simulator_.pose();
+  const OdometryNoise& sigma = config_.odometry;
+  controllers::Observation& obs = observation_;
+  obs.time = simulator_.time();
+  obs.scan = &scan_;
+  obs.odom_pose = drifting_ ? drifting_->pose() : core::Pose2{pose.x - odom_origin_.x(), pose.y - odom_origin_.y(), pose.yaw};
+  obs.odom_twist = {simulator_.forwardSpeed(), simulator_.yawRate()};
+  if (sigma.position_stddev > 0.0 || sigma.yaw_stddev > 0.0 || sigma.speed_stddev > 0.0) {
+    obs.odom_pose.x += sigma.position_stddev * odometry_noise_.normal();
+    obs.odom_pose.y += sigma.position_stddev * odometry_noise_.normal();
+    obs.odom_pose.yaw = core::wrapAngle(obs.odom_pose.yaw + sigma.yaw_stddev * odometry_noise_.normal());
+    obs.odom_twist.linear += sigma.speed_stddev * odometry_noise_.normal();
+    obs.odom_twist.angular += sigma.speed_stddev * odometry_noise_.normal();
+  }
+  obs.goal = info_.goal;
+  tick_pose_ = pose;
+}
+
+void Episode::fail(const std::string& message) {
+  if (done_) return;
+  result_.outcome = Outcome::Error;
+  result_.error = message;
+  done_ = true;
+}
+
+void Episode::step(const core::Twist& command) {
+  if (done_) return;
+  if (!std::isfinite(command.linear) || !std::isfinite(command.angular)) {
+    fail("controller returned a non-finite command");
+    return;
+  }
+  if (latency_steps_ == 0) simulator_.command(command);
+  else in_flight_.emplace_back(step_ + latency_steps_, command);
+  const double dt = simulator_.dt();
+  // Physics steps up to the next control tick, the protocol applied after each.
+  for (;;) {
+    while (!in_flight_.empty() && in_flight_.front().first <= step_) {
+      simulator_.command(in_flight_.front().second);
+      in_flight_.pop_front();
+    }
+    simulator_.step();
+    const long step = step_++;
+    const core::Pose2 pose = simulator_.pose();
+    if (drifting_) drifting_->update(pose, dt);
+    result_.path_length += (pose.position() - previous_position_).norm();
+    previous_position_ = pose.position();
+
+    if (simulator_.collision()) {
+      result_.outcome = Outcome::Collision;
+      result_.collision = simulator_.collision();
+      result_.actual_time = timer_start_step_ ? simulator_.time() - static_cast<double>(*timer_start_step_) * dt : 0.0;
+      done_ = true;
+      return;
+    }
+    if (!timer_start_step_) {
+      if ((pose.position() - start_.position()).norm() >= protocol_.start_distance) {
+        timer_start_step_ = step + 1;
+      } else if (simulator_.time() >= protocol_.timeout) {
+        result_.outcome = Outcome::Timeout;  // never left the start
+        result_.actual_time = protocol_.timeout;
+        done_ = true;
+        return;
+      }
+    } else if (const long since_start = step + 1 - *timer_start_step_; since_start % check_steps_ == 0) {
+      // Whole checks since the timer started, so AT is a multiple of the check period; divided
+      // by the checks per second (10) so that 189 checks print as 18.9, not 18.900000000000002.
+      const double checks = static_cast<double>(since_start / check_steps_);
+      const double per_second = std::round(1.0 / protocol_.check_period);
+      const double elapsed = std::abs(per_second * protocol_.check_period - 1.0) < 1e-12 ? checks / per_second
+                                                                                       : checks * protocol_.check_period;
+      if (elapsed >= protocol_.timeout - 1e-9) {
+        result_.outcome = Outcome::Timeout;
+        result_.actual_time = elapsed;
+        done_ = true;
+      } else if ((pose.position() - goal_world_).norm() <= protocol_.success_radius) {
+        result_.outcome = Outcome::Success;
+        result_.actual_time = elapsed;
+        done_ = true;
+      }
+      if (since_start > max_steps_) {  // cannot happen with the rules above; a guard against a hang
+        result_.outcome = Outcome::Timeout;
+        result_.actual_time = elapsed;
+        done_ = true;
+      }
+      if (done_) return;
+    }
+    if (step_ % scan_steps_ == 0) scan_ = lidar_.scan(simulator_.pose(), simulator_.time(), &scan_noise_);
+    if (step_ % control_steps_ == 0) {
+      arriveAtTick();
+      return;
+    }
+  }
+}
+
+EpisodeResult Episode::result() const {
+  EpisodeResult r = result_;
+  r.sim_time = simulator_.time();
+  r.mean_speed = r.sim_time > 0 ? r.path_length / r.sim_time : 0.0;
+  r.score = core::barnScore(r.outcome == Outcome::Success, r.actual_time, r.optimal_time, protocol_);
+  return r;
+}
+
 EpisodeResult runEpisode(const core::WorldSpec& world, const sim::ObstacleField& field,
                          controllers::Controller& controller, const EpisodeConfig& config, std::uint64_t seed,
                          bool record_trajectory) {
-  const core::Protocol protocol = core::protocolPreset(config.protocol);
-  EpisodeResult result;
-  result.world_id = world.id;
-  result.seed = seed;
-  result.optimal_time = core::optimalTime(world.path, protocol);
-
-  const core::Pose2 start{protocol.start_x, protocol.start_y, protocol.start_yaw};
-  const Eigen::Vector2d odom_origin = protocol.start();  // odom = world shifted to the start
-  const Eigen::Vector2d goal_world = protocol.goal();
-  sim::Simulator simulator(field, config.robot, config.physics, start, core::mixSeed(seed, 5));
-  sim::LidarCaster lidar(config.lidar, field);
-  core::FastNoise noise(core::mixSeed(seed, 1));
-  core::FastNoise odometry_noise(core::mixSeed(seed, 3));
-  const OdometryNoise& odom_sigma = config.odometry;
-  std::optional<DriftingOdometry> drifting;
-  if (odom_sigma.drift.enabled()) drifting.emplace(odom_sigma.drift, start, core::mixSeed(seed, 4));
-
-  controllers::EpisodeInfo info;
-  info.start = {0.0, 0.0, protocol.start_yaw};
-  info.goal = goal_world - odom_origin;
-  info.goal_tolerance = protocol.success_radius;
-  info.seed = core::mixSeed(seed, 2);
-  info.lidar = config.lidar;
-  info.robot = config.robot;
-  info.reference_path = referencePathInOdom(world, protocol);
-
-  const double dt = simulator.dt();
-  const long scan_steps = *stepsIn(1.0 / config.lidar.rate, dt);
-  const long check_steps = *stepsIn(protocol.check_period, dt);
-  const long control_steps = std::max(1L, std::lround(controller.period() / dt));
-  const long max_steps = std::lround((protocol.timeout + 1.0) / dt);
-  const long latency_steps = std::lround(config.latency.command / dt);
-  std::deque<std::pair<long, core::Twist>> in_flight;  // (step it takes effect, command)
-
+  Episode episode(world, field, config, seed, controller.period());
+  std::vector<std::pair<std::string, int>> state_entries;
+  std::vector<TrajectorySample> trajectory;
   try {
-    controller.reset(info);
+    controller.reset(episode.info());
   } catch (const std::exception& e) {
-    result.outcome = Outcome::Error;
-    result.error = std::string("controller reset threw: ") + e.what();
-    return result;
+    episode.fail(std::string("controller reset threw: ") + e.what());
   }
-
-  core::LaserScan scan;
   std::string last_state;
-  std::optional<long> timer_start_step;
-  Eigen::Vector2d previous = start.position();
-  bool finished = false;
-  for (long step = 0; !finished; ++step) {
-    const double now = simulator.time();
-    if (step % scan_steps == 0) scan = lidar.scan(simulator.pose(), now, &noise);
-    if (step % control_steps == 0) {
-      const core::Pose2 pose = simulator.pose();
-      controllers::Observation obs;
-      obs.time = now;
-      obs.scan = &scan;
-      obs.odom_pose = drifting ? drifting->pose() : core::Pose2{pose.x - odom_origin.x(), pose.y - odom_origin.y(), pose.yaw};
-      obs.odom_twist = {simulator.forwardSpeed(), simulator.yawRate()};
-      if (odom_sigma.position_stddev > 0.0 || odom_sigma.yaw_stddev > 0.0 || odom_sigma.speed_stddev > 0.0) {
-        obs.odom_pose.x += odom_sigma.position_stddev * odometry_noise.normal();
-        obs.odom_pose.y += odom_sigma.position_stddev * odometry_noise.normal();
-        obs.odom_pose.yaw = core::wrapAngle(obs.odom_pose.yaw + odom_sigma.yaw_stddev * odometry_noise.normal());
-        obs.odom_twist.linear += odom_sigma.speed_stddev * odometry_noise.normal();
-        obs.odom_twist.angular += odom_sigma.speed_stddev * odometry_noise.normal();
-      }
-      obs.goal = info.goal;
-      core::Twist cmd;
-      try {
-        cmd = controller.act(obs);
-      } catch (const std::exception& e) {
-        result.outcome = Outcome::Error;
-        result.error = std::string("controller threw: ") + e.what();
-        break;
-      }
-      if (!std::isfinite(cmd.linear) || !std::isfinite(cmd.angular)) {
-        result.outcome = Outcome::Error;
-        result.error = "controller returned a non-finite command";
-        break;
-      }
-      if (latency_steps == 0) simulator.command(cmd);
-      else in_flight.emplace_back(step + latency_steps, cmd);
-      countStateEntry(result.state_entries, last_state, controller.stateLabel());
-      if (record_trajectory) result.trajectory.push_back({now, pose, cmd, std::string(controller.stateLabel())});
-    }
-
-    while (!in_flight.empty() && in_flight.front().first <= step) {
-      simulator.command(in_flight.front().second);
-      in_flight.pop_front();
-    }
-    simulator.step();
-    const core::Pose2 pose = simulator.pose();
-    if (drifting) drifting->update(pose, dt);
-    result.path_length += (pose.position() - previous).norm();
-    previous = pose.position();
-
-    if (simulator.collision()) {
-      result.outcome = Outcome::Collision;
-      result.collision = simulator.collision();
-      result.actual_time = timer_start_step ? simulator.time() - static_cast<double>(*timer_start_step) * dt : 0.0;
+  while (!episode.done()) {
+    core::Twist command;
+    try {
+      command = controller.act(episode.observation());
+    } catch (const std::exception& e) {
+      episode.fail(std::string("controller threw: ") + e.what());
       break;
     }
-    if (!timer_start_step) {
-      if ((pose.position() - start.position()).norm() >= protocol.start_distance) timer_start_step = step + 1;
-      else if (simulator.time() >= protocol.timeout) {
-        result.outcome = Outcome::Timeout;  // never left the start
-        result.actual_time = protocol.timeout;
-        break;
-      }
-      continue;
+    if (std::isfinite(command.linear) && std::isfinite(command.angular)) {
+      countStateEntry(state_entries, last_state, controller.stateLabel());
+      if (record_trajectory)
+        trajectory.push_back({episode.observation().time, episode.tickPose(), command, std::string(controller.stateLabel())});
     }
-    const long since_start = step + 1 - *timer_start_step;
-    if (since_start % check_steps != 0) continue;
-    // Whole checks since the timer started, so AT is a multiple of the check period; divided
-    // by the checks per second (10) so that 189 checks print as 18.9, not 18.900000000000002.
-    const double checks = static_cast<double>(since_start / check_steps);
-    const double per_second = std::round(1.0 / protocol.check_period);
-    const double elapsed = std::abs(per_second * protocol.check_period - 1.0) < 1e-12 ? checks / per_second
-                                                                                    : checks * protocol.check_period;
-    if (elapsed >= protocol.timeout - 1e-9) {
-      result.outcome = Outcome::Timeout;
-      result.actual_time = elapsed;
-      finished = true;
-    } else if ((pose.position() - goal_world).norm() <= protocol.success_radius) {
-      result.outcome = Outcome::Success;
-      result.actual_time = elapsed;
-      finished = true;
-    }
-    if (since_start > max_steps) {  // cannot happen with the rules above; a guard against a hang
-      result.outcome = Outcome::Timeout;
-      result.actual_time = elapsed;
-      finished = true;
-    }
+    episode.step(command);
   }
-  result.sim_time = simulator.time();
-  result.mean_speed = result.sim_time > 0 ? result.path_length / result.sim_time : 0.0;
-  result.score = core::barnScore(result.outcome == Outcome::Success, result.actual_time, result.optimal_time, protocol);
+  EpisodeResult result = episode.result();
+  result.state_entries = std::move(state_entries);
+  result.trajectory = std::move(trajectory);
   return result;
 }
 

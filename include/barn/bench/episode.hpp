@@ -9,6 +9,7 @@
 /// check that ends the episode. A robot that never moves 0.1 m times out after `timeout` s.
 
 #include <cstdint>
+#include <deque>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -16,6 +17,7 @@
 
 #include "barn/controllers/controller.hpp"
 #include "barn/core/protocol.hpp"
+#include "barn/core/rng.hpp"
 #include "barn/core/world.hpp"
 #include "barn/bench/odometry_drift.hpp"
 #include "barn/sim/lidar.hpp"
@@ -101,9 +103,76 @@ struct EpisodeResult {
   std::vector<TrajectorySample> trajectory;  // filled when recording
 };
 
-/// Runs one episode. `seed` drives the LiDAR noise and the controller's declared randomness,
-/// so the same seed gives the same trajectory bit for bit. Never throws for controller
-/// failures (they become Outcome::Error).
+/// One episode as a steppable object, for callers that drive the controller themselves
+/// (runEpisode, the Python Env, external controllers):
+///
+///   Episode episode(world, field, config, seed, controller_period);
+///   while (!episode.done()) episode.step(my_controller(episode.observation()));
+///   EpisodeResult r = episode.result();
+///
+/// It stops at each control tick: observation() is what a controller sees then (computed once
+/// at the tick, so reading it twice draws no extra noise), step() applies a command and runs
+/// the physics to the next tick, applying the protocol at physics rate on the way.
+class Episode {
+ public:
+  /// `field` must outlive the episode. Throws core::InputError if `controller_period` is not
+  /// positive.
+  Episode(const core::WorldSpec& world, const sim::ObstacleField& field, const EpisodeConfig& config,
+          std::uint64_t seed, double controller_period);
+  Episode(const Episode&) = delete;
+  Episode& operator=(const Episode&) = delete;
+
+  /// What the controller is told before the first tick.
+  const controllers::EpisodeInfo& info() const { return info_; }
+  /// The current tick's observation (its scan points into this episode).
+  const controllers::Observation& observation() const { return observation_; }
+  /// The true pose (world frame) at the current tick, for trajectory records.
+  const core::Pose2& tickPose() const { return tick_pose_; }
+  double time() const { return simulator_.time(); }  // [s] simulated
+
+  /// Applies `command` at this tick and advances to the next one (or to the end). A
+  /// non-finite command ends the episode as an error.
+  void step(const core::Twist& command);
+  /// Ends the episode now as an error (the controller failed).
+  void fail(const std::string& message);
+
+  bool done() const { return done_; }
+  /// The record so far (complete once done()); score 0 until success.
+  EpisodeResult result() const;
+
+ private:
+  void arriveAtTick();
+
+  core::Protocol protocol_;
+  EpisodeConfig config_;
+  sim::Simulator simulator_;
+  sim::LidarCaster lidar_;
+  core::FastNoise scan_noise_;
+  core::FastNoise odometry_noise_;
+  std::optional<DriftingOdometry> drifting_;
+  core::Pose2 start_;
+  Eigen::Vector2d odom_origin_;
+  Eigen::Vector2d goal_world_;
+  controllers::EpisodeInfo info_;
+  long scan_steps_ = 1;
+  long check_steps_ = 1;
+  long control_steps_ = 1;
+  long max_steps_ = 0;
+  long latency_steps_ = 0;
+  std::deque<std::pair<long, core::Twist>> in_flight_;  // (step it takes effect, command)
+  long step_ = 0;  // physics steps taken
+  core::LaserScan scan_;
+  controllers::Observation observation_;
+  core::Pose2 tick_pose_;
+  std::optional<long> timer_start_step_;
+  Eigen::Vector2d previous_position_;
+  bool done_ = false;
+  EpisodeResult result_;
+};
+
+/// Runs one episode with `controller`. `seed` drives the LiDAR noise and the controller's
+/// declared randomness, so the same seed gives the same trajectory bit for bit. Never throws
+/// for controller failures (they become Outcome::Error).
 EpisodeResult runEpisode(const core::WorldSpec& world, const sim::ObstacleField& field,
                          controllers::Controller& controller, const EpisodeConfig& config,
                          std::uint64_t seed, bool record_trajectory = false);
