@@ -121,37 +121,35 @@ double DwaController::footprintCost(double x, double y, double theta) const {
   return outlineCost(corners);
 }
 
-void DwaController::wavefront(std::vector<int>& distance, std::span<const int> seeds) {
-  // Breadth-first from the seeds over the window, `distance` prepared by
-  // updateDistanceMaps(): a blocked cell turns from blockedUnreached() to obstacle_distance_
-  // when reached and is not expanded; the border holds obstacle_distance_, so the wavefront
-  // never steps onto it.
-  const int stride = distances_.stride;
-  const int unreached = this->unreached(), blocked = blockedUnreached();
-  int* d = distance.data();
-  int* queue = queue_.data();
-  std::size_t tail = 0;
+void DwaController::Wavefront::start(std::span<const int> seeds) {
+  queue.resize(distance.size());
+  head = tail = 0;
   for (int i : seeds) {
-    if (d[i] == 0) continue;
-    d[i] = 0;  // a seed counts whatever its cost
+    int& d = distance[static_cast<std::size_t>(i)];
+    if (d == 0) continue;
+    d = 0;  // a seed counts whatever its cost
     queue[tail++] = i;
   }
-  for (std::size_t head = 0; head < tail; ++head) {
-    const int i = queue[head];
-    const int next = d[i] + 1;
-    const auto visit = [&](int j) {
-      if (d[j] == unreached) {
-        d[j] = next;
-        queue[tail++] = j;
-      } else if (d[j] == blocked) {
-        d[j] = obstacle_distance_;
-      }
-    };
-    visit(i - 1);
-    visit(i + 1);
-    visit(i - stride);
-    visit(i + stride);
-  }
+}
+
+void DwaController::Wavefront::expandNext() {
+  // A blocked cell takes `obstacle` when reached and is not expanded; the border holds
+  // `obstacle`, so the search never steps onto it.
+  int* d = distance.data();
+  const int i = queue[head++];
+  const int next = d[i] + 1;
+  const auto visit = [&](int j) {
+    if (d[j] == unreached) {
+      d[j] = next;
+      queue[tail++] = j;
+    } else if (d[j] == blocked) {
+      d[j] = obstacle;
+    }
+  };
+  visit(i - 1);
+  visit(i + 1);
+  visit(i - stride);
+  visit(i + stride);
 }
 
 void DwaController::updateDistanceMaps(const core::Pose2& pose) {
@@ -176,25 +174,27 @@ void DwaController::updateDistanceMaps(const core::Pose2& pose) {
   grid.height = std::max(0, wy1 - wy0 + 1);
   grid.stride = grid.width + 2;
 
-  // Both maps start alike: unreached open cells, blocked ones marked to turn into
-  // obstacle_distance_ when reached, and the border.
-  const int unreached = this->unreached();
-  const std::size_t cells = static_cast<std::size_t>(grid.stride) * static_cast<std::size_t>(grid.height + 2);
-  grid.goal.assign(cells, obstacle_distance_);
+  // Both maps start alike: open cells unreached, blocked ones marked to take
+  // obstacle_distance_ when reached, the border at obstacle_distance_.
+  Wavefront& goal = grid.goal;
+  goal.stride = grid.stride;
+  goal.obstacle = obstacle_distance_;
+  goal.unreached = obstacle_distance_ + 1;
+  goal.blocked = obstacle_distance_ + 2;
+  goal.distance.assign(static_cast<std::size_t>(grid.stride) * static_cast<std::size_t>(grid.height + 2), goal.obstacle);
   const std::uint8_t* costs = map.costs();
   for (int y = 0; y < grid.height; ++y) {
     const std::uint8_t* row = costs + static_cast<std::size_t>(wy0 + y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(wx0);
-    int* out = grid.goal.data() + (y + 1) * grid.stride + 1;
-    for (int x = 0; x < grid.width; ++x) out[x] = row[x] >= nav::kInscribedCost ? blockedUnreached() : unreached;
+    int* out = goal.distance.data() + (y + 1) * grid.stride + 1;
+    for (int x = 0; x < grid.width; ++x) out[x] = row[x] >= nav::kInscribedCost ? goal.blocked : goal.unreached;
   }
-  grid.path = grid.goal;
-  queue_.resize(static_cast<std::size_t>(grid.width) * static_cast<std::size_t>(grid.height));
+  grid.path = goal;
   // The path map passes the blocked cells under the robot.
   std::vector<Eigen::Vector2d> outline;
   for (const Eigen::Vector2d& corner : footprint_) outline.push_back(pose.transform(corner));
   for (const nav::CellIndex& cell : map.polygonCells(outline)) {
     const int i = grid.index(cell.x, cell.y);
-    if (i >= 0) grid.path[static_cast<std::size_t>(i)] = unreached;
+    if (i >= 0) grid.path.distance[static_cast<std::size_t>(i)] = grid.path.unreached;
   }
 
   path_seeds_.clear();
@@ -223,19 +223,19 @@ void DwaController::updateDistanceMaps(const core::Pose2& pose) {
       if (inside) inside = seed(path[i]);
     }
   }
-  wavefront(grid.path, path_seeds_);
-  wavefront(grid.goal, goal_cell >= 0 ? std::span<const int>(&goal_cell, 1) : std::span<const int>());
+  // The searches run as far as the distances read from them need (Wavefront::at).
+  grid.path.start(path_seeds_);
+  grid.goal.start(goal_cell >= 0 ? std::span<const int>(&goal_cell, 1) : std::span<const int>());
 }
 
-int DwaController::pathDistance(const nav::CellIndex& cell) const {
-  // A blocked cell the wavefront never reached still holds blockedUnreached().
+int DwaController::pathDistance(const nav::CellIndex& cell) {
   const int i = distances_.index(cell.x, cell.y);
-  return i < 0 ? unreached() : std::min(distances_.path[static_cast<std::size_t>(i)], unreached());
+  return i < 0 ? unreached() : distances_.path.at(i);
 }
 
-int DwaController::goalDistance(const nav::CellIndex& cell) const {
+int DwaController::goalDistance(const nav::CellIndex& cell) {
   const int i = distances_.index(cell.x, cell.y);
-  return i < 0 ? unreached() : std::min(distances_.goal[static_cast<std::size_t>(i)], unreached());
+  return i < 0 ? unreached() : distances_.goal.at(i);
 }
 
 int DwaController::rolloutSteps(double vx, double vtheta) const {
@@ -284,17 +284,25 @@ DwaController::RolloutPoints DwaController::simulate(const core::Pose2& pose, co
   return points;
 }
 
-DwaController::CentreScore DwaController::scoreCentres(const RolloutPoints& points) const {
+DwaController::CentreScore DwaController::scoreCentres(const RolloutPoints& points) {
+  // Only whether each distance is below obstacle_distance_ matters before the last point, so
+  // the wavefronts advance no further than that needs (Wavefront::openAt), the goal one not
+  // at all once the path is out of reach.
   const nav::Costmap& map = nav_.localCostmap();
+  const std::uint8_t* costs = map.costs();
   CentreScore score;
   for (int i = 0; i < points.count; ++i) {
     const Eigen::Vector2d& p = positions_[points.first_position + static_cast<std::size_t>(i)];
     nav::CellIndex cell;
     if (!cellOf(map, p.x(), p.y(), cell)) return score;
-    score.occupancy = std::max(score.occupancy, static_cast<int>(map.cost(cell.x, cell.y)));
-    score.path_cells = pathDistance(cell);
-    score.goal_cells = goalDistance(cell);
-    if (score.path_cells >= obstacle_distance_ || score.goal_cells >= obstacle_distance_) return score;
+    const int cost = costs[static_cast<std::size_t>(cell.y) * static_cast<std::size_t>(map.widthCells()) + static_cast<std::size_t>(cell.x)];
+    score.occupancy = std::max(score.occupancy, cost);
+    const int at = distances_.index(cell.x, cell.y);
+    if (at < 0) return score;  // outside the window: never reached
+    score.path_cells = distances_.path.openAt(at);
+    if (score.path_cells >= obstacle_distance_) return score;
+    score.goal_cells = distances_.goal.openAt(at);
+    if (score.goal_cells >= obstacle_distance_) return score;
   }
   score.plausible = true;
   return score;

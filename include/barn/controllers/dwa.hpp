@@ -162,16 +162,45 @@ class DwaController : public Controller {
     CentreScore centre;
     double bound = 0.0;
   };
-  /// MapGrid's distances over the scoring window, row-major with a one-cell border the
-  /// wavefront never enters (so it needs no bounds checks); a cell outside the window counts
-  /// as never reached. While the wavefront runs, a blocked cell not yet reached holds
-  /// blockedUnreached(), which reads as never reached afterwards.
+  /// One MapGrid wavefront over the scoring window (row-major with a one-cell border it never
+  /// enters, so it needs no bounds checks), advanced lazily, only as far as the distances read
+  /// from it need: a breadth-first search fixes a cell's distance when it first reaches it,
+  /// so stopping there gives what the whole search would.
+  struct Wavefront {
+    std::vector<int> distance;  // [cells] the values below, or the distance of a reached cell
+    std::vector<int> queue;     // reached cells; those from `head` on are not expanded yet
+    std::size_t head = 0, tail = 0;
+    int stride = 0;
+    int obstacle = 0;           // a blocked cell reached; also the border
+    int unreached = 1;          // obstacle + 1: an open cell not reached (yet)
+    int blocked = 2;            // obstacle + 2: a blocked cell not reached (yet)
+
+    /// Seeds the search (distance prepared with the values above).
+    void start(std::span<const int> seeds);
+    /// The distance of cell i, `unreached` if the search never gets there.
+    int at(int i) {
+      while (!settled(i) && head < tail) expandNext();
+      return std::min(distance[static_cast<std::size_t>(i)], unreached);
+    }
+    /// The same where only a distance below `obstacle` matters: a blocked cell the search has
+    /// not reached can only end at obstacle or unreached, so it gives unreached at once.
+    int openAt(int i) { return distance[static_cast<std::size_t>(i)] == blocked ? unreached : at(i); }
+
+   private:
+    bool settled(int i) const {
+      const int d = distance[static_cast<std::size_t>(i)];
+      return d != unreached && d != blocked;
+    }
+    void expandNext();
+  };
+  /// MapGrid's path and goal distances on the scoring window; a cell outside it counts as
+  /// never reached.
   struct DistanceGrid {
     int x0 = 0, y0 = 0;          // map cell of the window's first cell
     int width = 0, height = 0;   // [cells] the window (0: not computed yet)
     int stride = 0;              // width + 2
-    std::vector<int> path;
-    std::vector<int> goal;
+    Wavefront path;
+    Wavefront goal;
     /// Index of map cell (x, y), or -1 outside the window.
     int index(int x, int y) const {
       const int lx = x - x0, ly = y - y0;
@@ -184,16 +213,15 @@ class DwaController : public Controller {
   int rolloutSteps(double vx, double vtheta) const;
   RolloutPoints simulate(const core::Pose2& pose, const core::Twist& velocity, double vx, double vtheta);
   std::size_t headings(const core::Pose2& pose, const core::Twist& velocity, int steps, double vtheta);
-  CentreScore scoreCentres(const RolloutPoints& points) const;
+  CentreScore scoreCentres(const RolloutPoints& points);
   template <class CannotWin>
   int outlineOccupancy(const RolloutPoints& points, int occupancy, CannotWin cannot_win) const;
   double trajectoryCost(int path_cells, int goal_cells, int occupancy) const;
-  int pathDistance(const nav::CellIndex& cell) const;
-  int goalDistance(const nav::CellIndex& cell) const;
+  int pathDistance(const nav::CellIndex& cell);
+  int goalDistance(const nav::CellIndex& cell);
   double footprintCost(double x, double y, double theta) const;
   bool footprintCorners(double x, double y, double cos_theta, double sin_theta, nav::CellIndex (&corners)[4]) const;
   int outlineCost(const nav::CellIndex (&corners)[4]) const;
-  void wavefront(std::vector<int>& distance, std::span<const int> seeds);
   bool sweepClear(const core::Pose2& pose, double sweep) const;
   core::Twist recover(const Observation& obs);
 
@@ -215,10 +243,8 @@ class DwaController : public Controller {
   // obstacle_distance_ + 1 for one never reached.
   int obstacle_distance_ = 0;
   int unreached() const { return obstacle_distance_ + 1; }
-  int blockedUnreached() const { return obstacle_distance_ + 2; }
   DistanceGrid distances_;
   // Scratch, kept to reuse its memory from tick to tick.
-  std::vector<int> queue_;             // wavefront queue
   std::vector<int> path_seeds_;
   std::vector<HeadingRun> heading_runs_;
   std::vector<double> heading_theta_, heading_cos_, heading_sin_;
