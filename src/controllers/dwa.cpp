@@ -5,8 +5,6 @@
 #include <limits>
 #include <numbers>
 
-#include "barn/nav/grid_line.hpp"
-
 namespace barn::controllers {
 
 namespace {
@@ -16,15 +14,50 @@ double approach(double value, double target, double step) {
   return value < target ? std::min(target, value + step) : std::max(target, value - step);
 }
 
-// Costmap::toCell for a point given by its coordinates, without the call and the Eigen
-// temporary: the same arithmetic (a division by the resolution; a multiplication by its
-// inverse would not always round the same), so the same cells.
-bool cellOf(const nav::Costmap& map, double px, double py, nav::CellIndex& cell) {
-  const double fx = (px - map.origin().x()) / map.resolution();
-  const double fy = (py - map.origin().y()) / map.resolution();
-  if (fx < 0.0 || fy < 0.0) return false;
-  cell = {static_cast<int>(fx), static_cast<int>(fy)};
-  return map.inBounds(cell.x, cell.y);
+// Costmap::toCell inline, for a point given by its coordinates: the same arithmetic (a
+// division by the resolution; a multiplication by its inverse would not always round the
+// same), so the same cells, without the call and the Eigen temporary.
+struct CellLocator {
+  double origin_x, origin_y, resolution;
+  int width, height;
+
+  explicit CellLocator(const nav::Costmap& map)
+      : origin_x(map.origin().x()), origin_y(map.origin().y()), resolution(map.resolution()),
+        width(map.widthCells()), height(map.heightCells()) {}
+
+  bool toCell(double px, double py, nav::CellIndex& cell) const {
+    const double fx = (px - origin_x) / resolution;
+    const double fy = (py - origin_y) / resolution;
+    if (fx < 0.0 || fy < 0.0) return false;
+    cell = {static_cast<int>(fx), static_cast<int>(fy)};
+    return cell.x < width && cell.y < height;  // both >= 0: fx, fy >= 0
+  }
+};
+
+// The highest cost on the cells nav::walkLine visits from a to b (both on the map), stepping
+// a flat index instead of (x, y): the same Bresenham (dominant axis, error term from half
+// its length), so the same cells. A segment between two cells stays in their bounding box,
+// so no cell is off the map.
+int highestCostOnSegment(const std::uint8_t* costs, int width, nav::CellIndex a, nav::CellIndex b) {
+  const int dx = b.x - a.x, dy = b.y - a.y;
+  const int abs_dx = std::abs(dx), abs_dy = std::abs(dy);
+  const std::ptrdiff_t step_x = dx > 0 ? 1 : -1, step_y = dy > 0 ? width : -width;
+  const bool x_major = abs_dx >= abs_dy;
+  const int major = x_major ? abs_dx : abs_dy, minor = x_major ? abs_dy : abs_dx;
+  const std::ptrdiff_t major_step = x_major ? step_x : step_y, minor_step = x_major ? step_y : step_x;
+  const std::uint8_t* cell = costs + static_cast<std::ptrdiff_t>(a.y) * width + a.x;
+  int worst = 0;
+  int error = major / 2;
+  for (int i = 0; i < major; ++i) {
+    worst = std::max(worst, static_cast<int>(*cell));
+    cell += major_step;
+    error += minor;
+    if (error >= major) {
+      cell += minor_step;
+      error -= major;
+    }
+  }
+  return std::max(worst, static_cast<int>(*cell));
 }
 
 }  // namespace
@@ -84,10 +117,10 @@ std::string_view DwaController::stateLabel() const {
 
 bool DwaController::footprintCorners(double x, double y, double cos_theta, double sin_theta,
                                      nav::CellIndex (&corners)[4]) const {
-  const nav::Costmap& map = nav_.localCostmap();
+  const CellLocator locator(nav_.localCostmap());
   for (int k = 0; k < 4; ++k) {
     const Eigen::Vector2d& p = footprint_[static_cast<std::size_t>(k)];
-    if (!cellOf(map, x + cos_theta * p.x() - sin_theta * p.y(), y + sin_theta * p.x() + cos_theta * p.y(), corners[k]))
+    if (!locator.toCell(x + cos_theta * p.x() - sin_theta * p.y(), y + sin_theta * p.x() + cos_theta * p.y(), corners[k]))
       return false;
   }
   return true;
@@ -95,24 +128,16 @@ bool DwaController::footprintCorners(double x, double y, double cos_theta, doubl
 
 int DwaController::outlineCost(const nav::CellIndex (&corners)[4]) const {
   // CostmapModel::footprintCost: only the padded outline is walked; -1 if it crosses a lethal
-  // or unknown cell, the highest cost on it otherwise (inscribed, 253, is legal). The corners
-  // are on the map and a segment between two cells stays in their bounding box, so the costs
-  // are read without bounds checks.
+  // or unknown cell, the highest cost on it otherwise (inscribed, 253, is legal). Lethal and
+  // unknown are the two highest costs, so the highest cost on the outline tells both; the
+  // walk never stops early, which keeps its loop free of branches on the costs.
   const nav::Costmap& map = nav_.localCostmap();
   const std::uint8_t* costs = map.costs();
   const int width = map.widthCells();
   int worst = 0;
-  for (int k = 0; k < 4; ++k) {
-    const nav::CellIndex a = corners[k], b = corners[(k + 1) % 4];
-    const bool clear = nav::walkLine(a.x, a.y, b.x, b.y, [&](int cx, int cy) {
-      const int cost = costs[static_cast<std::size_t>(cy) * static_cast<std::size_t>(width) + static_cast<std::size_t>(cx)];
-      if (cost >= nav::kLethalCost) return false;  // lethal or unknown
-      worst = std::max(worst, cost);
-      return true;
-    });
-    if (!clear) return -1;
-  }
-  return worst;
+  for (int k = 0; k < 4; ++k)
+    worst = std::max(worst, highestCostOnSegment(costs, width, corners[k], corners[(k + 1) % 4]));
+  return worst >= nav::kLethalCost ? -1 : worst;
 }
 
 double DwaController::footprintCost(double x, double y, double theta) const {
@@ -130,26 +155,6 @@ void DwaController::Wavefront::start(std::span<const int> seeds) {
     d = 0;  // a seed counts whatever its cost
     queue[tail++] = i;
   }
-}
-
-void DwaController::Wavefront::expandNext() {
-  // A blocked cell takes `obstacle` when reached and is not expanded; the border holds
-  // `obstacle`, so the search never steps onto it.
-  int* d = distance.data();
-  const int i = queue[head++];
-  const int next = d[i] + 1;
-  const auto visit = [&](int j) {
-    if (d[j] == unreached) {
-      d[j] = next;
-      queue[tail++] = j;
-    } else if (d[j] == blocked) {
-      d[j] = obstacle;
-    }
-  };
-  visit(i - 1);
-  visit(i + 1);
-  visit(i - stride);
-  visit(i + stride);
 }
 
 void DwaController::updateDistanceMaps(const core::Pose2& pose) {
@@ -176,19 +181,23 @@ void DwaController::updateDistanceMaps(const core::Pose2& pose) {
 
   // Both maps start alike: open cells unreached, blocked ones marked to take
   // obstacle_distance_ when reached, the border at obstacle_distance_.
-  Wavefront& goal = grid.goal;
-  goal.stride = grid.stride;
-  goal.obstacle = obstacle_distance_;
-  goal.unreached = obstacle_distance_ + 1;
-  goal.blocked = obstacle_distance_ + 2;
-  goal.distance.assign(static_cast<std::size_t>(grid.stride) * static_cast<std::size_t>(grid.height + 2), goal.obstacle);
+  const std::size_t cells = static_cast<std::size_t>(grid.stride) * static_cast<std::size_t>(grid.height + 2);
+  for (Wavefront* wave : {&grid.path, &grid.goal}) {
+    wave->stride = grid.stride;
+    wave->obstacle = obstacle_distance_;
+    wave->unreached = obstacle_distance_ + 1;
+    wave->blocked = obstacle_distance_ + 2;
+    wave->distance.assign(cells, obstacle_distance_);
+  }
+  const int open = obstacle_distance_ + 1, blocked = obstacle_distance_ + 2;
   const std::uint8_t* costs = map.costs();
   for (int y = 0; y < grid.height; ++y) {
     const std::uint8_t* row = costs + static_cast<std::size_t>(wy0 + y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(wx0);
-    int* out = goal.distance.data() + (y + 1) * grid.stride + 1;
-    for (int x = 0; x < grid.width; ++x) out[x] = row[x] >= nav::kInscribedCost ? goal.blocked : goal.unreached;
+    const std::size_t first = static_cast<std::size_t>((y + 1) * grid.stride + 1);
+    int* path = grid.path.distance.data() + first;
+    int* goal = grid.goal.distance.data() + first;
+    for (int x = 0; x < grid.width; ++x) path[x] = goal[x] = row[x] >= nav::kInscribedCost ? blocked : open;
   }
-  grid.path = goal;
   // The path map passes the blocked cells under the robot.
   std::vector<Eigen::Vector2d> outline;
   for (const Eigen::Vector2d& corner : footprint_) outline.push_back(pose.transform(corner));
@@ -290,11 +299,15 @@ DwaController::CentreScore DwaController::scoreCentres(const RolloutPoints& poin
   // at all once the path is out of reach.
   const nav::Costmap& map = nav_.localCostmap();
   const std::uint8_t* costs = map.costs();
+  const CellLocator locator(map);
   CentreScore score;
+  nav::CellIndex previous{-1, -1};
   for (int i = 0; i < points.count; ++i) {
     const Eigen::Vector2d& p = positions_[points.first_position + static_cast<std::size_t>(i)];
     nav::CellIndex cell;
-    if (!cellOf(map, p.x(), p.y(), cell)) return score;
+    if (!locator.toCell(p.x(), p.y(), cell)) return score;
+    if (cell == previous) continue;  // a point in the same cell as the last reads the same
+    previous = cell;
     const int cost = costs[static_cast<std::size_t>(cell.y) * static_cast<std::size_t>(map.widthCells()) + static_cast<std::size_t>(cell.x)];
     score.occupancy = std::max(score.occupancy, cost);
     const int at = distances_.index(cell.x, cell.y);
@@ -353,7 +366,7 @@ DwaTrajectory DwaController::rollOut(const core::Pose2& pose, const core::Twist&
     const Eigen::Vector2d& p = positions_[points.first_position + static_cast<std::size_t>(i)];
     const std::size_t h = points.first_heading + static_cast<std::size_t>(i);
     nav::CellIndex cell, corners[4];
-    if (!cellOf(map, p.x(), p.y(), cell)) return trajectory;
+    if (!CellLocator(map).toCell(p.x(), p.y(), cell)) return trajectory;
     if (!footprintCorners(p.x(), p.y(), heading_cos_[h], heading_sin_[h], corners)) return trajectory;
     const int outline = outlineCost(corners);
     if (outline < 0) return trajectory;

@@ -191,7 +191,25 @@ class DwaController : public Controller {
       const int d = distance[static_cast<std::size_t>(i)];
       return d != unreached && d != blocked;
     }
-    void expandNext();
+    void expandNext() {
+      // A blocked cell takes `obstacle` when reached and is not expanded; the border holds
+      // `obstacle`, so the search never steps onto it.
+      int* d = distance.data();
+      const int i = queue[head++];
+      const int next = d[i] + 1;
+      const auto visit = [&](int j) {
+        if (d[j] == unreached) {
+          d[j] = next;
+          queue[tail++] = j;
+        } else if (d[j] == blocked) {
+          d[j] = obstacle;
+        }
+      };
+      visit(i - 1);
+      visit(i + 1);
+      visit(i - stride);
+      visit(i + stride);
+    }
   };
   /// MapGrid's path and goal distances on the scoring window; a cell outside it counts as
   /// never reached.
