@@ -5,8 +5,6 @@
 #include <limits>
 #include <numbers>
 
-#include "barn/nav/grid_line.hpp"
-
 namespace barn::controllers {
 
 namespace {
@@ -14,6 +12,52 @@ namespace {
 // Moves `value` toward `target` by at most `step` (the roll-out's acceleration limit).
 double approach(double value, double target, double step) {
   return value < target ? std::min(target, value + step) : std::max(target, value - step);
+}
+
+// Costmap::toCell inline, for a point given by its coordinates: the same arithmetic (a
+// division by the resolution; a multiplication by its inverse would not always round the
+// same), so the same cells, without the call and the Eigen temporary.
+struct CellLocator {
+  double origin_x, origin_y, resolution;
+  int width, height;
+
+  explicit CellLocator(const nav::Costmap& map)
+      : origin_x(map.origin().x()), origin_y(map.origin().y()), resolution(map.resolution()),
+        width(map.widthCells()), height(map.heightCells()) {}
+
+  bool toCell(double px, double py, nav::CellIndex& cell) const {
+    const double fx = (px - origin_x) / resolution;
+    const double fy = (py - origin_y) / resolution;
+    if (fx < 0.0 || fy < 0.0) return false;
+    cell = {static_cast<int>(fx), static_cast<int>(fy)};
+    return cell.x < width && cell.y < height;  // both >= 0: fx, fy >= 0
+  }
+};
+
+// The highest cost on the cells nav::walkLine visits from a to b (both on the map), stepping
+// a flat index instead of (x, y): the same Bresenham (dominant axis, error term from half
+// its length), so the same cells. A segment between two cells stays in their bounding box,
+// so no cell is off the map.
+int highestCostOnSegment(const std::uint8_t* costs, int width, nav::CellIndex a, nav::CellIndex b) {
+  const int dx = b.x - a.x, dy = b.y - a.y;
+  const int abs_dx = std::abs(dx), abs_dy = std::abs(dy);
+  const std::ptrdiff_t step_x = dx > 0 ? 1 : -1, step_y = dy > 0 ? width : -width;
+  const bool x_major = abs_dx >= abs_dy;
+  const int major = x_major ? abs_dx : abs_dy, minor = x_major ? abs_dy : abs_dx;
+  const std::ptrdiff_t major_step = x_major ? step_x : step_y, minor_step = x_major ? step_y : step_x;
+  const std::uint8_t* cell = costs + static_cast<std::ptrdiff_t>(a.y) * width + a.x;
+  int worst = 0;
+  int error = major / 2;
+  for (int i = 0; i < major; ++i) {
+    worst = std::max(worst, static_cast<int>(*cell));
+    cell += major_step;
+    error += minor;
+    if (error >= major) {
+      cell += minor_step;
+      error -= major;
+    }
+  }
+  return std::max(worst, static_cast<int>(*cell));
 }
 
 }  // namespace
@@ -71,28 +115,46 @@ std::string_view DwaController::stateLabel() const {
   return "";
 }
 
-double DwaController::footprintCost(double x, double y, double theta) const {
-  // CostmapModel::footprintCost: only the padded outline is walked (lethal or unknown: -1,
-  // a corner off the map: -1); the highest cost on it otherwise. Inscribed (253) is legal.
-  const nav::Costmap& map = nav_.localCostmap();
-  const double c = std::cos(theta), s = std::sin(theta);
-  nav::CellIndex corners[4];
+bool DwaController::footprintCorners(double x, double y, double cos_theta, double sin_theta,
+                                     nav::CellIndex (&corners)[4]) const {
+  const CellLocator locator(nav_.localCostmap());
   for (int k = 0; k < 4; ++k) {
     const Eigen::Vector2d& p = footprint_[static_cast<std::size_t>(k)];
-    if (!map.toCell({x + c * p.x() - s * p.y(), y + s * p.x() + c * p.y()}, corners[k])) return -1.0;
+    if (!locator.toCell(x + cos_theta * p.x() - sin_theta * p.y(), y + sin_theta * p.x() + cos_theta * p.y(), corners[k]))
+      return false;
   }
+  return true;
+}
+
+int DwaController::outlineCost(const nav::CellIndex (&corners)[4]) const {
+  // CostmapModel::footprintCost: only the padded outline is walked; -1 if it crosses a lethal
+  // or unknown cell, the highest cost on it otherwise (inscribed, 253, is legal). Lethal and
+  // unknown are the two highest costs, so the highest cost on the outline tells both; the
+  // walk never stops early, which keeps its loop free of branches on the costs.
+  const nav::Costmap& map = nav_.localCostmap();
+  const std::uint8_t* costs = map.costs();
+  const int width = map.widthCells();
   int worst = 0;
-  for (int k = 0; k < 4; ++k) {
-    const nav::CellIndex a = corners[k], b = corners[(k + 1) % 4];
-    const bool clear = nav::walkLine(a.x, a.y, b.x, b.y, [&](int cx, int cy) {
-      const std::uint8_t cost = map.cost(cx, cy);
-      if (cost == nav::kLethalCost || cost == nav::kUnknownCost) return false;
-      worst = std::max(worst, static_cast<int>(cost));
-      return true;
-    });
-    if (!clear) return -1.0;
+  for (int k = 0; k < 4; ++k)
+    worst = std::max(worst, highestCostOnSegment(costs, width, corners[k], corners[(k + 1) % 4]));
+  return worst >= nav::kLethalCost ? -1 : worst;
+}
+
+double DwaController::footprintCost(double x, double y, double theta) const {
+  nav::CellIndex corners[4];
+  if (!footprintCorners(x, y, std::cos(theta), std::sin(theta), corners)) return -1.0;  // a corner off the map
+  return outlineCost(corners);
+}
+
+void DwaController::Wavefront::start(std::span<const int> seeds) {
+  queue.resize(distance.size());
+  head = tail = 0;
+  for (int i : seeds) {
+    int& d = distance[static_cast<std::size_t>(i)];
+    if (d == 0) continue;
+    d = 0;  // a seed counts whatever its cost
+    queue[tail++] = i;
   }
-  return worst;
 }
 
 void DwaController::updateDistanceMaps(const core::Pose2& pose) {
@@ -104,52 +166,47 @@ void DwaController::updateDistanceMaps(const core::Pose2& pose) {
   // The wavefronts cover +-scoring_window around the robot (ROS: the whole local map).
   const nav::Costmap& map = nav_.localCostmap();
   const int w = map.widthCells(), h = map.heightCells();
-  const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
-  obstacle_distance_ = static_cast<int>(n);
+  obstacle_distance_ = static_cast<int>(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
   nav::CellIndex robot;
   map.toCell(pose.position(), robot);
   const int reach = static_cast<int>(std::ceil(config_.scoring_window / map.resolution()));
   const int wx0 = std::max(0, robot.x - reach), wx1 = std::min(w - 1, robot.x + reach);
   const int wy0 = std::max(0, robot.y - reach), wy1 = std::min(h - 1, robot.y + reach);
-  blocked_.assign(n, 1);
-  for (int y = wy0; y <= wy1; ++y)
-    for (int x = wx0; x <= wx1; ++x) blocked_[static_cast<std::size_t>(y * w + x)] = map.cost(x, y) >= nav::kInscribedCost;
-  within_robot_.assign(n, 0);
+  DistanceGrid& grid = distances_;
+  grid.x0 = wx0;
+  grid.y0 = wy0;
+  grid.width = std::max(0, wx1 - wx0 + 1);
+  grid.height = std::max(0, wy1 - wy0 + 1);
+  grid.stride = grid.width + 2;
+
+  // Both maps start alike: open cells unreached, blocked ones marked to take
+  // obstacle_distance_ when reached, the border at obstacle_distance_.
+  const std::size_t cells = static_cast<std::size_t>(grid.stride) * static_cast<std::size_t>(grid.height + 2);
+  for (Wavefront* wave : {&grid.path, &grid.goal}) {
+    wave->stride = grid.stride;
+    wave->obstacle = obstacle_distance_;
+    wave->unreached = obstacle_distance_ + 1;
+    wave->blocked = obstacle_distance_ + 2;
+    wave->distance.assign(cells, obstacle_distance_);
+  }
+  const int open = obstacle_distance_ + 1, blocked = obstacle_distance_ + 2;
+  const std::uint8_t* costs = map.costs();
+  for (int y = 0; y < grid.height; ++y) {
+    const std::uint8_t* row = costs + static_cast<std::size_t>(wy0 + y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(wx0);
+    const std::size_t first = static_cast<std::size_t>((y + 1) * grid.stride + 1);
+    int* path = grid.path.distance.data() + first;
+    int* goal = grid.goal.distance.data() + first;
+    for (int x = 0; x < grid.width; ++x) path[x] = goal[x] = row[x] >= nav::kInscribedCost ? blocked : open;
+  }
+  // The path map passes the blocked cells under the robot.
   std::vector<Eigen::Vector2d> outline;
   for (const Eigen::Vector2d& corner : footprint_) outline.push_back(pose.transform(corner));
-  for (const nav::CellIndex& cell : map.polygonCells(outline)) within_robot_[static_cast<std::size_t>(cell.y * w + cell.x)] = 1;
+  for (const nav::CellIndex& cell : map.polygonCells(outline)) {
+    const int i = grid.index(cell.x, cell.y);
+    if (i >= 0) grid.path.distance[static_cast<std::size_t>(i)] = grid.path.unreached;
+  }
 
-  const int unreached = obstacle_distance_ + 1;
-  const auto inWindow = [&](const nav::CellIndex& c) { return c.x >= wx0 && c.x <= wx1 && c.y >= wy0 && c.y <= wy1; };
-  const auto wavefront = [&](std::vector<int>& distance, const std::vector<int>& seeds, bool pass_robot) {
-    distance.assign(n, unreached);
-    queue_.clear();
-    for (int i : seeds) {
-      if (distance[static_cast<std::size_t>(i)] == 0) continue;
-      distance[static_cast<std::size_t>(i)] = 0;  // a seed counts whatever its cost
-      queue_.push_back(i);
-    }
-    for (std::size_t head = 0; head < queue_.size(); ++head) {
-      const int i = queue_[head];
-      const int x = i % w, y = i / w;
-      const int next = distance[static_cast<std::size_t>(i)] + 1;
-      const auto visit = [&](int j) {
-        const std::size_t at = static_cast<std::size_t>(j);
-        if (distance[at] != unreached) return;
-        if (blocked_[at] && !(pass_robot && within_robot_[at])) {
-          distance[at] = obstacle_distance_;
-          return;
-        }
-        distance[at] = next;
-        queue_.push_back(j);
-      };
-      if (x > wx0) visit(i - 1);
-      if (x < wx1) visit(i + 1);
-      if (y > wy0) visit(i - w);
-      if (y < wy1) visit(i + w);
-    }
-  };
-  std::vector<int> path_cells;
+  path_seeds_.clear();
   int goal_cell = -1;
   if (nav_.hasPath()) {
     // The path densified to one point per cell length, so every cell it crosses is a seed.
@@ -157,9 +214,10 @@ void DwaController::updateDistanceMaps(const core::Pose2& pose) {
     const double res = map.resolution();
     const auto seed = [&](const Eigen::Vector2d& p) {
       nav::CellIndex cell;
-      if (!map.toCell(p, cell) || !inWindow(cell) || map.cost(cell.x, cell.y) == nav::kUnknownCost) return false;
-      const int at = cell.y * w + cell.x;
-      if (path_cells.empty() || path_cells.back() != at) path_cells.push_back(at);
+      if (!map.toCell(p, cell)) return false;
+      const int at = grid.index(cell.x, cell.y);
+      if (at < 0 || map.cost(cell.x, cell.y) == nav::kUnknownCost) return false;
+      if (path_seeds_.empty() || path_seeds_.back() != at) path_seeds_.push_back(at);
       goal_cell = at;
       return true;
     };
@@ -174,49 +232,154 @@ void DwaController::updateDistanceMaps(const core::Pose2& pose) {
       if (inside) inside = seed(path[i]);
     }
   }
-  wavefront(path_distance_, path_cells, true);
-  wavefront(goal_distance_, goal_cell >= 0 ? std::vector<int>{goal_cell} : std::vector<int>{}, false);
+  // The searches run as far as the distances read from them need (Wavefront::at).
+  grid.path.start(path_seeds_);
+  grid.goal.start(goal_cell >= 0 ? std::span<const int>(&goal_cell, 1) : std::span<const int>());
 }
 
-DwaTrajectory DwaController::rollOut(const core::Pose2& pose, const core::Twist& velocity, double vx,
-                                     double vtheta) const {
+int DwaController::pathDistance(const nav::CellIndex& cell) {
+  const int i = distances_.index(cell.x, cell.y);
+  return i < 0 ? unreached() : distances_.path.at(i);
+}
+
+int DwaController::goalDistance(const nav::CellIndex& cell) {
+  const int i = distances_.index(cell.x, cell.y);
+  return i < 0 ? unreached() : distances_.goal.at(i);
+}
+
+int DwaController::rolloutSteps(double vx, double vtheta) const {
   // TrajectoryPlanner::generateTrajectory: steps of sim_granularity metres (or of
-  // angular_sim_granularity per rad/s of yaw rate), the velocity approaching the sample at the
-  // acceleration limits, every point checked; the distances of the last point count.
-  const int steps = std::max(1, static_cast<int>(std::max(std::abs(vx) * config_.sim_time / config_.sim_granularity,
-                                                          std::abs(vtheta) / config_.angular_sim_granularity) + 0.5));
+  // angular_sim_granularity per rad/s of yaw rate).
+  return std::max(1, static_cast<int>(std::max(std::abs(vx) * config_.sim_time / config_.sim_granularity,
+                                               std::abs(vtheta) / config_.angular_sim_granularity) + 0.5));
+}
+
+std::size_t DwaController::headings(const core::Pose2& pose, const core::Twist& velocity, int steps, double vtheta) {
+  for (const HeadingRun& run : heading_runs_)
+    if (run.steps == steps && run.vtheta == vtheta) return run.first;
+  const std::size_t first = heading_theta_.size();
+  heading_runs_.push_back({steps, vtheta, first});
+  // The yaw rate approaches the sample at the acceleration limit.
   const double dt = config_.sim_time / steps;
-  const nav::Costmap& map = nav_.localCostmap();
-  const int w = map.widthCells();
-  DwaTrajectory trajectory{vx, vtheta, -1.0, pose};
-  double x = pose.x, y = pose.y, theta = pose.yaw;
-  double v = velocity.linear, omega = velocity.angular;
-  int occupancy = 0, path_cells = 0, goal_cells = 0;
+  const double omega_step = config_.acc_lim_theta * dt;
+  double theta = pose.yaw, omega = velocity.angular;
   for (int i = 0; i < steps; ++i) {
+    heading_theta_.push_back(theta);
+    heading_cos_.push_back(std::cos(theta));
+    heading_sin_.push_back(std::sin(theta));
+    omega = approach(omega, vtheta, omega_step);
+    theta += omega * dt;
+  }
+  return first;
+}
+
+DwaController::RolloutPoints DwaController::simulate(const core::Pose2& pose, const core::Twist& velocity, double vx,
+                                                     double vtheta) {
+  // The poses of TrajectoryPlanner::generateTrajectory: the velocity approaches the sample at
+  // the acceleration limits, and each step moves along the heading it starts from.
+  const int steps = rolloutSteps(vx, vtheta);
+  const double dt = config_.sim_time / steps;
+  const double v_step = config_.acc_lim_x * dt;
+  const RolloutPoints points{positions_.size(), headings(pose, velocity, steps, vtheta), steps};
+  const double* cos_theta = heading_cos_.data() + points.first_heading;
+  const double* sin_theta = heading_sin_.data() + points.first_heading;
+  double x = pose.x, y = pose.y, v = velocity.linear;
+  for (int i = 0; i < steps; ++i) {
+    positions_.emplace_back(x, y);
+    v = approach(v, vx, v_step);
+    x += v * cos_theta[i] * dt;
+    y += v * sin_theta[i] * dt;
+  }
+  return points;
+}
+
+DwaController::CentreScore DwaController::scoreCentres(const RolloutPoints& points) {
+  // Only whether each distance is below obstacle_distance_ matters before the last point, so
+  // the wavefronts advance no further than that needs (Wavefront::openAt), the goal one not
+  // at all once the path is out of reach.
+  const nav::Costmap& map = nav_.localCostmap();
+  const std::uint8_t* costs = map.costs();
+  const CellLocator locator(map);
+  CentreScore score;
+  nav::CellIndex previous{-1, -1};
+  for (int i = 0; i < points.count; ++i) {
+    const Eigen::Vector2d& p = positions_[points.first_position + static_cast<std::size_t>(i)];
     nav::CellIndex cell;
-    if (!map.toCell({x, y}, cell)) return trajectory;
-    const double outline = footprintCost(x, y, theta);
-    if (outline < 0.0) return trajectory;
-    occupancy = std::max({occupancy, static_cast<int>(outline), static_cast<int>(map.cost(cell.x, cell.y))});
-    const std::size_t at = static_cast<std::size_t>(cell.y * w + cell.x);
-    path_cells = path_distance_.empty() ? obstacle_distance_ : path_distance_[at];
-    goal_cells = goal_distance_.empty() ? obstacle_distance_ : goal_distance_[at];
+    if (!locator.toCell(p.x(), p.y(), cell)) return score;
+    if (cell == previous) continue;  // a point in the same cell as the last reads the same
+    previous = cell;
+    const int cost = costs[static_cast<std::size_t>(cell.y) * static_cast<std::size_t>(map.widthCells()) + static_cast<std::size_t>(cell.x)];
+    score.occupancy = std::max(score.occupancy, cost);
+    const int at = distances_.index(cell.x, cell.y);
+    if (at < 0) return score;  // outside the window: never reached
+    score.path_cells = distances_.path.openAt(at);
+    if (score.path_cells >= obstacle_distance_) return score;
+    score.goal_cells = distances_.goal.openAt(at);
+    if (score.goal_cells >= obstacle_distance_) return score;
+  }
+  score.plausible = true;
+  return score;
+}
+
+template <class CannotWin>
+int DwaController::outlineOccupancy(const RolloutPoints& points, int occupancy, CannotWin cannot_win) const {
+  // Raises `occupancy` by the footprint outline of every point: -1 if one crosses a lethal or
+  // unknown cell or leaves the map, or once cannot_win(occupancy) (the cost only grows).
+  // Consecutive points often put the corners in the same cells, hence on the same outline.
+  nav::CellIndex previous[4];
+  bool have_previous = false;
+  for (int i = 0; i < points.count; ++i) {
+    const Eigen::Vector2d& p = positions_[points.first_position + static_cast<std::size_t>(i)];
+    const std::size_t h = points.first_heading + static_cast<std::size_t>(i);
+    nav::CellIndex corners[4];
+    if (!footprintCorners(p.x(), p.y(), heading_cos_[h], heading_sin_[h], corners)) return -1;
+    if (have_previous && std::equal(corners, corners + 4, previous)) continue;
+    const int outline = outlineCost(corners);
+    if (outline < 0) return -1;
+    std::copy(corners, corners + 4, previous);
+    have_previous = true;
+    if (outline > occupancy) {
+      occupancy = outline;
+      if (cannot_win(occupancy)) return -1;
+    }
+  }
+  return occupancy;
+}
+
+double DwaController::trajectoryCost(int path_cells, int goal_cells, int occupancy) const {
+  // The path and goal weights count per metre under meter_scoring; the occupancy weight is
+  // never scaled. Every term is non-negative, so the cost never falls as the occupancy rises.
+  const double distance_unit = config_.meter_scoring ? nav_.localCostmap().resolution() : 1.0;
+  return distance_unit * (config_.pdist_scale * path_cells + config_.gdist_scale * goal_cells) +
+         config_.occdist_scale * occupancy;
+}
+
+DwaTrajectory DwaController::rollOut(const core::Pose2& pose, const core::Twist& velocity, double vx, double vtheta) {
+  // TrajectoryPlanner::generateTrajectory's scoring, point by point: -1 at the first point
+  // off the map or whose footprint hits, -2 at the first from which the path or the local
+  // goal cannot be reached; else the distances of the last point count.
+  const nav::Costmap& map = nav_.localCostmap();
+  const RolloutPoints points = simulate(pose, velocity, vx, vtheta);
+  DwaTrajectory trajectory{vx, vtheta, -1.0, pose};
+  int occupancy = 0, path_cells = 0, goal_cells = 0;
+  for (int i = 0; i < points.count; ++i) {
+    const Eigen::Vector2d& p = positions_[points.first_position + static_cast<std::size_t>(i)];
+    const std::size_t h = points.first_heading + static_cast<std::size_t>(i);
+    nav::CellIndex cell, corners[4];
+    if (!CellLocator(map).toCell(p.x(), p.y(), cell)) return trajectory;
+    if (!footprintCorners(p.x(), p.y(), heading_cos_[h], heading_sin_[h], corners)) return trajectory;
+    const int outline = outlineCost(corners);
+    if (outline < 0) return trajectory;
+    occupancy = std::max({occupancy, outline, static_cast<int>(map.cost(cell.x, cell.y))});
+    path_cells = pathDistance(cell);
+    goal_cells = goalDistance(cell);
     if (path_cells >= obstacle_distance_ || goal_cells >= obstacle_distance_) {
       trajectory.cost = -2.0;
       return trajectory;
     }
-    trajectory.end = {x, y, theta};
-    v = approach(v, vx, config_.acc_lim_x * dt);
-    omega = approach(omega, vtheta, config_.acc_lim_theta * dt);
-    x += v * std::cos(theta) * dt;
-    y += v * std::sin(theta) * dt;
-    theta += omega * dt;
+    trajectory.end = {p.x(), p.y(), heading_theta_[h]};
   }
-  // The path and goal weights count per metre under meter_scoring; the occupancy weight is
-  // never scaled.
-  const double distance_unit = config_.meter_scoring ? map.resolution() : 1.0;
-  trajectory.cost = distance_unit * (config_.pdist_scale * path_cells + config_.gdist_scale * goal_cells) +
-                    config_.occdist_scale * occupancy;
+  trajectory.cost = trajectoryCost(path_cells, goal_cells, occupancy);
   return trajectory;
 }
 
@@ -229,43 +392,90 @@ DwaTrajectory DwaController::findBestPath(const core::Pose2& pose, const core::T
   const double min_th = std::max(-config_.max_vel_theta, velocity.angular - config_.acc_lim_theta * period);
   const double dvx = (max_x - min_x) / (config_.vx_samples - 1);
   const double dvth = (max_th - min_th) / (config_.vtheta_samples - 1);
+  heading_runs_.clear();
+  heading_theta_.clear();
+  heading_cos_.clear();
+  heading_sin_.clear();
+  positions_.clear();
+  const auto endOf = [&](const RolloutPoints& points) {
+    const std::size_t last = static_cast<std::size_t>(points.count - 1);
+    const Eigen::Vector2d& p = positions_[points.first_position + last];
+    return core::Pose2{p.x(), p.y(), heading_theta_[points.first_heading + last]};
+  };
 
   DwaTrajectory best;
   // Forward arcs (not while escaping): the straight sample first, then vtheta_samples - 1 turn
-  // rates from the bottom of the window (its top is never tried); ties keep the earlier one.
+  // rates from the bottom of the window (its top is never tried); ties keep the earlier one,
+  // so the winner is the lowest (cost, order). The footprint outlines are the expensive part:
+  // every arc is first scored without them, and they are walked from the most promising arc
+  // on, only for arcs that can still win.
   if (!escaping_) {
+    arcs_.clear();
+    int order = 0;
     double vx = min_x;
     for (int i = 0; i < config_.vx_samples; ++i, vx += dvx) {
       const auto consider = [&](double vth) {
-        const DwaTrajectory t = rollOut(pose, velocity, vx, vth);
-        if (t.cost >= 0.0 && (best.cost < 0.0 || t.cost < best.cost)) best = t;
+        ArcCandidate arc{vx, vth, order++, simulate(pose, velocity, vx, vth), {}, 0.0};
+        arc.centre = scoreCentres(arc.points);
+        if (!arc.centre.plausible) return;
+        arc.bound = trajectoryCost(arc.centre.path_cells, arc.centre.goal_cells, arc.centre.occupancy);
+        arcs_.push_back(arc);
       };
       consider(0.0);
       double vth = min_th;
       for (int j = 0; j < config_.vtheta_samples - 1; ++j, vth += dvth) consider(vth);
     }
+    std::sort(arcs_.begin(), arcs_.end(), [](const ArcCandidate& a, const ArcCandidate& b) {
+      return a.bound < b.bound || (a.bound == b.bound && a.order < b.order);
+    });
+    int best_order = -1;
+    for (const ArcCandidate& arc : arcs_) {
+      const auto cannotWin = [&](double cost) {
+        return best.cost >= 0.0 && (cost > best.cost || (cost == best.cost && arc.order > best_order));
+      };
+      // Sorted by (bound, order): once one cannot win, none after it can.
+      if (cannotWin(arc.bound)) break;
+      const int occupancy = outlineOccupancy(arc.points, arc.centre.occupancy, [&](int occ) {
+        return cannotWin(trajectoryCost(arc.centre.path_cells, arc.centre.goal_cells, occ));
+      });
+      if (occupancy < 0) continue;
+      const double cost = trajectoryCost(arc.centre.path_cells, arc.centre.goal_cells, occupancy);
+      if (cannotWin(cost)) continue;
+      best = {arc.vx, arc.vtheta, cost, endOf(arc.points)};
+      best_order = arc.order;
+    }
   }
   // In place: a rotation replaces the best arc if it costs no more and the point
   // heading_lookahead ahead of its end is nearer the local goal than the rotations taken so
   // far. stuck_right (turned clockwise on two cycles without moving) locks out
-  // counter-clockwise turns, stuck_left clockwise ones.
+  // counter-clockwise turns, stuck_left clockwise ones. The cheap conditions come first.
   const nav::Costmap& map = nav_.localCostmap();
   double heading_distance = std::numeric_limits<double>::max();
   double sample = min_th;
   for (int j = 0; j < config_.vtheta_samples; ++j, sample += dvth) {
     const double vth = sample > 0 ? std::max(sample, config_.min_in_place_vel_theta)
                                   : std::min(sample, -config_.min_in_place_vel_theta);
-    const DwaTrajectory t = rollOut(pose, velocity, 0.0, vth);
-    if (t.cost < 0.0 || !(best.cost < 0.0 || t.cost <= best.cost) || !(std::abs(sample) > dvth)) continue;
+    if (!(std::abs(sample) > dvth)) continue;
+    if (!((sample < 0 && !stuck_left_) || (sample > 0 && !stuck_right_))) continue;
+    const RolloutPoints points = simulate(pose, velocity, 0.0, vth);
+    const CentreScore centre = scoreCentres(points);
+    if (!centre.plausible) continue;
+    const auto cannotWin = [&](double cost) { return best.cost >= 0.0 && cost > best.cost; };
+    if (cannotWin(trajectoryCost(centre.path_cells, centre.goal_cells, centre.occupancy))) continue;
+    const core::Pose2 end = endOf(points);
     nav::CellIndex ahead;
-    const Eigen::Vector2d look = t.end.position() + config_.heading_lookahead * Eigen::Vector2d(std::cos(t.end.yaw), std::sin(t.end.yaw));
+    const Eigen::Vector2d look = end.position() + config_.heading_lookahead * Eigen::Vector2d(std::cos(end.yaw), std::sin(end.yaw));
     if (!map.toCell(look, ahead)) continue;
-    const double ahead_distance = goal_distance_[static_cast<std::size_t>(ahead.y * map.widthCells() + ahead.x)];
+    const double ahead_distance = goalDistance(ahead);
     if (!(ahead_distance < heading_distance)) continue;
-    if ((sample < 0 && !stuck_left_) || (sample > 0 && !stuck_right_)) {
-      best = t;
-      heading_distance = ahead_distance;
-    }
+    const int occupancy = outlineOccupancy(points, centre.occupancy, [&](int occ) {
+      return cannotWin(trajectoryCost(centre.path_cells, centre.goal_cells, occ));
+    });
+    if (occupancy < 0) continue;
+    const double cost = trajectoryCost(centre.path_cells, centre.goal_cells, occupancy);
+    if (cannotWin(cost)) continue;
+    best = {0.0, vth, cost, end};
+    heading_distance = ahead_distance;
   }
 
   const auto clearOscillationIfMoved = [&] {

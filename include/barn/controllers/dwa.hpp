@@ -19,6 +19,9 @@
 /// escape_reset_theta. If no command is valid for controller_patience seconds, move_base's
 /// recoveries run (DwaRecoveryConfig); after them the robot gives up, as move_base aborts.
 
+#include <span>
+#include <vector>
+
 #include "barn/controllers/controller.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/nav/nav_stack.hpp"
@@ -126,8 +129,117 @@ class DwaController : public Controller {
  private:
   enum class Mode { Planning, RecoveryRotate, GaveUp };
 
-  DwaTrajectory rollOut(const core::Pose2& pose, const core::Twist& velocity, double vx, double vtheta) const;
+  /// The headings of every roll-out with the same step count and yaw-rate sample: the yaw
+  /// sequence depends on nothing else within one findBestPath(), so its sines and cosines
+  /// are computed once and shared (the arcs of one yaw rate at different speeds often take
+  /// the same number of steps, and so do the in-place rotations).
+  struct HeadingRun {
+    int steps = 0;
+    double vtheta = 0.0;
+    std::size_t first = 0;  // into heading_theta_, heading_cos_, heading_sin_
+  };
+  /// The points of one roll-out: positions here, headings in a HeadingRun.
+  struct RolloutPoints {
+    std::size_t first_position = 0;  // into positions_
+    std::size_t first_heading = 0;   // into heading_theta_, heading_cos_, heading_sin_
+    int count = 0;
+  };
+  /// What a roll-out's points cost without its footprint outlines: the distances of its last
+  /// point and the highest cost under its centre. `plausible` is false if a point leaves the
+  /// map or cannot reach the path or the local goal (the roll-out is invalid then).
+  struct CentreScore {
+    bool plausible = false;
+    int path_cells = 0;
+    int goal_cells = 0;
+    int occupancy = 0;
+  };
+  /// A forward arc waiting for its footprint check; `bound` is its cost if the outlines add
+  /// nothing (a lower bound on its cost: the cost only grows with the occupancy).
+  struct ArcCandidate {
+    double vx = 0.0, vtheta = 0.0;
+    int order = 0;  // its place in upstream's sampling order (ties keep the earlier)
+    RolloutPoints points;
+    CentreScore centre;
+    double bound = 0.0;
+  };
+  /// One MapGrid wavefront over the scoring window (row-major with a one-cell border it never
+  /// enters, so it needs no bounds checks), advanced lazily, only as far as the distances read
+  /// from it need: a breadth-first search fixes a cell's distance when it first reaches it,
+  /// so stopping there gives what the whole search would.
+  struct Wavefront {
+    std::vector<int> distance;  // [cells] the values below, or the distance of a reached cell
+    std::vector<int> queue;     // reached cells; those from `head` on are not expanded yet
+    std::size_t head = 0, tail = 0;
+    int stride = 0;
+    int obstacle = 0;           // a blocked cell reached; also the border
+    int unreached = 1;          // obstacle + 1: an open cell not reached (yet)
+    int blocked = 2;            // obstacle + 2: a blocked cell not reached (yet)
+
+    /// Seeds the search (distance prepared with the values above).
+    void start(std::span<const int> seeds);
+    /// The distance of cell i, `unreached` if the search never gets there.
+    int at(int i) {
+      while (!settled(i) && head < tail) expandNext();
+      return std::min(distance[static_cast<std::size_t>(i)], unreached);
+    }
+    /// The same where only a distance below `obstacle` matters: a blocked cell the search has
+    /// not reached can only end at obstacle or unreached, so it gives unreached at once.
+    int openAt(int i) { return distance[static_cast<std::size_t>(i)] == blocked ? unreached : at(i); }
+
+   private:
+    bool settled(int i) const {
+      const int d = distance[static_cast<std::size_t>(i)];
+      return d != unreached && d != blocked;
+    }
+    void expandNext() {
+      // A blocked cell takes `obstacle` when reached and is not expanded; the border holds
+      // `obstacle`, so the search never steps onto it.
+      int* d = distance.data();
+      const int i = queue[head++];
+      const int next = d[i] + 1;
+      const auto visit = [&](int j) {
+        if (d[j] == unreached) {
+          d[j] = next;
+          queue[tail++] = j;
+        } else if (d[j] == blocked) {
+          d[j] = obstacle;
+        }
+      };
+      visit(i - 1);
+      visit(i + 1);
+      visit(i - stride);
+      visit(i + stride);
+    }
+  };
+  /// MapGrid's path and goal distances on the scoring window; a cell outside it counts as
+  /// never reached.
+  struct DistanceGrid {
+    int x0 = 0, y0 = 0;          // map cell of the window's first cell
+    int width = 0, height = 0;   // [cells] the window (0: not computed yet)
+    int stride = 0;              // width + 2
+    Wavefront path;
+    Wavefront goal;
+    /// Index of map cell (x, y), or -1 outside the window.
+    int index(int x, int y) const {
+      const int lx = x - x0, ly = y - y0;
+      if (lx < 0 || ly < 0 || lx >= width || ly >= height) return -1;
+      return (ly + 1) * stride + lx + 1;
+    }
+  };
+
+  DwaTrajectory rollOut(const core::Pose2& pose, const core::Twist& velocity, double vx, double vtheta);
+  int rolloutSteps(double vx, double vtheta) const;
+  RolloutPoints simulate(const core::Pose2& pose, const core::Twist& velocity, double vx, double vtheta);
+  std::size_t headings(const core::Pose2& pose, const core::Twist& velocity, int steps, double vtheta);
+  CentreScore scoreCentres(const RolloutPoints& points);
+  template <class CannotWin>
+  int outlineOccupancy(const RolloutPoints& points, int occupancy, CannotWin cannot_win) const;
+  double trajectoryCost(int path_cells, int goal_cells, int occupancy) const;
+  int pathDistance(const nav::CellIndex& cell);
+  int goalDistance(const nav::CellIndex& cell);
   double footprintCost(double x, double y, double theta) const;
+  bool footprintCorners(double x, double y, double cos_theta, double sin_theta, nav::CellIndex (&corners)[4]) const;
+  int outlineCost(const nav::CellIndex (&corners)[4]) const;
   bool sweepClear(const core::Pose2& pose, double sweep) const;
   core::Twist recover(const Observation& obs);
 
@@ -148,11 +260,14 @@ class DwaController : public Controller {
   // MapGrid distances on the local costmap [cells]: obstacle_distance_ for a blocked cell,
   // obstacle_distance_ + 1 for one never reached.
   int obstacle_distance_ = 0;
-  std::vector<int> path_distance_;
-  std::vector<int> goal_distance_;
-  std::vector<char> blocked_;      // scratch: inscribed, lethal or unknown cells of the local map
-  std::vector<char> within_robot_; // scratch: cells under the padded footprint
-  std::vector<int> queue_;         // scratch: wavefront queue
+  int unreached() const { return obstacle_distance_ + 1; }
+  DistanceGrid distances_;
+  // Scratch, kept to reuse its memory from tick to tick.
+  std::vector<int> path_seeds_;
+  std::vector<HeadingRun> heading_runs_;
+  std::vector<double> heading_theta_, heading_cos_, heading_sin_;
+  std::vector<Eigen::Vector2d> positions_;
+  std::vector<ArcCandidate> arcs_;
 };
 
 }  // namespace barn::controllers
