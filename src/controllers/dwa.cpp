@@ -5,6 +5,8 @@
 #include <limits>
 #include <numbers>
 
+#include "barn/nav/grid_line.hpp"
+
 namespace barn::controllers {
 
 namespace {
@@ -14,50 +16,15 @@ double approach(double value, double target, double step) {
   return value < target ? std::min(target, value + step) : std::max(target, value - step);
 }
 
-// Costmap::toCell inline, for a point given by its coordinates: the same arithmetic (a
-// division by the resolution; a multiplication by its inverse would not always round the
-// same), so the same cells, without the call and the Eigen temporary.
-struct CellLocator {
-  double origin_x, origin_y, resolution;
-  int width, height;
-
-  explicit CellLocator(const nav::Costmap& map)
-      : origin_x(map.origin().x()), origin_y(map.origin().y()), resolution(map.resolution()),
-        width(map.widthCells()), height(map.heightCells()) {}
-
-  bool toCell(double px, double py, nav::CellIndex& cell) const {
-    const double fx = (px - origin_x) / resolution;
-    const double fy = (py - origin_y) / resolution;
-    if (fx < 0.0 || fy < 0.0) return false;
-    cell = {static_cast<int>(fx), static_cast<int>(fy)};
-    return cell.x < width && cell.y < height;  // both >= 0: fx, fy >= 0
-  }
-};
-
-// The highest cost on the cells nav::walkLine visits from a to b (both on the map), stepping
-// a flat index instead of (x, y): the same Bresenham (dominant axis, error term from half
-// its length), so the same cells. A segment between two cells stays in their bounding box,
-// so no cell is off the map.
+// The highest cost on the cells of the segment from a to b (both on the map), as
+// CostmapModel::lineCost walks them.
 int highestCostOnSegment(const std::uint8_t* costs, int width, nav::CellIndex a, nav::CellIndex b) {
-  const int dx = b.x - a.x, dy = b.y - a.y;
-  const int abs_dx = std::abs(dx), abs_dy = std::abs(dy);
-  const std::ptrdiff_t step_x = dx > 0 ? 1 : -1, step_y = dy > 0 ? width : -width;
-  const bool x_major = abs_dx >= abs_dy;
-  const int major = x_major ? abs_dx : abs_dy, minor = x_major ? abs_dy : abs_dx;
-  const std::ptrdiff_t major_step = x_major ? step_x : step_y, minor_step = x_major ? step_y : step_x;
-  const std::uint8_t* cell = costs + static_cast<std::ptrdiff_t>(a.y) * width + a.x;
   int worst = 0;
-  int error = major / 2;
-  for (int i = 0; i < major; ++i) {
-    worst = std::max(worst, static_cast<int>(*cell));
-    cell += major_step;
-    error += minor;
-    if (error >= major) {
-      cell += minor_step;
-      error -= major;
-    }
-  }
-  return std::max(worst, static_cast<int>(*cell));
+  nav::walkLine(a.x, a.y, b.x, b.y, [&](int x, int y) {
+    worst = std::max(worst, static_cast<int>(costs[static_cast<std::ptrdiff_t>(y) * width + x]));
+    return true;
+  });
+  return worst;
 }
 
 }  // namespace
@@ -117,10 +84,10 @@ std::string_view DwaController::stateLabel() const {
 
 bool DwaController::footprintCorners(double x, double y, double cos_theta, double sin_theta,
                                      nav::CellIndex (&corners)[4]) const {
-  const CellLocator locator(nav_.localCostmap());
+  const nav::Costmap& map = nav_.localCostmap();
   for (int k = 0; k < 4; ++k) {
     const Eigen::Vector2d& p = footprint_[static_cast<std::size_t>(k)];
-    if (!locator.toCell(x + cos_theta * p.x() - sin_theta * p.y(), y + sin_theta * p.x() + cos_theta * p.y(), corners[k]))
+    if (!map.toCell(x + cos_theta * p.x() - sin_theta * p.y(), y + sin_theta * p.x() + cos_theta * p.y(), corners[k]))
       return false;
   }
   return true;
@@ -299,13 +266,12 @@ DwaController::CentreScore DwaController::scoreCentres(const RolloutPoints& poin
   // at all once the path is out of reach.
   const nav::Costmap& map = nav_.localCostmap();
   const std::uint8_t* costs = map.costs();
-  const CellLocator locator(map);
   CentreScore score;
   nav::CellIndex previous{-1, -1};
   for (int i = 0; i < points.count; ++i) {
     const Eigen::Vector2d& p = positions_[points.first_position + static_cast<std::size_t>(i)];
     nav::CellIndex cell;
-    if (!locator.toCell(p.x(), p.y(), cell)) return score;
+    if (!map.toCell(p.x(), p.y(), cell)) return score;
     if (cell == previous) continue;  // a point in the same cell as the last reads the same
     previous = cell;
     const int cost = costs[static_cast<std::size_t>(cell.y) * static_cast<std::size_t>(map.widthCells()) + static_cast<std::size_t>(cell.x)];
@@ -366,7 +332,7 @@ DwaTrajectory DwaController::rollOut(const core::Pose2& pose, const core::Twist&
     const Eigen::Vector2d& p = positions_[points.first_position + static_cast<std::size_t>(i)];
     const std::size_t h = points.first_heading + static_cast<std::size_t>(i);
     nav::CellIndex cell, corners[4];
-    if (!CellLocator(map).toCell(p.x(), p.y(), cell)) return trajectory;
+    if (!map.toCell(p.x(), p.y(), cell)) return trajectory;
     if (!footprintCorners(p.x(), p.y(), heading_cos_[h], heading_sin_[h], corners)) return trajectory;
     const int outline = outlineCost(corners);
     if (outline < 0) return trajectory;

@@ -61,14 +61,6 @@ std::uint8_t Costmap::inflationCost(double distance) const {
   return inflationCostAtCells(distance / config_.resolution);
 }
 
-bool Costmap::toCell(const Eigen::Vector2d& p, CellIndex& cell) const {
-  const double fx = (p.x() - origin_.x()) / config_.resolution;
-  const double fy = (p.y() - origin_.y()) / config_.resolution;
-  if (fx < 0.0 || fy < 0.0) return false;
-  cell = {static_cast<int>(fx), static_cast<int>(fy)};
-  return inBounds(cell.x, cell.y);
-}
-
 Eigen::Vector2d Costmap::cellCentre(CellIndex cell) const {
   return origin_ + config_.resolution * Eigen::Vector2d(cell.x + 0.5, cell.y + 0.5);
 }

@@ -99,7 +99,15 @@ class Costmap {
   Eigen::Vector2d origin() const { return origin_; }  // [m] odom frame, lower-left corner
 
   bool inBounds(int x, int y) const { return x >= 0 && y >= 0 && x < width_ && y < height_; }
-  bool toCell(const Eigen::Vector2d& p, CellIndex& cell) const;
+  bool toCell(const Eigen::Vector2d& p, CellIndex& cell) const { return toCell(p.x(), p.y(), cell); }
+  /// The cell containing (px, py) [m, odom frame]; false if it is off the map.
+  bool toCell(double px, double py, CellIndex& cell) const {
+    const double fx = (px - origin_.x()) / config_.resolution;
+    const double fy = (py - origin_.y()) / config_.resolution;
+    if (fx < 0.0 || fy < 0.0) return false;
+    cell = {static_cast<int>(fx), static_cast<int>(fy)};
+    return inBounds(cell.x, cell.y);
+  }
   Eigen::Vector2d cellCentre(CellIndex cell) const;
 
   /// Final (inflated) cost of a cell; cells outside the map are unknown.
