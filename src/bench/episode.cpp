@@ -64,6 +64,14 @@ void validate(const EpisodeConfig& config, core::Errors& errors) {
   }
 }
 
+EpisodeConfig validatedEpisodeConfig(const core::ConfigNode& node, const std::string& where) {
+  EpisodeConfig config = core::readConfig<EpisodeConfig>(node);
+  core::Errors errors(where);
+  validate(config, errors);
+  errors.throwIfAny();
+  return config;
+}
+
 std::vector<Eigen::Vector2d> referencePathInOdom(const core::WorldSpec& world, const core::Protocol& protocol) {
   std::vector<Eigen::Vector2d> path;
   for (const core::Cell& cell : world.path) {

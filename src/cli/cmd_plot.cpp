@@ -107,7 +107,7 @@ void addPlotCommand(CLI::App& app, CommandContext& /*context*/) {
     const auto worlds = bench::loadManifestWorlds(manifest);
     const auto make = controllers::makeControllerFactory(core::ConfigNode::parseString(manifest.controller_config, "manifest"));
     const bench::EpisodeConfig episode =
-        validatedEpisodeConfig(core::ConfigNode::parseString(manifest.episode_config, "manifest"), options->record);
+        bench::validatedEpisodeConfig(core::ConfigNode::parseString(manifest.episode_config, "manifest"), options->record);
     const core::Protocol protocol = core::protocolPreset(episode.protocol);
     std::vector<int> trials = options->trials;
     if (trials.empty())

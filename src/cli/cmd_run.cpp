@@ -74,7 +74,7 @@ bench::EpisodeConfig episodeConfigFor(const std::string& sim_config, const std::
   const fs::path sim_file = sim_config.empty() ? repoPath("configs") / "sim" / "barn.yaml" : fs::path(sim_config);
   core::ConfigNode sim_node = core::ConfigNode::parseFile(sim_file);
   if (!protocol.empty()) sim_node.set("protocol", protocol);
-  return validatedEpisodeConfig(sim_node, sim_file.string());
+  return bench::validatedEpisodeConfig(sim_node, sim_file.string());
 }
 
 void addRunCommand(CLI::App& app, CommandContext& context) {

@@ -57,14 +57,6 @@ std::vector<std::size_t> pendingEpisodes(const Session& session) {
 
 }  // namespace
 
-bench::EpisodeConfig validatedEpisodeConfig(const core::ConfigNode& node, const std::string& where) {
-  bench::EpisodeConfig config = core::readConfig<bench::EpisodeConfig>(node);
-  core::Errors errors(where);
-  bench::validate(config, errors);
-  errors.throwIfAny();
-  return config;
-}
-
 Session newSession(const std::string& controller_name, const core::ConfigNode& controller_config,
                    const bench::EpisodeConfig& episode, const bench::LoadedWorlds& loaded,
                    const std::string& worlds_spec, int trials, std::uint64_t seed, int shard_index, int shard_count,
@@ -101,7 +93,7 @@ Session resumedSession(const fs::path& dir) {
     throw core::InputError(dir.string() + ": imported from " + m.source + " (barn import-out); there is nothing to run");
   session.spec.make_controller =
       controllers::makeControllerFactory(core::ConfigNode::parseString(m.controller_config, "manifest controller_config"));
-  session.spec.episode = validatedEpisodeConfig(core::ConfigNode::parseString(m.episode_config, "manifest episode_config"),
+  session.spec.episode = bench::validatedEpisodeConfig(core::ConfigNode::parseString(m.episode_config, "manifest episode_config"),
                                                 (session.dir / bench::kManifestFile).string());
   session.worlds = bench::loadManifestWorlds(m);
   if (!m.complete) {

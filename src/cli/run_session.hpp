@@ -23,8 +23,6 @@ struct Session {
   std::vector<bench::EpisodeResult> previous;  // finished in earlier sessions (resume)
 };
 
-/// Reads and validates the robot, LiDAR, physics and protocol config.
-bench::EpisodeConfig validatedEpisodeConfig(const core::ConfigNode& node, const std::string& where);
 
 /// A new record in `dir` (which must not hold one): everything validated, nothing written yet.
 Session newSession(const std::string& controller_name, const core::ConfigNode& controller_config,

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "barn/controllers/controller.hpp"
+#include "barn/core/config.hpp"
 #include "barn/core/protocol.hpp"
 #include "barn/core/rng.hpp"
 #include "barn/core/world.hpp"
@@ -67,6 +68,10 @@ struct EpisodeConfig {
 
 /// Checks every field and the cross-field rule that scans fall on physics steps.
 void validate(const EpisodeConfig& config, core::Errors& errors);
+
+/// Reads and validates an episode config (a sim config file's contents); InputError naming
+/// `where` and the field otherwise.
+EpisodeConfig validatedEpisodeConfig(const core::ConfigNode& node, const std::string& where);
 
 enum class Outcome {
   Success,    ///< reached the goal radius before the timeout, without contact

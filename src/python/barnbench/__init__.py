@@ -1,0 +1,202 @@
+"""barnbench from Python: a BARN episode as a Gymnasium-style environment, and batch runs.
+
+    import barnbench
+    env = barnbench.Env(world=0)
+    obs, info = env.reset(seed=1)
+    while True:
+        obs, reward, terminated, truncated, info = env.step((0.5, 0.0))
+        if terminated or truncated:
+            break
+    print(info["outcome"], info["score"])
+
+    summary = barnbench.run(MyController, worlds="test50", trials=1, jobs=2, out="results/mine")
+
+Observations are dicts of numpy arrays in the odom frame (the start, facing the protocol's
+heading): "scan" (720 float32, inf for no return), "pose" (x, y, yaw), "twist" (v, w),
+"goal" (x, y), and "time" (simulated seconds). One step is one control period (Env.dt).
+"""
+
+import json
+import math
+import multiprocessing
+import os
+import subprocess
+
+import numpy as np
+
+from . import _core
+from ._core import InputError
+
+__all__ = ["Env", "run", "default_reward", "InputError"]
+
+_SOURCE_DIR = _core.SOURCE_DIR
+_DEFAULT_SIM_CONFIG = os.path.join(_SOURCE_DIR, "configs", "sim", "barn.yaml")
+_DEFAULT_WORLD_DIR = os.path.join(_SOURCE_DIR, "worlds")
+
+try:  # Gymnasium is optional: its spaces are offered when it is installed.
+    import gymnasium as _gym
+except ImportError:  # pragma: no cover - depends on the machine
+    _gym = None
+
+
+def default_reward(previous_distance, distance, outcome):
+    """Progress toward the goal [m] this step, +10 on success, -10 on a collision."""
+    reward = previous_distance - distance
+    if outcome == "success":
+        reward += 10.0
+    elif outcome == "collision":
+        reward -= 10.0
+    return reward
+
+
+class Env:
+    """One BARN world as an environment. `world` is an id (in `world_dir`, default the
+    repository's worlds/) or a world file; `sim_config` a sim config file (default
+    configs/sim/barn.yaml); `dt` the control period [s]; `reward` a function
+    (previous_distance, distance, outcome) -> float, default default_reward."""
+
+    def __init__(self, world, world_dir=None, protocol="barn2023", sim_config=None, dt=0.05, reward=default_reward):
+        if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0):
+            raise InputError(f"dt: must be a positive number of seconds (got {dt!r})")
+        self.world = world
+        self.world_dir = world_dir or _DEFAULT_WORLD_DIR
+        self.protocol = protocol
+        self.sim_config = sim_config or _DEFAULT_SIM_CONFIG
+        self.dt = float(dt)
+        self.reward = reward
+        self._episode = None
+        self._distance = None
+        if _gym is not None:
+            inf = np.inf
+            self.observation_space = _gym.spaces.Dict({
+                "scan": _gym.spaces.Box(0.0, inf, shape=(720,), dtype=np.float32),
+                "pose": _gym.spaces.Box(-inf, inf, shape=(3,), dtype=np.float64),
+                "twist": _gym.spaces.Box(-inf, inf, shape=(2,), dtype=np.float64),
+                "goal": _gym.spaces.Box(-inf, inf, shape=(2,), dtype=np.float64),
+                "time": _gym.spaces.Box(0.0, inf, shape=(), dtype=np.float64),
+            })
+            self.action_space = _gym.spaces.Box(np.array([-2.0, -4.0]), np.array([2.0, 4.0]), dtype=np.float64)
+
+    def reset(self, seed=None, options=None):
+        """Starts a new episode; the same seed gives the same episode bit for bit."""
+        del options
+        self._episode = _core.Episode(self.world, self.world_dir, self.sim_config, self.protocol,
+                                      int(seed or 0), self.dt)
+        obs = self._episode.observation()
+        self._distance = _goal_distance(obs)
+        info = self._episode.info()
+        info.update(self._episode.result())
+        return obs, info
+
+    def step(self, action):
+        """Applies (v, w) for one control period. Returns obs, reward, terminated,
+        truncated, info; info["outcome"] is running, success, collision or timeout."""
+        if self._episode is None:
+            raise RuntimeError("call reset() before step()")
+        v, w = (float(a) for a in action)
+        self._episode.step(v, w)
+        obs = self._episode.observation()
+        info = self._episode.result()
+        distance = _goal_distance(obs)
+        reward = self.reward(self._distance, distance, info["outcome"])
+        self._distance = distance
+        terminated = info["outcome"] in ("success", "collision", "error")
+        truncated = info["outcome"] == "timeout"
+        return obs, reward, terminated, truncated, info
+
+
+def _goal_distance(obs):
+    return float(np.hypot(*(obs["goal"] - obs["pose"][:2])))
+
+
+def _barn_binary():
+    here = os.path.dirname(os.path.abspath(__file__))
+    return os.path.join(here, os.pardir, os.pardir, "barn")
+
+
+def run(controller, worlds="test50", world_dir=None, trials=1, jobs=2, seed=0, protocol="barn2023", out=None,
+        sim_config=None):
+    """Scores `controller` on `worlds` x `trials` and writes the experiment record to `out`.
+
+    `controller` is a built-in name ("dwa", "inventec_fi", ...: run by `barn run`, the same
+    record) or a Python class with reset(info) and act(obs) -> (v, w) and an optional
+    `period` [s] (default 0.05); one instance per worker process, reset every episode.
+    Returns the summary (mean score, success, collision, timeout rates, episodes)."""
+    if out is None:
+        raise InputError("out: a folder for the record is required")
+    if isinstance(controller, str):
+        command = [_barn_binary(), "run", "--controller", controller, "--worlds", str(worlds), "--trials", str(trials),
+                   "--jobs", str(jobs), "--seed", str(seed), "--protocol", protocol, "--out", str(out)]
+        if world_dir:
+            command += ["--world-dir", str(world_dir)]
+        if sim_config:
+            command += ["--sim-config", str(sim_config)]
+        done = subprocess.run(command, capture_output=True, text=True)
+        if done.returncode != 0:
+            raise InputError(done.stderr.strip() or done.stdout.strip())
+        with open(os.path.join(out, "summary.json")) as f:
+            return json.load(f)
+    return _run_python(controller, worlds, world_dir or _DEFAULT_WORLD_DIR, trials, jobs, seed, protocol, out,
+                       sim_config or _DEFAULT_SIM_CONFIG)
+
+
+def _run_one(task):
+    controller_class, world, world_dir, sim_config, protocol, seed, trial = task
+    global _worker_controller
+    if _worker_controller is None or type(_worker_controller) is not controller_class:
+        _worker_controller = controller_class()
+    controller = _worker_controller
+    episode = _core.Episode(world, world_dir, sim_config, protocol, seed, float(getattr(controller, "period", 0.05)))
+    try:
+        controller.reset(episode.info())
+    except Exception as e:  # a failing controller ends its own episode only
+        episode.fail(f"controller reset threw: {e}")
+    while not episode.done:
+        try:
+            v, w = controller.act(episode.observation())
+            v, w = float(v), float(w)
+        except Exception as e:
+            episode.fail(f"controller threw: {e}")
+            break
+        episode.step(v, w)
+    return world, trial, episode.csv_row(trial), episode.result()
+
+
+_worker_controller = None
+
+
+def _run_python(controller_class, worlds, world_dir, trials, jobs, seed, protocol, out, sim_config):
+    if not isinstance(controller_class, type):
+        raise InputError("controller: a built-in name or a class with reset(info) and act(obs)")
+    ids, folder = _core.select_worlds(str(worlds), str(world_dir))
+    tasks = [(controller_class, w, folder, sim_config, protocol, _core.episode_seed(seed, w, t), t)
+             for w in ids for t in range(trials)]
+    os.makedirs(out, exist_ok=True)
+    if jobs == 1:
+        finished = [_run_one(t) for t in tasks]
+    else:
+        # Processes, so Python controllers run in parallel; each episode is deterministic given
+        # (world, seed), so the record does not depend on the number of jobs.
+        with multiprocessing.get_context("fork").Pool(jobs) as pool:
+            finished = pool.map(_run_one, tasks, chunksize=1)
+    order = {w: i for i, w in enumerate(ids)}
+    finished.sort(key=lambda r: (order[r[0]], r[1]))
+    partial = os.path.join(out, "episodes.csv.partial")
+    with open(partial, "w") as f:
+        f.write(_core.episodes_csv_header())
+        for _, _, row, _ in finished:
+            f.write(row)
+    os.replace(partial, os.path.join(out, "episodes.csv"))
+    results = [r for _, _, _, r in finished]
+    n = len(results)
+    summary = {
+        "episodes": n,
+        "score": sum(r["score"] for r in results) / n,
+        "success": sum(r["outcome"] == "success" for r in results) / n,
+        "collision": sum(r["outcome"] == "collision" for r in results) / n,
+        "timeout": sum(r["outcome"] == "timeout" for r in results) / n,
+        "error": sum(r["outcome"] == "error" for r in results) / n,
+    }
+    with open(os.path.join(out, "summary.json"), "w") as f:
+        json.dump(summary, f, indent=2)
+    return summary

@@ -1,0 +1,154 @@
+// barnbench._core: the C++ side of the Python package (src/python/barnbench/__init__.py wraps it
+// into Env and run()). One BARN episode that Python steps, and the pieces of the experiment
+// record that must be written exactly as `barn run` writes them.
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "barn/bench/batch.hpp"
+#include "barn/bench/episode.hpp"
+#include "barn/bench/results_io.hpp"
+#include "barn/bench/world_selection.hpp"
+#include "barn/core/errors.hpp"
+#include "barn/core/world_file.hpp"
+
+namespace py = pybind11;
+using namespace barn;
+
+namespace {
+
+// A world given as an id (looked up in `world_dir`) or as a world file.
+core::WorldSpec loadWorld(const py::object& world, const std::string& world_dir) {
+  if (py::isinstance<py::int_>(world)) {
+    const bench::LoadedWorlds loaded = bench::loadWorlds(std::to_string(world.cast<int>()), world_dir);
+    return loaded.worlds.front();
+  }
+  return core::readWorldFile(py::str(world).cast<std::string>());
+}
+
+bench::EpisodeConfig loadEpisodeConfig(const std::string& sim_config, const std::string& protocol) {
+  core::ConfigNode node = core::ConfigNode::parseFile(sim_config);
+  if (!protocol.empty()) node.set("protocol", protocol);
+  return bench::validatedEpisodeConfig(node, sim_config);
+}
+
+// One episode Python steps. The obstacle field lives here, as long as the episode that
+// refers to it.
+class PyEpisode {
+ public:
+  PyEpisode(const py::object& world, const std::string& world_dir, const std::string& sim_config,
+            const std::string& protocol, std::uint64_t seed, double dt)
+      : world_(loadWorld(world, world_dir)),
+        field_(std::make_unique<sim::ObstacleField>(sim::ObstacleField::fromWorld(world_))),
+        config_(loadEpisodeConfig(sim_config, protocol)),
+        episode_(std::make_unique<bench::Episode>(world_, *field_, config_, seed, dt)) {}
+
+  py::dict observation() const {
+    const controllers::Observation& o = episode_->observation();
+    py::array_t<float> scan(static_cast<py::ssize_t>(o.scan->ranges.size()));
+    float* out = scan.mutable_data();
+    for (std::size_t i = 0; i < o.scan->ranges.size(); ++i) out[i] = static_cast<float>(o.scan->ranges[i]);
+    py::dict d;
+    d["scan"] = scan;
+    d["pose"] = py::array_t<double>(3, std::array<double, 3>{o.odom_pose.x, o.odom_pose.y, o.odom_pose.yaw}.data());
+    d["twist"] = py::array_t<double>(2, std::array<double, 2>{o.odom_twist.linear, o.odom_twist.angular}.data());
+    d["goal"] = py::array_t<double>(2, std::array<double, 2>{o.goal.x(), o.goal.y()}.data());
+    d["time"] = o.time;
+    return d;
+  }
+
+  // The scan at full precision, for controllers that must see exactly what C++ ones see.
+  std::vector<double> scanRanges() const { return episode_->observation().scan->ranges; }
+
+  py::dict info() const {
+    const controllers::EpisodeInfo& i = episode_->info();
+    py::dict d;
+    d["world"] = world_.id;
+    d["start"] = py::make_tuple(i.start.x, i.start.y, i.start.yaw);
+    d["goal"] = py::make_tuple(i.goal.x(), i.goal.y());
+    d["goal_tolerance"] = i.goal_tolerance;
+    d["seed"] = i.seed;
+    d["max_speed"] = i.robot.max_linear_speed;
+    d["max_angular_speed"] = i.robot.max_angular_speed;
+    d["optimal_time"] = episode_->result().optimal_time;
+    py::dict lidar;
+    lidar["beams"] = i.lidar.beams;
+    lidar["angle_min"] = i.lidar.angle_min;
+    lidar["angle_max"] = i.lidar.angle_max;
+    lidar["range_min"] = i.lidar.range_min;
+    lidar["range_max"] = i.lidar.range_max;
+    d["lidar"] = lidar;
+    return d;
+  }
+
+  void step(double v, double w) {
+    py::gil_scoped_release release;  // other Python threads run while the physics steps
+    episode_->step({v, w});
+  }
+  void fail(const std::string& message) { episode_->fail(message); }
+  bool done() const { return episode_->done(); }
+  double time() const { return episode_->time(); }
+
+  py::dict result() const {
+    const bench::EpisodeResult r = episode_->result();
+    py::dict d;
+    d["world"] = r.world_id;
+    d["outcome"] = episode_->done() ? std::string(bench::toString(r.outcome)) : std::string("running");
+    d["score"] = r.score;
+    d["actual_time"] = r.actual_time;
+    d["optimal_time"] = r.optimal_time;
+    d["path_length"] = r.path_length;
+    d["sim_time"] = r.sim_time;
+    d["error"] = r.error;
+    return d;
+  }
+
+  // The episodes.csv row `barn run` writes for this episode as trial `trial`.
+  std::string csvRow(int trial) const {
+    bench::EpisodeResult r = episode_->result();
+    r.trial = trial;
+    return bench::episodeCsvRow(r);
+  }
+
+ private:
+  core::WorldSpec world_;
+  std::unique_ptr<sim::ObstacleField> field_;
+  bench::EpisodeConfig config_;
+  std::unique_ptr<bench::Episode> episode_;
+};
+
+}  // namespace
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "barnbench's C++ core: a steppable BARN episode and the run record's format";
+  py::register_exception<core::InputError>(m, "InputError", PyExc_ValueError);
+
+  py::class_<PyEpisode>(m, "Episode")
+      .def(py::init<const py::object&, const std::string&, const std::string&, const std::string&, std::uint64_t, double>(),
+           py::arg("world"), py::arg("world_dir"), py::arg("sim_config"), py::arg("protocol"), py::arg("seed"), py::arg("dt"))
+      .def("observation", &PyEpisode::observation)
+      .def("scan_ranges", &PyEpisode::scanRanges)
+      .def("info", &PyEpisode::info)
+      .def("step", &PyEpisode::step, py::arg("v"), py::arg("w"))
+      .def("fail", &PyEpisode::fail)
+      .def_property_readonly("done", &PyEpisode::done)
+      .def_property_readonly("time", &PyEpisode::time)
+      .def("result", &PyEpisode::result)
+      .def("csv_row", &PyEpisode::csvRow, py::arg("trial"));
+
+  m.def("select_worlds", [](const std::string& spec, const std::string& world_dir) {
+    const bench::LoadedWorlds loaded = bench::loadWorlds(spec, world_dir);
+    std::vector<int> ids;
+    for (const auto& w : loaded.worlds) ids.push_back(w.id);
+    return py::make_tuple(ids, loaded.folder.string());
+  }, py::arg("spec"), py::arg("world_dir"), "The world ids a --worlds spec names and the folder they are in");
+  m.def("episode_seed", &bench::episodeSeed, py::arg("run_seed"), py::arg("world_id"), py::arg("trial"),
+        "The seed `barn run --seed run_seed` gives this episode");
+  m.def("episodes_csv_header", &bench::episodesCsvHeader);
+  m.attr("SOURCE_DIR") = BARN_SOURCE_DIR;
+}
