@@ -55,12 +55,12 @@ Entry policyEntry(const char* type) {
 // episode's controller so each worker thread reuses its process.
 Entry externalEntry() {
   return {"external", [](const core::ConfigNode& block, std::string& effective) -> ControllerFactory {
-            const ExternalConfig config = resolveExternalPaths(core::readConfig<ExternalConfig>(block), block.source());
+            ExternalConfig config = resolveExternalPaths(core::readConfig<ExternalConfig>(block), block.source());
             core::Errors errors;
             validate(config, errors, block.where());
             errors.throwIfAny();
             core::ConfigWriter writer(2);
-            const_cast<ExternalConfig&>(config).visit(writer);
+            config.visit(writer);
             effective = "type: external\nexternal:\n" + writer.text();
             auto pool = std::make_shared<ChildProcessPool>(ChildCommand{config.command, config.working_dir});
             return [config, pool] { return std::make_unique<ExternalController>(config, pool); };
