@@ -1,6 +1,7 @@
 #include "barn/controllers/registry.hpp"
 
 #include "barn/controllers/dwa.hpp"
+#include "barn/controllers/external.hpp"
 #include "barn/controllers/inventec.hpp"
 #include "barn/controllers/lflh.hpp"
 #include "barn/controllers/pure_pursuit.hpp"
@@ -49,6 +50,23 @@ Entry policyEntry(const char* type) {
           }};
 }
 
+// A controller program run as a child process: paths resolved against the config file's folder
+// (the effective config records them absolute), one process pool per factory, shared by every
+// episode's controller so each worker thread reuses its process.
+Entry externalEntry() {
+  return {"external", [](const core::ConfigNode& block, std::string& effective) -> ControllerFactory {
+            ExternalConfig config = resolveExternalPaths(core::readConfig<ExternalConfig>(block), block.source());
+            core::Errors errors;
+            validate(config, errors, block.where());
+            errors.throwIfAny();
+            core::ConfigWriter writer(2);
+            config.visit(writer);
+            effective = "type: external\nexternal:\n" + writer.text();
+            auto pool = std::make_shared<ChildProcessPool>(ChildCommand{config.command, config.working_dir});
+            return [config, pool] { return std::make_unique<ExternalController>(config, pool); };
+          }};
+}
+
 const std::vector<Entry>& entries() {
   static const std::vector<Entry> kEntries = {
       entry<StraightConfig, StraightController>("straight"),
@@ -56,6 +74,7 @@ const std::vector<Entry>& entries() {
       entry<DwaConfig, DwaController>("dwa"),
       policyEntry<LflhConfig, LflhController>("lflh"),
       policyEntry<InventecConfig, InventecController>("inventec"),
+      externalEntry(),
   };
   return kEntries;
 }

@@ -231,5 +231,10 @@ std::string ConfigWriter::scalar(const std::vector<double>& value) {
   for (std::size_t i = 0; i < value.size(); ++i) text += (i ? ", " : "") + formatDouble(value[i]);
   return text + "]";
 }
+std::string ConfigWriter::scalar(const std::vector<std::string>& value) {
+  std::string text = "[";
+  for (std::size_t i = 0; i < value.size(); ++i) text += (i ? ", " : "") + scalar(value[i]);
+  return text + "]";
+}
 
 }  // namespace barn::core

@@ -32,7 +32,7 @@ std::string factoryError(const std::string& text) {
 }
 
 TEST(ControllerRegistry, ListsTheKnownTypes) {
-  EXPECT_THAT(controllerTypes(), ElementsAre("straight", "pure_pursuit", "dwa", "lflh", "inventec"));
+  EXPECT_THAT(controllerTypes(), ElementsAre("straight", "pure_pursuit", "dwa", "lflh", "inventec", "external"));
 }
 
 TEST(ControllerRegistry, MakesAStraightController) {

@@ -18,8 +18,11 @@ struct Outer {
   int beams = 720;
   std::string name = "fi";
   std::vector<double> speeds = {0.5, 1.0};
+  std::vector<std::string> command = {"python3", "ctrl.py"};
   Inner safety;
-  template <class V> void visit(V& v) { v("beams", beams); v("name", name); v("speeds", speeds); v("safety", safety); }
+  template <class V> void visit(V& v) {
+    v("beams", beams); v("name", name); v("speeds", speeds); v("command", command); v("safety", safety);
+  }
 };
 
 std::string errorOf(const std::string& yaml) {
@@ -58,6 +61,11 @@ TEST(Config, WrongTypesNameTheField) {
   EXPECT_THAT(errorOf("safety: {offset: .nan}"), HasSubstr("safety.offset: expected a number"));
 }
 
+TEST(Config, AStringListMustHoldOnlyStrings) {
+  EXPECT_THAT(errorOf("command: [python3, {a: 1}]"), HasSubstr("test.yaml: command: expected a list of strings"));
+  EXPECT_THAT(errorOf("command: python3"), HasSubstr("command: expected a list of strings"));
+}
+
 TEST(Config, DuplicateKeysAreErrors) {
   EXPECT_THAT(errorOf("beams: 1\nbeams: 2"), HasSubstr("beams: duplicate key"));
 }
@@ -89,6 +97,7 @@ TEST(Config, WritingAndReadingBackGivesTheSameStruct) {
   config.beams = 100;
   config.name = "with: colon";
   config.speeds = {0.1, 0.30000000000000004};
+  config.command = {"/usr/bin/python3", "-u", "a b.py", "", "[x]", "key: value"};
   config.safety.offset = 1.0 / 3.0;
   config.safety.enabled = false;
   const std::string text = writeConfig(config);
@@ -96,6 +105,7 @@ TEST(Config, WritingAndReadingBackGivesTheSameStruct) {
   EXPECT_EQ(back.beams, 100);
   EXPECT_EQ(back.name, "with: colon");
   EXPECT_EQ(back.speeds, config.speeds);
+  EXPECT_EQ(back.command, config.command);
   EXPECT_EQ(back.safety.offset, 1.0 / 3.0);  // exact: shortest round-trip formatting
   EXPECT_FALSE(back.safety.enabled);
   EXPECT_EQ(writeConfig(back), text);

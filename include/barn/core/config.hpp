@@ -109,6 +109,7 @@ class ConfigReader {
   static const char* typeName(const bool&) { return "true or false"; }
   static const char* typeName(const std::string&) { return "a string"; }
   static const char* typeName(const std::vector<double>&) { return "a list of numbers"; }
+  static const char* typeName(const std::vector<std::string>&) { return "a list of strings"; }
 
   ConfigNode node_;
   Errors& errors_;
@@ -142,6 +143,7 @@ class ConfigWriter {
   static std::string scalar(bool value);
   static std::string scalar(const std::string& value);
   static std::string scalar(const std::vector<double>& value);
+  static std::string scalar(const std::vector<std::string>& value);
 
   int indent_;
   std::string text_;

@@ -1,0 +1,47 @@
+#pragma once
+/// Protocol v1 of the `external` controller: the JSON lines barn writes to a controller
+/// program and the answers it reads back (docs/external_controller.md is the specification).
+///
+/// Every message is one JSON object on one line. Numbers are written in the shortest form that
+/// reads back as the same double, so a program sees exactly the doubles a built-in controller
+/// would. Pure functions: the process handling is in child_process.hpp.
+
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+#include "barn/controllers/controller.hpp"
+#include "barn/core/types.hpp"
+
+namespace barn::controllers::external {
+
+inline constexpr int kProtocolVersion = 1;
+
+/// An answer that is not what protocol v1 allows; the message says what is wrong.
+class ProtocolError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// The "reset" message opening an episode: start, goal, tolerance, seed, control `period` [s],
+/// LiDAR geometry and robot limits. The reference path is not sent (it is for test fixtures).
+std::string resetMessage(const EpisodeInfo& info, double period);
+
+/// The "observation" message of one control tick: time, scan (null for no return), odometry
+/// pose and twist, goal.
+std::string observationMessage(const Observation& observation);
+
+/// Checks the answer to a reset: {"ok": true}. {"ok": false, "error": "why"} becomes a
+/// ProtocolError carrying the program's reason.
+void readResetAnswer(std::string_view line);
+
+/// A command answer: {"v": number, "w": number} plus an optional "state": string.
+struct CommandAnswer {
+  core::Twist command;  // [m/s], [rad/s] robot frame
+  std::string state;    // the program's state label ("" if none)
+};
+
+/// Parses a command answer strictly: both numbers present and finite, no other keys.
+CommandAnswer readCommandAnswer(std::string_view line);
+
+}  // namespace barn::controllers::external

@@ -1,0 +1,363 @@
+#include "barn/controllers/external.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <string>
+#include <sys/wait.h>
+#include <vector>
+
+#include "barn/bench/batch.hpp"
+#include "barn/controllers/external_protocol.hpp"
+#include "barn/controllers/flat_json.hpp"
+#include "barn/controllers/registry.hpp"
+#include "barn/core/config.hpp"
+#include "barn/core/world_geometry.hpp"
+
+namespace barn::controllers {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::AllOf;
+using ::testing::HasSubstr;
+using ::testing::Not;
+
+// ---------------------------------------------------------------------------------------------
+// Controller programs, written to a temporary folder by each test
+
+// Answers every observation with doubles it was sent, chosen by the whole second of "time",
+// so the test can check that each travels barn -> program -> barn unchanged.
+constexpr char kProbe[] = R"(
+import json, sys
+info = None
+episodes = 0
+for line in sys.stdin:
+    msg = json.loads(line)
+    if msg["type"] == "reset":
+        info = msg
+        episodes += 1
+        print(json.dumps({"ok": True}), flush=True)
+        continue
+    k = int(msg["time"])
+    pairs = [
+        (msg["pose"][0], msg["pose"][1]),
+        (msg["pose"][2], msg["twist"][0]),
+        (msg["twist"][1], msg["scan"][0]),
+        (msg["scan"][2], 1.0 if msg["scan"][1] is None else 0.0),
+        (msg["goal"][0], msg["goal"][1]),
+        (info["start"][2], info["goal_tolerance"]),
+        (info["period"], info["lidar"]["angle_increment"]),
+        (float(episodes), float(len(msg["scan"]))),
+        (float(info["seed"] == 18446744073709551615), float("reference_path" in info)),
+    ]
+    v, w = pairs[k]
+    print(json.dumps({"v": float(v), "w": float(w), "state": "probe %d" % k}), flush=True)
+)";
+
+// Drives straight at 0.5 m/s; its state label counts the episodes this process has seen.
+constexpr char kStraight[] = R"(
+import json, sys
+episodes = 0
+for line in sys.stdin:
+    msg = json.loads(line)
+    if msg["type"] == "reset":
+        episodes += 1
+        print('{"ok": true}', flush=True)
+    else:
+        print(json.dumps({"v": 0.5, "w": 0.0, "state": "episode %d" % episodes}), flush=True)
+)";
+
+// Drives straight, but the first process to run (no marker file yet) misbehaves as argv[1]
+// says at t = 0.5 s (or at the reset for "quit"); the processes after it are healthy.
+constexpr char kFaulty[] = R"(
+import json, os, sys, time
+mode, marker = sys.argv[1], sys.argv[2]
+faulty = not os.path.exists(marker)
+open(marker, "a").close()
+for line in sys.stdin:
+    msg = json.loads(line)
+    if faulty and (mode == "quit" or (msg["type"] == "observation" and msg["time"] >= 0.5)):
+        sys.stderr.write("faulty controller: about to %s\n" % mode)
+        sys.stderr.flush()
+        if mode in ("crash", "quit"):
+            raise RuntimeError("boom")
+        if mode == "hang":
+            time.sleep(60)
+        if mode == "garbage":
+            print("this is not json", flush=True)
+            continue
+        if mode == "close_stdin":  # answer, but read no more: barn's next write meets a closed pipe
+            os.close(0)
+            print('{"v": 0.5, "w": 0.0}', flush=True)
+            time.sleep(60)
+    print('{"ok": true}' if msg["type"] == "reset" else '{"v": 0.5, "w": 0.0}', flush=True)
+)";
+
+class ExternalControllerTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    char pattern[] = "/tmp/barn_external_test_XXXXXX";
+    ASSERT_NE(mkdtemp(pattern), nullptr);
+    dir_ = pattern;
+    write("probe.py", kProbe);
+    write("straight.py", kStraight);
+    write("faulty.py", kFaulty);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  void write(const std::string& name, const std::string& text) const { std::ofstream(dir_ / name) << text; }
+
+  // A factory for `script` with extra arguments, at 10 Hz.
+  ControllerFactory factory(const std::string& script, const std::string& args = "", double timeout = 5.0) const {
+    const std::string yaml = "type: external\nexternal: {command: [/usr/bin/python3, " + (dir_ / script).string() +
+                             (args.empty() ? "" : ", " + args) + "], rate: 10, timeout: " + std::to_string(timeout) +
+                             ", working_dir: " + dir_.string() + "}";
+    return makeControllerFactory(core::ConfigNode::parseString(yaml, "test.yaml"));
+  }
+
+  fs::path dir_;
+};
+
+// An empty field (wall rows 0 and 29 only, far from the robot's line), as in episode_test.
+core::WorldSpec emptyWorld() {
+  core::WorldSpec w;
+  w.id = 7;
+  w.grid = core::Grid(core::kBarnGridSize, core::kBarnGridSize);
+  for (int c = 0; c < core::kBarnGridSize; ++c) w.grid.at(0, c) = w.grid.at(29, c) = 1;
+  w.start_cell = {15, 0};
+  w.goal_cell = {15, 29};
+  for (int c = 0; c < core::kBarnGridSize; ++c) w.path.push_back({15, c});
+  return w;
+}
+
+// Two episodes (trials) of the empty world, one after another on one thread.
+std::vector<bench::EpisodeResult> runTwoEpisodes(const ControllerFactory& make, bool record = false) {
+  bench::BatchSpec spec;
+  spec.worlds = {emptyWorld()};
+  spec.trials = 2;
+  spec.jobs = 1;
+  spec.make_controller = make;
+  spec.record_trajectories = record;
+  return bench::runBatch(spec);
+}
+
+std::uint64_t bits(double value) { return std::bit_cast<std::uint64_t>(value); }
+
+// ---------------------------------------------------------------------------------------------
+// Healthy programs
+
+TEST_F(ExternalControllerTest, EveryDoubleReachesTheProgramAndComesBackBitForBit) {
+  const ControllerFactory make = factory("probe.py");
+  auto controller = make();
+  EpisodeInfo info;
+  info.start = {0.0, 0.0, 1.5707963267948966};
+  info.goal = {0.0, 10.0};
+  info.goal_tolerance = 1.0 / 3.0;
+  info.seed = std::numeric_limits<std::uint64_t>::max();
+  info.reference_path = {{0.0, 0.0}, {0.0, 10.0}};
+  controller->reset(info);
+  EXPECT_EQ(controller->period(), 0.1);
+
+  core::LaserScan scan;
+  scan.ranges = {5e-324, std::numeric_limits<double>::infinity(), 0.30000000000000004, 29.999};
+  Observation obs;
+  obs.scan = &scan;
+  obs.odom_pose = {0.1, -0.0, 3.141592653589793};
+  obs.odom_twist = {9007199254740992.0, 1e300};
+  obs.goal = {-2.2250738585072014e-308, 123456.789e-20};
+  const std::vector<std::pair<double, double>> expected = {
+      {0.1, -0.0},
+      {3.141592653589793, 9007199254740992.0},
+      {1e300, 5e-324},
+      {0.30000000000000004, 1.0},  // beam 1 had no return: null
+      {-2.2250738585072014e-308, 123456.789e-20},
+      {1.5707963267948966, 1.0 / 3.0},
+      {0.1, info.lidar.angleIncrement()},
+      {1.0, 4.0},  // first episode of this process; 4 beams
+      {1.0, 0.0},  // the 64-bit seed arrived exactly; no reference path was sent
+  };
+  for (std::size_t k = 0; k < expected.size(); ++k) {
+    obs.time = static_cast<double>(k) + 0.25;
+    const core::Twist cmd = controller->act(obs);
+    EXPECT_EQ(bits(cmd.linear), bits(expected[k].first)) << "probe " << k << ": v = " << cmd.linear;
+    EXPECT_EQ(bits(cmd.angular), bits(expected[k].second)) << "probe " << k << ": w = " << cmd.angular;
+    EXPECT_EQ(controller->stateLabel(), "probe " + std::to_string(k));
+  }
+}
+
+TEST_F(ExternalControllerTest, DrivesAnEpisodeAndReusesItsProcessForTheNext) {
+  const std::vector<bench::EpisodeResult> results = runTwoEpisodes(factory("straight.py"), true);
+  ASSERT_EQ(results.size(), 2u);
+  for (const bench::EpisodeResult& r : results) {
+    ASSERT_EQ(r.outcome, bench::Outcome::Success) << r.error;
+    // 10 m to the goal at 0.5 m/s, 1 m tolerance: about 9 / 0.5 = 18 s at 10 Hz.
+    EXPECT_NEAR(r.actual_time, 18.0, 0.5);
+    ASSERT_FALSE(r.trajectory.empty());
+    for (const bench::TrajectorySample& s : r.trajectory) {
+      EXPECT_EQ(s.command.linear, 0.5);
+      EXPECT_EQ(s.command.angular, 0.0);
+    }
+  }
+  // One worker thread, one process: it saw both resets.
+  EXPECT_EQ(results[0].trajectory.front().state, "episode 1");
+  EXPECT_EQ(results[1].trajectory.front().state, "episode 2");
+}
+
+TEST_F(ExternalControllerTest, LeavesNoChildProcessBehind) {
+  {
+    const ControllerFactory make = factory("straight.py");
+    runTwoEpisodes(make);
+    runTwoEpisodes(factory("faulty.py", "crash, " + (dir_ / "marker").string()));
+  }
+  int status = 0;
+  EXPECT_EQ(waitpid(-1, &status, WNOHANG), -1) << "a child process is left (running or a zombie)";
+  EXPECT_EQ(errno, ECHILD);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Failing programs: each fails only its own episode, and the next one runs on a fresh process
+
+struct Failure {
+  const char* mode;
+  const char* message;  // what the episode's error must say
+};
+
+class ExternalControllerFailureTest : public ExternalControllerTest, public ::testing::WithParamInterface<Failure> {};
+
+TEST_P(ExternalControllerFailureTest, FailsOnlyItsEpisodeWithTheProgramsStderr) {
+  const Failure failure = GetParam();
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<bench::EpisodeResult> results =
+      runTwoEpisodes(factory("faulty.py", std::string(failure.mode) + ", " + (dir_ / "marker").string(), 0.5));
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ASSERT_EQ(results.size(), 2u);
+  EXPECT_EQ(results[0].outcome, bench::Outcome::Error);
+  EXPECT_THAT(results[0].error, AllOf(HasSubstr("faulty.py"), HasSubstr(failure.message),
+                                      HasSubstr(std::string("faulty controller: about to ") + failure.mode)));
+  EXPECT_EQ(results[1].outcome, bench::Outcome::Success) << results[1].error;
+  EXPECT_LT(wall, 4.0) << "a failure must not hold the batch up";
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Modes, ExternalControllerFailureTest,
+    ::testing::Values(Failure{"crash", "exited with status 1"}, Failure{"quit", "failed at reset"},
+                      Failure{"hang", "no answer within 0.5 s"}, Failure{"garbage", "malformed answer"},
+                      Failure{"close_stdin", "closed its stdin"}),
+    [](const auto& test) { return std::string(test.param.mode); });
+
+TEST_F(ExternalControllerTest, CrashMessageCarriesThePythonTraceback) {
+  const std::vector<bench::EpisodeResult> results =
+      runTwoEpisodes(factory("faulty.py", "crash, " + (dir_ / "marker").string()));
+  EXPECT_THAT(results[0].error, AllOf(HasSubstr("Traceback"), HasSubstr("RuntimeError: boom"),
+                                      HasSubstr("failed at the observation at t = 0.50 s")));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Config
+
+std::string factoryError(const std::string& yaml) {
+  try {
+    makeControllerFactory(core::ConfigNode::parseString(yaml, "run.yaml"));
+  } catch (const core::InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST_F(ExternalControllerTest, NamesEveryBadField) {
+  const std::string error = factoryError(
+      "type: external\nexternal: {command: [no_such_program_xyz], rate: 0, timeout: -1, reset_timeout: 0, "
+      "working_dir: /no/such/folder}");
+  EXPECT_THAT(error, HasSubstr("run.yaml: external.command: program 'no_such_program_xyz' not found on PATH"));
+  EXPECT_THAT(error, HasSubstr("external.rate: must be > 0"));
+  EXPECT_THAT(error, HasSubstr("external.timeout: must be > 0"));
+  EXPECT_THAT(error, HasSubstr("external.reset_timeout: must be > 0"));
+  EXPECT_THAT(error, HasSubstr("external.working_dir: '/no/such/folder' is not a folder"));
+  EXPECT_THAT(factoryError("type: external"), HasSubstr("external.command: must name the program"));
+  EXPECT_THAT(factoryError("type: external\nexternal: {command: python3}"),
+              HasSubstr("external.command: expected a list of strings"));
+  // straight.py was written without execute permission.
+  EXPECT_THAT(factoryError("type: external\nexternal: {command: [" + (dir_ / "straight.py").string() + "]}"),
+              HasSubstr("is not an executable file"));
+}
+
+TEST_F(ExternalControllerTest, ResolvesPathsAgainstTheConfigFilesFolder) {
+  write("ctrl.yaml", "type: external\nexternal: {command: [python3, straight.py, --gain, '2']}\n");
+  const core::ConfigNode node = core::ConfigNode::parseFile(dir_ / "ctrl.yaml");
+  const std::string effective = effectiveControllerConfig(node);
+  // straight.py exists beside the config: made absolute; python3 (on PATH) and the other
+  // arguments stay as written; working_dir "" is the config's folder.
+  EXPECT_THAT(effective, HasSubstr("command: [python3, " + (dir_ / "straight.py").string() + ", --gain, 2]"));
+  EXPECT_THAT(effective, HasSubstr("working_dir: " + dir_.string()));
+  EXPECT_THAT(effective, AllOf(HasSubstr("rate: 20"), HasSubstr("timeout: 5"), HasSubstr("reset_timeout: 30")));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Protocol pieces
+
+TEST(FlatJson, ReadsAFlatObjectStrictly) {
+  const json::FlatObject o = json::parseFlatObject(R"( {"v": -1.5e-3, "w": 0, "s": "a\"\u00e9", "b": true, "n": null} )");
+  ASSERT_EQ(o.size(), 5u);
+  EXPECT_EQ(std::get<double>(o[0].second), -1.5e-3);
+  EXPECT_EQ(std::get<double>(o[1].second), 0.0);
+  EXPECT_EQ(std::get<std::string>(o[2].second), "a\"\xc3\xa9");
+  EXPECT_TRUE(std::get<bool>(o[3].second));
+  EXPECT_TRUE(std::holds_alternative<std::nullptr_t>(o[4].second));
+  for (const char* bad : {"", "{", "{\"v\": 1,}", "{\"v\": 01}", "{\"v\": +1}", "{\"v\": .5}", "{\"v\": NaN}",
+                          "{\"v\": Infinity}", "{\"v\": 1e999}", "{\"v\": 1} x", "{\"v\": [1]}", "{\"v\": 1, \"v\": 2}",
+                          "{'v': 1}", "{\"v\": 1 \"w\": 2}"})
+    EXPECT_THROW(json::parseFlatObject(bad), json::ParseError) << bad;
+}
+
+TEST(FlatJson, WritesShortestRoundTripNumbers) {
+  std::string out;
+  for (const double v : {0.1, 1.0, -0.0, 1e300, 5e-324, std::numeric_limits<double>::infinity()}) {
+    json::appendNumber(out, v);
+    out += ' ';
+  }
+  EXPECT_EQ(out, "0.1 1 -0.0 1e+300 5e-324 null ");
+}
+
+TEST(ExternalProtocol, AnswersAreCheckedStrictly) {
+  EXPECT_NO_THROW(external::readResetAnswer(R"({"ok": true})"));
+  EXPECT_THAT([] { external::readResetAnswer(R"({"ok": false, "error": "no GPU"})"); },
+              ::testing::ThrowsMessage<external::ProtocolError>(HasSubstr("refused the episode: no GPU")));
+  EXPECT_THROW(external::readResetAnswer(R"({"v": 1})"), external::ProtocolError);
+  const external::CommandAnswer a = external::readCommandAnswer(R"({"w": -0.25, "v": 0.5, "state": "Forward"})");
+  EXPECT_EQ(a.command.linear, 0.5);
+  EXPECT_EQ(a.command.angular, -0.25);
+  EXPECT_EQ(a.state, "Forward");
+  EXPECT_THAT([] { external::readCommandAnswer(R"({"v": 0.5})"); },
+              ::testing::ThrowsMessage<external::ProtocolError>(HasSubstr("lacks \"w\"")));
+  EXPECT_THROW(external::readCommandAnswer(R"({"v": "0.5", "w": 0})"), external::ProtocolError);
+  EXPECT_THROW(external::readCommandAnswer(R"({"v": 0.5, "w": 0, "x": 1})"), external::ProtocolError);
+}
+
+TEST(ExternalProtocol, ObservationsWriteNullForBeamsWithoutReturn) {
+  core::LaserScan scan;
+  scan.ranges = {1.5, std::numeric_limits<double>::infinity()};
+  Observation obs;
+  obs.time = 0.05;
+  obs.scan = &scan;
+  obs.odom_pose = {1.0, 2.0, 0.5};
+  obs.odom_twist = {0.25, -0.125};
+  obs.goal = {0.0, 10.0};
+  EXPECT_EQ(external::observationMessage(obs),
+            R"({"type": "observation", "time": 0.05, "scan": [1.5, null], "pose": [1, 2, 0.5], )"
+            R"("twist": [0.25, -0.125], "goal": [0, 10]})");
+  EXPECT_THAT(external::resetMessage(EpisodeInfo{}, 0.05), AllOf(HasSubstr(R"({"type": "reset", "protocol": 1, )"),
+                                                                  HasSubstr(R"("period": 0.05)"),
+                                                                  Not(HasSubstr("reference_path"))));
+}
+
+}  // namespace
+}  // namespace barn::controllers
