@@ -5,7 +5,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(g++ cmake make pkg-config libbox2d-dev libeigen3-dev libyaml-cpp-dev libcli11-dev
-          libgtest-dev libgmock-dev libbenchmark-dev libcairo2-dev python3)
+          libgtest-dev libgmock-dev libbenchmark-dev libcairo2-dev python3 python3-dev pybind11-dev
+          python3-numpy python3-pytest)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -23,4 +24,4 @@ werror=OFF
 [ "${CI:-}" = "true" ] && werror=ON
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DBARN_WARNINGS_AS_ERRORS="$werror"
 cmake --build build -j "$(nproc)"
-echo "setup: built build/barn"
+echo "setup: built build/barn and the Python module in build/python (PYTHONPATH=build/python)"
