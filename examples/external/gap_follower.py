@@ -105,7 +105,7 @@ class GapFollower:
         return v, w, "gap"
 
 
-def main():
+def argument_parser():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--max-speed", type=float, default=1.0, help="[m/s]")
     parser.add_argument("--max-turn-rate", type=float, default=2.0, help="[rad/s]")
@@ -115,7 +115,11 @@ def main():
     parser.add_argument("--slow-distance", type=float, default=1.0, help="[m] full speed beyond this much room")
     parser.add_argument("--turn-gain", type=float, default=2.0, help="[1/s] yaw rate per radian of heading")
     parser.add_argument("--step", type=float, default=3.0, help="[deg] between candidate directions")
-    args = parser.parse_args()
+    return parser
+
+
+def main():
+    args = argument_parser().parse_args()
 
     controller = None
     for line in sys.stdin:  # end of file: barn is done with this process

@@ -145,12 +145,13 @@ void Episode::fail(const std::string& message) {
   done_ = true;
 }
 
-void Episode::step(const core::Twist& command) {
+void Episode::step(const core::Twist& command, std::string_view state) {
   if (done_) return;
   if (!std::isfinite(command.linear) || !std::isfinite(command.angular)) {
     fail("controller returned a non-finite command");
     return;
   }
+  countStateEntry(result_.state_entries, last_state_, state);
   if (latency_steps_ == 0) simulator_.command(command);
   else in_flight_.emplace_back(step_ + latency_steps_, command);
   const double dt = simulator_.dt();
@@ -226,14 +227,12 @@ EpisodeResult runEpisode(const core::WorldSpec& world, const sim::ObstacleField&
                          controllers::Controller& controller, const EpisodeConfig& config, std::uint64_t seed,
                          bool record_trajectory) {
   Episode episode(world, field, config, seed, controller.period());
-  std::vector<std::pair<std::string, int>> state_entries;
   std::vector<TrajectorySample> trajectory;
   try {
     controller.reset(episode.info());
   } catch (const std::exception& e) {
     episode.fail(std::string("controller reset threw: ") + e.what());
   }
-  std::string last_state;
   while (!episode.done()) {
     core::Twist command;
     try {
@@ -242,15 +241,11 @@ EpisodeResult runEpisode(const core::WorldSpec& world, const sim::ObstacleField&
       episode.fail(std::string("controller threw: ") + e.what());
       break;
     }
-    if (std::isfinite(command.linear) && std::isfinite(command.angular)) {
-      countStateEntry(state_entries, last_state, controller.stateLabel());
-      if (record_trajectory)
-        trajectory.push_back({episode.observation().time, episode.tickPose(), command, std::string(controller.stateLabel())});
-    }
-    episode.step(command);
+    if (record_trajectory && std::isfinite(command.linear) && std::isfinite(command.angular))
+      trajectory.push_back({episode.observation().time, episode.tickPose(), command, std::string(controller.stateLabel())});
+    episode.step(command, controller.stateLabel());
   }
   EpisodeResult result = episode.result();
-  result.state_entries = std::move(state_entries);
   result.trajectory = std::move(trajectory);
   return result;
 }

@@ -14,6 +14,7 @@
 #include "barn/bench/episode.hpp"
 #include "barn/bench/results_io.hpp"
 #include "barn/bench/world_selection.hpp"
+#include "barn/controllers/external_protocol.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/core/world_file.hpp"
 
@@ -46,15 +47,23 @@ class PyEpisode {
       : world_(loadWorld(world, world_dir)),
         field_(std::make_unique<sim::ObstacleField>(sim::ObstacleField::fromWorld(world_))),
         config_(loadEpisodeConfig(sim_config, protocol)),
-        episode_(std::make_unique<bench::Episode>(world_, *field_, config_, seed, dt)) {}
+        episode_(std::make_unique<bench::Episode>(world_, *field_, config_, seed, dt)),
+        dt_(dt) {}
 
-  py::dict observation() const {
+  // The tick's observation; the scan as float32 (the Gymnasium convention) or, with
+  // `full_precision`, as the doubles every other route gives a controller.
+  py::dict observation(bool full_precision) const {
     const controllers::Observation& o = episode_->observation();
-    py::array_t<float> scan(static_cast<py::ssize_t>(o.scan->ranges.size()));
-    float* out = scan.mutable_data();
-    for (std::size_t i = 0; i < o.scan->ranges.size(); ++i) out[i] = static_cast<float>(o.scan->ranges[i]);
+    const std::vector<double>& ranges = o.scan->ranges;
     py::dict d;
-    d["scan"] = scan;
+    if (full_precision) {
+      d["scan"] = py::array_t<double>(static_cast<py::ssize_t>(ranges.size()), ranges.data());
+    } else {
+      py::array_t<float> scan(static_cast<py::ssize_t>(ranges.size()));
+      float* out = scan.mutable_data();
+      for (std::size_t i = 0; i < ranges.size(); ++i) out[i] = static_cast<float>(ranges[i]);
+      d["scan"] = scan;
+    }
     d["pose"] = py::array_t<double>(3, std::array<double, 3>{o.odom_pose.x, o.odom_pose.y, o.odom_pose.yaw}.data());
     d["twist"] = py::array_t<double>(2, std::array<double, 2>{o.odom_twist.linear, o.odom_twist.angular}.data());
     d["goal"] = py::array_t<double>(2, std::array<double, 2>{o.goal.x(), o.goal.y()}.data());
@@ -62,33 +71,21 @@ class PyEpisode {
     return d;
   }
 
-  // The scan at full precision, for controllers that must see exactly what C++ ones see.
-  std::vector<double> scanRanges() const { return episode_->observation().scan->ranges; }
-
+  // What a controller is told before the first tick: the fields of the external protocol's
+  // reset message (docs/external_controller.md), so every route tells the same.
   py::dict info() const {
-    const controllers::EpisodeInfo& i = episode_->info();
-    py::dict d;
+    py::dict d = py::module_::import("json").attr("loads")(
+        controllers::external::resetMessage(episode_->info(), dt_));
+    d.attr("pop")("type");
+    d.attr("pop")("protocol");
     d["world"] = world_.id;
-    d["start"] = py::make_tuple(i.start.x, i.start.y, i.start.yaw);
-    d["goal"] = py::make_tuple(i.goal.x(), i.goal.y());
-    d["goal_tolerance"] = i.goal_tolerance;
-    d["seed"] = i.seed;
-    d["max_speed"] = i.robot.max_linear_speed;
-    d["max_angular_speed"] = i.robot.max_angular_speed;
     d["optimal_time"] = episode_->result().optimal_time;
-    py::dict lidar;
-    lidar["beams"] = i.lidar.beams;
-    lidar["angle_min"] = i.lidar.angle_min;
-    lidar["angle_max"] = i.lidar.angle_max;
-    lidar["range_min"] = i.lidar.range_min;
-    lidar["range_max"] = i.lidar.range_max;
-    d["lidar"] = lidar;
     return d;
   }
 
-  void step(double v, double w) {
+  void step(double v, double w, const std::string& state) {
     py::gil_scoped_release release;  // other Python threads run while the physics steps
-    episode_->step({v, w});
+    episode_->step({v, w}, state);
   }
   void fail(const std::string& message) { episode_->fail(message); }
   bool done() const { return episode_->done(); }
@@ -120,6 +117,7 @@ class PyEpisode {
   std::unique_ptr<sim::ObstacleField> field_;
   bench::EpisodeConfig config_;
   std::unique_ptr<bench::Episode> episode_;
+  double dt_;
 };
 
 }  // namespace
@@ -131,10 +129,9 @@ PYBIND11_MODULE(_core, m) {
   py::class_<PyEpisode>(m, "Episode")
       .def(py::init<const py::object&, const std::string&, const std::string&, const std::string&, std::uint64_t, double>(),
            py::arg("world"), py::arg("world_dir"), py::arg("sim_config"), py::arg("protocol"), py::arg("seed"), py::arg("dt"))
-      .def("observation", &PyEpisode::observation)
-      .def("scan_ranges", &PyEpisode::scanRanges)
+      .def("observation", &PyEpisode::observation, py::arg("full_precision") = false)
       .def("info", &PyEpisode::info)
-      .def("step", &PyEpisode::step, py::arg("v"), py::arg("w"))
+      .def("step", &PyEpisode::step, py::arg("v"), py::arg("w"), py::arg("state") = "")
       .def("fail", &PyEpisode::fail)
       .def_property_readonly("done", &PyEpisode::done)
       .def_property_readonly("time", &PyEpisode::time)

@@ -135,9 +135,10 @@ class Episode {
   const core::Pose2& tickPose() const { return tick_pose_; }
   double time() const { return simulator_.time(); }  // [s] simulated
 
-  /// Applies `command` at this tick and advances to the next one (or to the end). A
-  /// non-finite command ends the episode as an error.
-  void step(const core::Twist& command);
+  /// Applies `command` at this tick and advances to the next one (or to the end); `state` is
+  /// the controller's state label then (counted in the record; "" for none). A non-finite
+  /// command ends the episode as an error.
+  void step(const core::Twist& command, std::string_view state = {});
   /// Ends the episode now as an error (the controller failed).
   void fail(const std::string& message);
 
@@ -172,6 +173,7 @@ class Episode {
   std::optional<long> timer_start_step_;
   Eigen::Vector2d previous_position_;
   bool done_ = false;
+  std::string last_state_;
   EpisodeResult result_;
 };
 

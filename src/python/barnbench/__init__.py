@@ -115,13 +115,18 @@ def _barn_binary():
 
 
 def run(controller, worlds="test50", world_dir=None, trials=1, jobs=2, seed=0, protocol="barn2023", out=None,
-        sim_config=None):
+        sim_config=None, config=None):
     """Scores `controller` on `worlds` x `trials` and writes the experiment record to `out`.
 
     `controller` is a built-in name ("dwa", "inventec_fi", ...: run by `barn run`, the same
-    record) or a Python class with reset(info) and act(obs) -> (v, w) and an optional
-    `period` [s] (default 0.05); one instance per worker process, reset every episode.
-    Returns the summary (mean score, success, collision, timeout rates, episodes)."""
+    record) or a Python class with reset(info) and act(obs) -> (v, w) or (v, w, state label)
+    and an optional `period` [s] (default 0.05); one instance per worker process, reset every
+    episode. `info` holds what the external protocol's reset message holds
+    (docs/external_controller.md); `obs` is Env's observation with the scan as float64, the
+    exact doubles C++ and external controllers see.
+    `config` is a controller config file for a built-in run (barn run --config; e.g. an
+    `external` controller). Returns the summary (mean score, success, collision, timeout
+    rates, episodes)."""
     if out is None:
         raise InputError("out: a folder for the record is required")
     if isinstance(controller, str):
@@ -131,6 +136,8 @@ def run(controller, worlds="test50", world_dir=None, trials=1, jobs=2, seed=0, p
             command += ["--world-dir", str(world_dir)]
         if sim_config:
             command += ["--sim-config", str(sim_config)]
+        if config:
+            command += ["--config", str(config)]
         done = subprocess.run(command, capture_output=True, text=True)
         if done.returncode != 0:
             raise InputError(done.stderr.strip() or done.stdout.strip())
@@ -153,12 +160,12 @@ def _run_one(task):
         episode.fail(f"controller reset threw: {e}")
     while not episode.done:
         try:
-            v, w = controller.act(episode.observation())
-            v, w = float(v), float(w)
+            answer = controller.act(episode.observation(full_precision=True))
+            v, w, state = float(answer[0]), float(answer[1]), str(answer[2]) if len(answer) > 2 else ""
         except Exception as e:
             episode.fail(f"controller threw: {e}")
             break
-        episode.step(v, w)
+        episode.step(v, w, state)
     return world, trial, episode.csv_row(trial), episode.result()
 
 
