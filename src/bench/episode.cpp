@@ -106,7 +106,7 @@ Episode::Episode(const core::WorldSpec& world, const sim::ObstacleField& field, 
   info_.seed = core::mixSeed(seed, 2);
   info_.lidar = config.lidar;
   info_.robot = config.robot;
-  info_.reference_path = referencePathInOdom(world, protocol_);
+  world_ = &world;
 
   const double dt = simulator_.dt();
   scan_steps_ = *stepsIn(1.0 / config.lidar.rate, dt);
@@ -118,6 +118,8 @@ Episode::Episode(const core::WorldSpec& world, const sim::ObstacleField& field, 
   scan_ = lidar_.scan(simulator_.pose(), simulator_.time(), &scan_noise_);
   arriveAtTick();
 }
+
+std::vector<Eigen::Vector2d> Episode::referencePath() const { return referencePathInOdom(*world_, protocol_); }
 
 void Episode::arriveAtTick() {
   const core::Pose2 pose = simulator_.pose();
@@ -229,6 +231,7 @@ EpisodeResult runEpisode(const core::WorldSpec& world, const sim::ObstacleField&
   Episode episode(world, field, config, seed, controller.period());
   std::vector<TrajectorySample> trajectory;
   try {
+    if (auto* fixture = dynamic_cast<controllers::UsesReferencePath*>(&controller)) fixture->setReferencePath(episode.referencePath());
     controller.reset(episode.info());
   } catch (const std::exception& e) {
     episode.fail(std::string("controller reset threw: ") + e.what());

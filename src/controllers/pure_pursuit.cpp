@@ -13,7 +13,7 @@ void validate(const PurePursuitConfig& c, core::Errors& errors, const std::strin
 }
 
 void PurePursuitController::reset(const EpisodeInfo& info) {
-  path_ = info.reference_path;
+  path_ = reference_path_;
   path_.push_back(info.goal);
   progress_ = 0;
   max_angular_ = info.robot.max_angular_speed;

@@ -163,7 +163,6 @@ TEST_F(ExternalControllerTest, EveryDoubleReachesTheProgramAndComesBackBitForBit
   info.goal = {0.0, 10.0};
   info.goal_tolerance = 1.0 / 3.0;
   info.seed = std::numeric_limits<std::uint64_t>::max();
-  info.reference_path = {{0.0, 0.0}, {0.0, 10.0}};
   controller->reset(info);
   EXPECT_EQ(controller->period(), 0.1);
 

@@ -120,7 +120,7 @@ struct EpisodeResult {
 /// the physics to the next tick, applying the protocol at physics rate on the way.
 class Episode {
  public:
-  /// `field` must outlive the episode. Throws core::InputError if `controller_period` is not
+  /// `world` and `field` must outlive the episode. Throws core::InputError if `controller_period` is not
   /// positive.
   Episode(const core::WorldSpec& world, const sim::ObstacleField& field, const EpisodeConfig& config,
           std::uint64_t seed, double controller_period);
@@ -129,6 +129,8 @@ class Episode {
 
   /// What the controller is told before the first tick.
   const controllers::EpisodeInfo& info() const { return info_; }
+  /// The world's A* path in the odom frame, for test fixtures only (UsesReferencePath).
+  std::vector<Eigen::Vector2d> referencePath() const;
   /// The current tick's observation (its scan points into this episode).
   const controllers::Observation& observation() const { return observation_; }
   /// The true pose (world frame) at the current tick, for trajectory records.
@@ -160,6 +162,7 @@ class Episode {
   Eigen::Vector2d odom_origin_;
   Eigen::Vector2d goal_world_;
   controllers::EpisodeInfo info_;
+  const core::WorldSpec* world_;
   long scan_steps_ = 1;
   long check_steps_ = 1;
   long control_steps_ = 1;

@@ -28,9 +28,6 @@ struct EpisodeInfo {
   std::uint64_t seed = 0;              // for any randomness the controller declares
   sim::LidarConfig lidar;              // sensor geometry: mount offset, beam layout, range
   sim::RobotConfig robot;              // speed limits and the planning footprint
-  /// The world's A* path in the odom frame. Only for test fixtures such as pure_pursuit that
-  /// exercise the pipeline before a real planner exists; real controllers must ignore it.
-  std::vector<Eigen::Vector2d> reference_path;
 };
 
 /// One control tick's input.
@@ -54,6 +51,15 @@ class Controller {
   virtual double period() const = 0;
   /// Current state label for the trajectory record ("" if the controller has no states).
   virtual std::string_view stateLabel() const { return {}; }
+};
+
+/// A test fixture that is handed the world's A* path (odom frame) before each reset, by the
+/// episode runner and nobody else. Real controllers never implement this: they see only what
+/// the robot sees.
+class UsesReferencePath {
+ public:
+  virtual ~UsesReferencePath() = default;
+  virtual void setReferencePath(std::vector<Eigen::Vector2d> path) = 0;
 };
 
 }  // namespace barn::controllers
