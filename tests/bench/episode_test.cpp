@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "barn/controllers/registry.hpp"
+#include "tests/bench/empty_world.hpp"
 #include "barn/core/config.hpp"
 #include "barn/core/protocol.hpp"
 #include "barn/core/world_file.hpp"
@@ -24,20 +25,6 @@ using ::testing::IsEmpty;
 
 // ---------------------------------------------------------------------------------------------
 // Worlds
-
-// An empty field: only the wall rows 0 and 29 (cylinders at x = -4.425 and x = -0.075), far
-// from the robot's line x = -2 (or -2.25 for barn2024). The path runs along row 15.
-core::WorldSpec emptyWorld() {
-  core::WorldSpec w;
-  w.id = 42;
-  w.grid = core::Grid(core::kBarnGridSize, core::kBarnGridSize);
-  for (int c = 0; c < core::kBarnGridSize; ++c) w.grid.at(0, c) = w.grid.at(29, c) = 1;
-  w.start_cell = {15, 0};
-  w.goal_cell = {15, 29};
-  w.path.push_back(w.start_cell);
-  for (int c = 0; c < core::kBarnGridSize; ++c) w.path.push_back({15, c});
-  return w;
-}
 
 // emptyWorld plus a wall across the robot's line: cells (13..17, 5), cylinders at
 // x = -4.425 + 0.15 r = -2.475, -2.325, -2.175, -2.025, -1.875 and y = 5.175 + 0.15 * 5 = 5.925.

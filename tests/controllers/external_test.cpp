@@ -22,6 +22,7 @@
 #include "barn/controllers/registry.hpp"
 #include "barn/core/config.hpp"
 #include "barn/core/world_geometry.hpp"
+#include "tests/bench/empty_world.hpp"
 
 namespace barn::controllers {
 namespace {
@@ -127,22 +128,10 @@ class ExternalControllerTest : public ::testing::Test {
   fs::path dir_;
 };
 
-// An empty field (wall rows 0 and 29 only, far from the robot's line), as in episode_test.
-core::WorldSpec emptyWorld() {
-  core::WorldSpec w;
-  w.id = 7;
-  w.grid = core::Grid(core::kBarnGridSize, core::kBarnGridSize);
-  for (int c = 0; c < core::kBarnGridSize; ++c) w.grid.at(0, c) = w.grid.at(29, c) = 1;
-  w.start_cell = {15, 0};
-  w.goal_cell = {15, 29};
-  for (int c = 0; c < core::kBarnGridSize; ++c) w.path.push_back({15, c});
-  return w;
-}
-
 // Two episodes (trials) of the empty world, one after another on one thread.
 std::vector<bench::EpisodeResult> runTwoEpisodes(const ControllerFactory& make, bool record = false) {
   bench::BatchSpec spec;
-  spec.worlds = {emptyWorld()};
+  spec.worlds = {bench::emptyWorld(7)};
   spec.trials = 2;
   spec.jobs = 1;
   spec.make_controller = make;
