@@ -69,7 +69,7 @@ class GapFollower:
         x, y, yaw = obs["pose"]
         gx, gy = obs["goal"]
         dx, dy = gx - x, gy - y
-        goal_distance = math.hypot(dx, dy)
+        goal_distance = math.sqrt(dx * dx + dy * dy)  # not hypot: sqrt rounds the same in every language
         goal_angle = math.atan2(dy, dx) - yaw
         goal_angle = math.atan2(math.sin(goal_angle), math.cos(goal_angle))
 

@@ -2,6 +2,7 @@
 
 import math
 import os
+import subprocess
 import sys
 
 import numpy as np
@@ -119,9 +120,10 @@ def test_a_failing_python_controller_fails_only_its_own_episodes(tmp_path):
     assert "controller threw: no map" in rows[2] and rows[1].split(",")[3] == "timeout"
 
 
-def test_the_gap_follower_as_a_python_class_and_as_an_external_program_give_identical_records(tmp_path):
-    # The same controller code through barnbench.run's worker processes and through barn's
-    # `external` type (JSON lines over a pipe): the same doubles reach it, the same record.
+def test_the_gap_follower_in_python_as_an_external_program_and_in_cpp_gives_one_record(tmp_path):
+    # The same controller three ways: a Python class in barnbench.run's worker processes, the
+    # same Python code as barn's `external` program (JSON lines over a pipe), and its C++ port
+    # (examples/cpp). The same doubles reach all three; the records are byte-identical.
     root = barnbench._SOURCE_DIR
     sys.path.insert(0, os.path.join(root, "examples", "python"))
     from gap_follower_class import GapFollowerController
@@ -130,6 +132,9 @@ def test_the_gap_follower_as_a_python_class_and_as_an_external_program_give_iden
     barnbench.run(GapFollowerController, worlds=worlds, jobs=2, seed=1, out=str(tmp_path / "class"))
     barnbench.run("gap", worlds=worlds, jobs=2, seed=1, out=str(tmp_path / "external"),
                   config=os.path.join(root, "examples", "external", "gap_follower.yaml"))
+    cpp = os.path.join(os.path.dirname(barnbench._barn_binary()), "examples", "gap_follower")
+    subprocess.run([cpp, worlds, str(tmp_path / "cpp"), "1"], check=True, capture_output=True)
     from_class = (tmp_path / "class" / "episodes.csv").read_text()
     assert from_class == (tmp_path / "external" / "episodes.csv").read_text()
+    assert from_class == (tmp_path / "cpp" / "episodes.csv").read_text()
     assert "gap:" in from_class  # the state labels came through too
