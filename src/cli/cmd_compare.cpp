@@ -207,7 +207,7 @@ void addCompareCommand(CLI::App& app, CommandContext& /*context*/) {
   cmd->add_option("--plot", options->plot, "What the plot shows: score or success")
       ->check(CLI::IsMember({"score", "success"}))
       ->capture_default_str();
-  cmd->add_option("--seed", options->seed, "Bootstrap seed")->capture_default_str();
+  cmd->add_option("--seed", options->seed, "Bootstrap seed")->capture_default_str()->check(kNotNegative);
   cmd->add_option("--bootstrap", options->bootstrap, "Bootstrap resamples of the worlds")
       ->check(CLI::Range(1, 10000000))
       ->capture_default_str();

@@ -52,7 +52,8 @@ void addGenerateCommand(CLI::App& app, CommandContext& context) {
       "generate", "Generate the canonical world set (fill 0.15-0.30 x smoothing 2-4 x 25) from its seeds");
   cmd->add_option("--out", options->out, "Folder for the world files and index.csv")->capture_default_str();
   cmd->add_option("--seed", options->seed, "Base seed of the sweep (every attempt's seed derives from it)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(kNotNegative);
   cmd->add_option("--worlds-per-set", options->worlds_per_set, "Accepted worlds per parameter set")
       ->check(CLI::Range(1, 10000))
       ->capture_default_str();

@@ -18,6 +18,9 @@ namespace barn::cli {
 
 namespace {
 
+// Marks a folder barn regress made for a rerun (and may therefore replace).
+constexpr const char* kRerunMarker = ".barn_regress_rerun";
+
 namespace fs = std::filesystem;
 
 struct RegressOptions {
@@ -69,9 +72,12 @@ void addRegressCommand(CLI::App& app, CommandContext& context) {
   cmd->add_option("--baseline", options->baseline, "Baseline folder (one record per controller)")
       ->default_str("results/baseline");
   cmd->add_option("--controllers", options->controllers, "Only these reference runs (folder names)")->delimiter(',');
-  cmd->add_option("--tolerance", options->tolerance, "Allowed drop of the score")->capture_default_str()->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--tolerance", options->tolerance, "Allowed drop of the score")->capture_default_str()
+      ->check(kFiniteNumber)
+      ->check(CLI::Range(0.0, 1.0));
   cmd->add_option("--success-tolerance", options->success_tolerance, "Allowed drop of the success rate")
       ->capture_default_str()
+      ->check(kFiniteNumber)
       ->check(CLI::Range(0.0, 1.0));
   cmd->add_option("--set", options->overrides,
                   "Override a controller config key for the rerun, KEY=VALUE (e.g. inventec.safety.front_pad_y=0)");
@@ -107,10 +113,17 @@ void addRegressCommand(CLI::App& app, CommandContext& context) {
       rerun.episodes_done = 0;
       rerun.wall_time_s = 0.0;
       rerun.started.clear();
+      // The rerun's folder is replaced only if an earlier regress made it (its marker file):
+      // a command never deletes what it did not create (--work pointing at the baseline, or at
+      // results/, must not wipe them).
       const fs::path dir = work / record.filename();
-      std::error_code ec;
-      fs::remove_all(dir, ec);
-      core::writeFilesAtomic(dir, {{bench::kManifestFile, bench::formatManifest(rerun)}});
+      if (fs::exists(dir)) {
+        if (!fs::exists(dir / kRerunMarker))
+          throw core::InputError(dir.string() + ": exists and was not made by barn regress; choose another --work");
+        fs::remove_all(dir);
+      }
+      core::writeFilesAtomic(dir, {{bench::kManifestFile, bench::formatManifest(rerun)},
+                                   {kRerunMarker, "a rerun made by barn regress; barn regress replaces this folder\n"}});
       std::printf("== %s: rerunning %s\n", record.filename().c_str(), manifest.worlds_spec.c_str());
       std::fflush(stdout);
       SessionOptions session;

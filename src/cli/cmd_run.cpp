@@ -91,7 +91,7 @@ void addRunCommand(CLI::App& app, CommandContext& context) {
   cmd->add_option("--trials", options->trials, "Trials per world")->check(CLI::Range(1, 100000))->capture_default_str();
   cmd->add_option("--protocol", options->protocol, "barn2023 or barn2024 (overrides the sim config)");
   cmd->add_option("--jobs", options->jobs, "Threads (0 = all cores)")->check(CLI::Range(0, 4096))->capture_default_str();
-  cmd->add_option("--seed", options->seed, "Run seed (LiDAR noise and controller randomness)")->capture_default_str();
+  cmd->add_option("--seed", options->seed, "Run seed (LiDAR noise and controller randomness)")->capture_default_str()->check(kNotNegative);
   cmd->add_option("--out", options->out, "Record folder (default results/<controller>)");
   cmd->add_option("--shard", options->shard, "Run shard K of N (every N-th episode from K); combine with barn merge");
   cmd->add_option("--resume", options->resume, "Finish the interrupted run in this record folder");

@@ -98,7 +98,7 @@ void addSweepCommand(CLI::App& app, CommandContext& context) {
   cmd->add_option("--trials", options->trials, "Trials per world")->check(CLI::Range(1, 100000))->capture_default_str();
   cmd->add_option("--protocol", options->protocol, "barn2023 or barn2024");
   cmd->add_option("--jobs", options->jobs, "Threads (0 = all cores)")->check(CLI::Range(0, 4096));
-  cmd->add_option("--seed", options->seed, "Run seed")->capture_default_str();
+  cmd->add_option("--seed", options->seed, "Run seed")->capture_default_str()->check(kNotNegative);
   cmd->add_option("--out", options->out, "Sweep folder (default results/sweep_<controller>)");
   cmd->add_option("--resume", options->resume, "Finish an interrupted sweep in this folder");
   cmd->add_option("--stop-after", options->stop_after, "Stop after this many episodes, as Ctrl-C would");
@@ -139,7 +139,12 @@ void addSweepCommand(CLI::App& app, CommandContext& context) {
     } else if (options->resume.empty()) {
       if (options->controller.empty()) throw core::InputError("sweep: --controller is required (or --resume DIR)");
       if (options->params.empty()) throw core::InputError("sweep: give at least one --param KEY=V1,V2,...");
-      for (const auto& text : options->params) params.push_back(parseParameter(text));
+      for (const auto& text : options->params) {
+        params.push_back(parseParameter(text));
+        for (std::size_t k = 0; k + 1 < params.size(); ++k)
+          if (params[k].key == params.back().key)
+            throw core::InputError("--param " + params.back().key + ": given twice (list every value in one --param)");
+      }
       dir = options->out.empty() ? repoPath("results") / ("sweep_" + options->controller) : fs::path(options->out);
       if (!options->shard.empty() && options->out.empty())
         dir += "_shard" + std::to_string(shard_index) + "of" + std::to_string(shard_count);

@@ -3,7 +3,9 @@
 /// callbacks throw core::InputError for bad input (exit 2) and set `exit_code` to 1 when the
 /// work itself fails (a verification mismatch, a failed run).
 
+#include <cmath>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -13,6 +15,25 @@
 #include "barn/core/config.hpp"
 
 namespace barn::cli {
+
+/// Option checks CLI11 does not make: CLI::Range lets NaN through (every comparison with it is
+/// false), and an unsigned option reads "-1" as 2^64 - 1.
+inline const CLI::Validator kFiniteNumber(
+    [](std::string& text) {
+      try {
+        std::size_t used = 0;
+        const double value = std::stod(text, &used);
+        if (used == text.size() && std::isfinite(value)) return std::string();
+      } catch (const std::exception&) {
+      }
+      return "'" + text + "' is not a finite number";
+    },
+    "FINITE");
+inline const CLI::Validator kNotNegative(
+    [](std::string& text) {
+      return text.find('-') == std::string::npos ? std::string() : "'" + text + "' must not be negative";
+    },
+    "UNSIGNED");
 
 struct CommandContext {
   int exit_code = 0;  // 0 ok, 1 run failure (2 is raised as an InputError)

@@ -138,4 +138,37 @@ TEST(Sweep, RejectsAMalformedParameter) {
   EXPECT_THAT(unknown.output, HasSubstr("pure_pursuit.sped"));
 }
 
+TEST_F(Regress, NeverDeletesAFolderItDidNotMake) {
+  // --work pointing at the baseline itself: the reference record must survive untouched.
+  const std::string before = barn::test::readFile(baseline_ / "pure_pursuit" / "episodes.csv");
+  const RunResult r = run("regress --baseline '" + baseline_.string() + "' --work '" + baseline_.string() + "'");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("was not made by barn regress"));
+  EXPECT_EQ(barn::test::readFile(baseline_ / "pure_pursuit" / "episodes.csv"), before);
+  // Its own rerun folder it replaces on the next check.
+  ASSERT_EQ(run(regress("")).exit_code, 0);
+  EXPECT_EQ(run(regress("")).exit_code, 0);
+}
+
+TEST_F(Regress, RejectsANonFiniteTolerance) {
+  for (const char* option : {"--tolerance nan", "--success-tolerance nan", "--tolerance inf"}) {
+    const RunResult r = run(regress(option));
+    EXPECT_EQ(r.exit_code, 2) << option;
+    EXPECT_THAT(r.output, HasSubstr("not a finite number")) << option;
+  }
+}
+
+TEST(Sweep, RejectsAKeyGivenTwice) {
+  const RunResult r = run("sweep --controller pure_pursuit --param speed=0.3,0.4 --param speed=0.5 --worlds 0 --out '" +
+                          tempPath("barn_sweep_twice").string() + "'");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.output, HasSubstr("given twice"));
+}
+
+TEST(Run, RejectsANegativeSeed) {
+  const RunResult r = run("run --controller straight --worlds 0 --seed -1 --out '" + tempPath("barn_seed").string() + "'");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.output, HasSubstr("must not be negative"));
+}
+
 }  // namespace
