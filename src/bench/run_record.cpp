@@ -6,6 +6,7 @@
 #include <map>
 #include <sstream>
 
+#include "barn/bench/batch.hpp"
 #include "barn/bench/report.hpp"
 #include "barn/bench/results_io.hpp"
 #include "barn/bench/world_selection.hpp"
@@ -186,6 +187,35 @@ std::vector<core::WorldSpec> loadManifestWorlds(const RunManifest& manifest) {
     throw core::InputError(manifest.worlds_folder + ": the world files changed since the run started (digest " +
                            worldsDigest(worlds) + ", run recorded " + manifest.worlds_digest + ")");
   return worlds;
+}
+
+void checkRows(const RunManifest& manifest, const std::vector<EpisodeResult>& rows, const std::string& where,
+               const std::vector<std::size_t>& allowed, bool complete) {
+  const std::size_t trials = static_cast<std::size_t>(std::max(manifest.trials, 0));
+  const std::size_t total = manifest.world_ids.size() * trials;
+  std::vector<char> wanted(total, allowed.empty() ? 1 : 0);
+  for (const std::size_t i : allowed)
+    if (i < total) wanted[i] = 1;
+  std::map<int, std::size_t> position;
+  for (std::size_t i = 0; i < manifest.world_ids.size(); ++i) position.emplace(manifest.world_ids[i], i);
+  std::vector<char> seen(total, 0);
+  for (const EpisodeResult& r : rows) {
+    const std::string row = where + ": world " + std::to_string(r.world_id) + " trial " + std::to_string(r.trial);
+    const auto at = position.find(r.world_id);
+    if (at == position.end()) throw core::InputError(row + ": the world is not in this record");
+    if (r.trial < 0 || static_cast<std::size_t>(r.trial) >= trials) throw core::InputError(row + ": trial out of range");
+    const std::size_t index = at->second * trials + static_cast<std::size_t>(r.trial);
+    if (!wanted[index]) throw core::InputError(row + ": not an episode of this record (another shard's?)");
+    if (manifest.source.empty() && r.seed != episodeSeed(manifest.seed, r.world_id, r.trial))
+      throw core::InputError(row + ": seed " + std::to_string(r.seed) + " is not this run's (another run's row?)");
+    if (seen[index]) throw core::InputError(row + ": given twice");
+    seen[index] = 1;
+  }
+  if (!complete) return;
+  for (std::size_t index = 0; index < total; ++index)
+    if (wanted[index] && !seen[index])
+      throw core::InputError(where + ": world " + std::to_string(manifest.world_ids[index / trials]) + " trial " +
+                             std::to_string(index % trials) + " is missing");
 }
 
 void writeCompleteRecord(const std::filesystem::path& dir, RunManifest manifest, std::vector<EpisodeResult> results,

@@ -97,7 +97,12 @@ Session resumedSession(const fs::path& dir) {
                                                 (session.dir / bench::kManifestFile).string());
   session.worlds = bench::loadManifestWorlds(m);
   if (!m.complete) {
-    session.previous = bench::readEpisodesCsv(session.dir / bench::kJournalFile, true);
+    const fs::path journal = session.dir / bench::kJournalFile;
+    session.previous = bench::readEpisodesCsv(journal, true);
+    const std::size_t total = session.worlds.size() * static_cast<std::size_t>(m.trials);
+    bench::checkRows(m, session.previous, journal.string(),
+                     m.shard_count > 0 ? bench::shardEpisodes(total, m.shard_index, m.shard_count) : std::vector<std::size_t>{},
+                     false);
   }
   return session;
 }

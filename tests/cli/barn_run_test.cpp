@@ -34,6 +34,7 @@ using namespace barn::test;
 
 namespace fs = std::filesystem;
 using testing::AllOf;
+using testing::AnyOf;
 using testing::HasSubstr;
 using testing::Not;
 
@@ -261,6 +262,49 @@ TEST_F(BarnRun, MergeOfAnIncompleteShardIsRejected) {
       run("merge " + quote(shard(1)) + " " + quote(shard(2)) + " " + quote(shard(3)) + " --out " + quote(dir_ / "m"));
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_THAT(r.output, HasSubstr("not complete"));
+}
+
+TEST_F(BarnRun, ResumeRejectsAJournalRowOfAnotherRun) {
+  // Another run's journal (another seed) copied in: its rows must not be adopted.
+  const fs::path mine = dir_ / "mine", other = dir_ / "other";
+  ASSERT_EQ(run(kSmallRun + " --jobs 1 --stop-after 3 --out " + quote(mine)).exit_code, 1);
+  ASSERT_EQ(run(kSmallRun + " --jobs 1 --seed 9 --stop-after 3 --out " + quote(other)).exit_code, 1);
+  fs::copy_file(other / "episodes.partial.csv", mine / "episodes.partial.csv", fs::copy_options::overwrite_existing);
+  const RunResult r = run("run --resume " + quote(mine));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("is not this run's"));
+}
+
+TEST_F(BarnRun, ResumeRejectsADuplicatedJournalRow) {
+  const fs::path out = dir_ / "r";
+  ASSERT_EQ(run(kSmallRun + " --jobs 1 --stop-after 3 --out " + quote(out)).exit_code, 1);
+  const std::string journal = readFile(out / "episodes.partial.csv");
+  const std::string last_row = journal.substr(journal.rfind('\n', journal.size() - 2) + 1);
+  appendFile(out / "episodes.partial.csv", last_row);
+  const RunResult r = run("run --resume " + quote(out));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("given twice"));
+}
+
+TEST_F(BarnRun, MergeChecksWhichEpisodesTheShardsHoldNotHowMany) {
+  // Shard 2's first row replaced by a copy of shard 1's: the count is right, one world twice,
+  // another missing.
+  runShards();
+  const fs::path episodes2 = shard(2) / "episodes.csv";
+  std::vector<std::string> lines1, lines2;
+  for (const auto& [path, lines] : {std::pair{shard(1) / "episodes.csv", &lines1}, std::pair{episodes2, &lines2}}) {
+    std::istringstream text(readFile(path));
+    for (std::string line; std::getline(text, line);) lines->push_back(line);
+  }
+  lines2[1] = lines1[1];
+  std::string rewritten;
+  for (const auto& line : lines2) rewritten += line + "\n";
+  writeFile(episodes2, rewritten);
+  const RunResult r =
+      run("merge " + quote(shard(1)) + " " + quote(shard(2)) + " " + quote(shard(3)) + " --out " + quote(dir_ / "m"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, AnyOf(HasSubstr("given twice"), HasSubstr("another shard's")));
+  EXPECT_FALSE(fs::exists(dir_ / "m" / "manifest.yaml"));
 }
 
 TEST_F(BarnRun, ShardWithNoEpisodesStillMerges) {

@@ -76,6 +76,15 @@ void sortResults(std::vector<EpisodeResult>& results, const std::vector<int>& wo
 /// files changed since the run started (digest mismatch).
 std::vector<core::WorldSpec> loadManifestWorlds(const RunManifest& manifest);
 
+/// Checks episode rows against their record before they are trusted (a journal being resumed,
+/// shards being merged): every row's world is one of the record's, its trial in range, its seed
+/// the one (run seed, world, trial) gives (imported records have no seeds), no (world, trial)
+/// twice, and every episode among `allowed` (indices world position x trials + trial; all of
+/// the record's if empty) — and, with `complete`, every one of them present. InputError naming
+/// `where` and the row otherwise.
+void checkRows(const RunManifest& manifest, const std::vector<EpisodeResult>& rows, const std::string& where,
+               const std::vector<std::size_t>& allowed, bool complete);
+
 /// Writes the finished record: episodes.csv (sorted), summary.json and the manifest marked
 /// complete; removes the journal. `results` must hold every episode of the record.
 void writeCompleteRecord(const std::filesystem::path& dir, RunManifest manifest, std::vector<EpisodeResult> results,
