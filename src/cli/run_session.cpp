@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cerrno>
 #include <csignal>
+#include <cstring>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -183,11 +185,16 @@ int executeSessions(const std::vector<Session*>& sessions, const SessionOptions&
   std::vector<std::vector<core::FileContent>> trajectories(sessions.size());
   const auto t0 = std::chrono::steady_clock::now();
   std::size_t finished_here = 0;
+  std::string journal_error;  // the first failed journal write: the run stops there
   std::vector<std::vector<bench::EpisodeResult>> results =
       bench::runBatches(specs, [&](std::size_t batch, const bench::EpisodeResult& r, std::size_t, std::size_t) {
         const std::size_t b = batch_session[batch];
         journals[b] << bench::episodeCsvRow(r);
         journals[b].flush();
+        if (!journals[b] && journal_error.empty()) {
+          journal_error = (sessions[b]->dir / bench::kJournalFile).string() + ": write failed: " + std::strerror(errno);
+          g_interrupted.store(true);  // nothing more can be kept: start no new episode
+        }
         if (options.trajectories)
           trajectories[b].push_back({"world_" + std::to_string(r.world_id) + "_trial_" + std::to_string(r.trial) + ".csv",
                                      bench::trajectoryCsv(r)});
@@ -198,6 +205,7 @@ int executeSessions(const std::vector<Session*>& sessions, const SessionOptions&
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
   for (auto& j : journals) if (j.is_open()) j.close();
+  if (!journal_error.empty()) throw core::IoError(journal_error + " (the episodes journaled before it are kept; --resume when the disk has room)");
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   int status = 0;

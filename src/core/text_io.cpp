@@ -1,6 +1,9 @@
 #include "barn/core/text_io.hpp"
 
+#include <cerrno>
 #include <charconv>
+#include <cstring>
+#include <fcntl.h>
 #include <fstream>
 #include <sstream>
 #include <system_error>
@@ -20,12 +23,40 @@ std::string readTextFile(const std::filesystem::path& path) {
 
 namespace {
 
+std::string systemError(const std::filesystem::path& path, const char* what) {
+  return path.string() + ": " + what + ": " + std::strerror(errno);
+}
+
+// Writes the whole file and flushes it to the disk (fsync) before it is renamed into place, so
+// a power loss leaves the old file or the new one, never a truncated one.
 void writeOrThrow(const std::filesystem::path& path, std::string_view content) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw InputError(path.string() + ": cannot write");
-  out.write(content.data(), static_cast<std::streamsize>(content.size()));
-  out.close();
-  if (!out) throw InputError(path.string() + ": write failed");
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) throw IoError(systemError(path, "cannot write"));
+  std::size_t written = 0;
+  while (written < content.size()) {
+    const ssize_t n = ::write(fd, content.data() + written, content.size() - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const std::string message = systemError(path, "write failed");
+      ::close(fd);
+      throw IoError(message);
+    }
+    written += static_cast<std::size_t>(n);
+  }
+  if (::fsync(fd) != 0) {
+    const std::string message = systemError(path, "write failed (fsync)");
+    ::close(fd);
+    throw IoError(message);
+  }
+  if (::close(fd) != 0) throw IoError(systemError(path, "write failed (close)"));
+}
+
+// Makes the renames in `dir` durable.
+void syncFolder(const std::filesystem::path& dir) {
+  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return;  // best effort: the files themselves are on the disk
+  ::fsync(fd);
+  ::close(fd);
 }
 
 std::string uniqueSuffix() { return ".tmp-" + std::to_string(::getpid()); }
@@ -39,18 +70,19 @@ void writeFileAtomic(const std::filesystem::path& path, std::string_view content
   std::filesystem::rename(temporary, path, ec);
   if (ec) {
     std::filesystem::remove(temporary, ec);
-    throw InputError(path.string() + ": cannot write (rename failed)");
+    throw IoError(path.string() + ": cannot write (rename failed: " + ec.message() + ")");
   }
+  syncFolder(path.has_parent_path() ? path.parent_path() : std::filesystem::path("."));
 }
 
 void writeFilesAtomic(const std::filesystem::path& dir, const std::vector<FileContent>& files) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
-  if (ec) throw InputError(dir.string() + ": cannot create folder: " + ec.message());
+  if (ec) throw IoError(dir.string() + ": cannot create folder: " + ec.message());
   const std::filesystem::path staging = dir / (".staging" + uniqueSuffix());
   std::filesystem::remove_all(staging, ec);
   std::filesystem::create_directories(staging, ec);
-  if (ec) throw InputError(staging.string() + ": cannot create folder: " + ec.message());
+  if (ec) throw IoError(staging.string() + ": cannot create folder: " + ec.message());
   try {
     for (const auto& file : files) writeOrThrow(staging / file.name, file.content);
   } catch (...) {
@@ -61,11 +93,13 @@ void writeFilesAtomic(const std::filesystem::path& dir, const std::vector<FileCo
   for (const auto& file : files) {
     std::filesystem::rename(staging / file.name, dir / file.name, ec);
     if (ec) {
+      const std::string reason = ec.message();
       std::filesystem::remove_all(staging, ec);
-      throw InputError((dir / file.name).string() + ": cannot write (rename failed)");
+      throw IoError((dir / file.name).string() + ": cannot write (rename failed: " + reason + ")");
     }
   }
   std::filesystem::remove_all(staging, ec);
+  syncFolder(dir);
 }
 
 std::string formatDouble(double value) {

@@ -17,6 +17,13 @@ class InputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// A write that failed (disk full, permissions, I/O error): the run went wrong, not its input.
+/// The message names the file and carries the system's reason. Exit code 1.
+class IoError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 /// Collects validation messages, each prefixed by where the problem is ("world_000.yaml: grid").
 class Errors {
  public:

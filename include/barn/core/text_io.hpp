@@ -13,11 +13,14 @@ namespace barn::core {
 std::string readTextFile(const std::filesystem::path& path);
 
 /// Writes `content` to `path` through a temporary file and a rename, so a reader never sees
-/// a half-written file. Throws InputError naming the path on failure.
+/// a half-written file; the file is flushed to the disk (fsync) before the rename and the
+/// folder after it, so a power loss does not leave a truncated file either. Throws IoError
+/// naming the path and the system's reason on failure (disk full: exit 1, not bad input).
 void writeFileAtomic(const std::filesystem::path& path, std::string_view content);
 
 /// Writes several files into `dir` (created if missing) all or nothing: every file is first
-/// written into a staging folder inside `dir`, and only moved into place once all succeeded.
+/// written into a staging folder inside `dir` (and flushed to the disk), and only moved into
+/// place once all succeeded. IoError on failure, as writeFileAtomic.
 struct FileContent {
   std::string name;     // file name inside the folder
   std::string content;
