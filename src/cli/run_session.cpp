@@ -11,6 +11,8 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <fcntl.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include "barn/bench/report.hpp"
@@ -59,15 +61,52 @@ std::vector<std::size_t> pendingEpisodes(const Session& session) {
 
 }  // namespace
 
+RecordLock::RecordLock(const fs::path& dir) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw core::IoError(dir.string() + ": cannot create folder: " + ec.message());
+  const fs::path path = dir / ".barn.lock";
+  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd_ < 0) throw core::IoError(path.string() + ": cannot open: " + std::strerror(errno));
+  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    char holder[32] = {};
+    const ssize_t n = ::pread(fd_, holder, sizeof(holder) - 1, 0);
+    ::close(fd_);
+    fd_ = -1;
+    throw core::InputError(dir.string() + ": another barn process is writing this record" +
+                           (n > 0 ? " (pid " + std::string(holder, static_cast<std::size_t>(n)) + ")" : std::string()) +
+                           "; wait for it or choose another --out");
+  }
+  const std::string pid = std::to_string(::getpid());
+  if (::ftruncate(fd_, 0) == 0 && ::pwrite(fd_, pid.data(), pid.size(), 0) < 0) {
+    // The pid is only for the message above; the lock holds without it.
+  }
+}
+
+RecordLock& RecordLock::operator=(RecordLock&& other) noexcept {
+  if (this != &other) {
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = std::exchange(other.fd_, -1);
+  }
+  return *this;
+}
+
+RecordLock::~RecordLock() {
+  if (fd_ >= 0) ::close(fd_);  // closing releases the flock
+}
+
 Session newSession(const std::string& controller_name, const core::ConfigNode& controller_config,
                    const bench::EpisodeConfig& episode, const bench::LoadedWorlds& loaded,
                    const std::string& worlds_spec, int trials, std::uint64_t seed, int shard_index, int shard_count,
                    const fs::path& dir) {
   Session session;
   session.dir = dir;
-  if (fs::exists(session.dir / bench::kManifestFile))
-    throw core::InputError(session.dir.string() + ": already holds a run; finish it with --resume " +
-                           session.dir.string() + " or choose another --out");
+  const auto refuseAnExistingRun = [&] {
+    if (fs::exists(session.dir / bench::kManifestFile))
+      throw core::InputError(session.dir.string() + ": already holds a run; finish it with --resume " +
+                             session.dir.string() + " or choose another --out");
+  };
+  refuseAnExistingRun();  // before any work, for a quick answer
   session.spec.make_controller = controllers::makeControllerFactory(controller_config);
   session.spec.episode = episode;
   bench::RunManifest& m = session.manifest;
@@ -83,12 +122,19 @@ Session newSession(const std::string& controller_name, const core::ConfigNode& c
   m.shard_index = shard_index;
   m.shard_count = shard_count;
   session.worlds = loaded.worlds;
+  // Last, once everything is valid (so bad input leaves no folder behind): the lock, and the
+  // check again under it, which a second process started at the same moment cannot pass.
+  session.lock = RecordLock(dir);
+  refuseAnExistingRun();
   return session;
 }
 
 Session resumedSession(const fs::path& dir) {
   Session session;
   session.dir = dir;
+  if (!fs::exists(dir / bench::kManifestFile))
+    throw core::InputError(dir.string() + ": no run record here (no " + std::string(bench::kManifestFile) + ")");
+  session.lock = RecordLock(dir);
   session.manifest = bench::readManifest(session.dir / bench::kManifestFile);
   const bench::RunManifest& m = session.manifest;
   if (!m.source.empty())

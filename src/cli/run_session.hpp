@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -15,7 +16,27 @@
 
 namespace barn::cli {
 
+/// An exclusive lock on a record folder (flock on its `.barn.lock`), held while one barn
+/// process writes the record: a second `barn run --out` or `--resume` on the same folder gets a
+/// clear error instead of silently losing one run's results. Released when destroyed (or when
+/// the process dies).
+class RecordLock {
+ public:
+  RecordLock() = default;
+  /// Takes the lock on `dir` (created if missing); InputError naming the holder if taken.
+  explicit RecordLock(const std::filesystem::path& dir);
+  RecordLock(RecordLock&& other) noexcept : fd_(std::exchange(other.fd_, -1)) {}
+  RecordLock& operator=(RecordLock&& other) noexcept;
+  RecordLock(const RecordLock&) = delete;
+  RecordLock& operator=(const RecordLock&) = delete;
+  ~RecordLock();
+
+ private:
+  int fd_ = -1;
+};
+
 struct Session {
+  RecordLock lock;                             // held from before the folder is looked at
   std::filesystem::path dir;                   // the record folder
   bench::RunManifest manifest;
   std::vector<core::WorldSpec> worlds;

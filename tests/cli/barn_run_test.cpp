@@ -21,7 +21,10 @@
 #include <map>
 #include <random>
 #include <set>
+#include <fcntl.h>
 #include <sstream>
+#include <sys/file.h>
+#include <unistd.h>
 #include <string>
 #include <thread>
 #include <vector>
@@ -305,6 +308,23 @@ TEST_F(BarnRun, MergeChecksWhichEpisodesTheShardsHoldNotHowMany) {
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_THAT(r.output, AnyOf(HasSubstr("given twice"), HasSubstr("another shard's")));
   EXPECT_FALSE(fs::exists(dir_ / "m" / "manifest.yaml"));
+}
+
+TEST_F(BarnRun, ASecondProcessOnTheSameRecordIsRefused) {
+  // Another process holds the record's lock (as a running barn does): a run into the folder
+  // and a resume of it are refused with exit 2 and the holder named, and nothing is written.
+  const fs::path out = dir_ / "r";
+  fs::create_directories(out);
+  const int fd = ::open((out / ".barn.lock").c_str(), O_RDWR | O_CREAT, 0644);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);
+  ASSERT_EQ(::pwrite(fd, "4242", 4, 0), 4);
+  const RunResult r = run(kSmallRun + " --out " + quote(out));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, AllOf(HasSubstr("another barn process is writing this record"), HasSubstr("pid 4242")));
+  EXPECT_FALSE(fs::exists(out / "manifest.yaml"));
+  ::close(fd);  // released: now the run goes ahead
+  EXPECT_EQ(run(kSmallRun + " --out " + quote(out)).exit_code, 0);
 }
 
 TEST_F(BarnRun, ShardWithNoEpisodesStillMerges) {
