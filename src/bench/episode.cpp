@@ -49,8 +49,8 @@ void validate(const EpisodeConfig& config, core::Errors& errors) {
     errors.add("protocol", e.what());
   }
   sim::validate(config.physics, errors);
-  sim::validate(config.robot, errors);
-  sim::validate(config.lidar, errors);
+  core::validate(config.robot, errors);
+  core::validate(config.lidar, errors);
   errors.check(config.odometry.position_stddev >= 0.0, "odometry.position_stddev", "must be >= 0");
   errors.check(config.odometry.yaw_stddev >= 0.0, "odometry.yaw_stddev", "must be >= 0");
   errors.check(config.odometry.speed_stddev >= 0.0, "odometry.speed_stddev", "must be >= 0");

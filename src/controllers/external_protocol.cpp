@@ -62,7 +62,7 @@ std::string resetMessage(const EpisodeInfo& info, double period) {
   out += std::to_string(info.seed);  // an integer up to 2^64 - 1, written exactly
   number(out, "period", period);
 
-  const sim::LidarConfig& lidar = info.lidar;
+  const core::LidarConfig& lidar = info.lidar;
   key(out, "lidar");
   out += '{';
   number(out, "angle_min", lidar.angle_min);
@@ -75,7 +75,7 @@ std::string resetMessage(const EpisodeInfo& info, double period) {
   numbers(out, "offset", {lidar.mount_x, lidar.mount_y});
   out += '}';
 
-  const sim::RobotConfig& robot = info.robot;
+  const core::RobotConfig& robot = info.robot;
   key(out, "robot");
   out += '{';
   number(out, "max_linear_speed", robot.max_linear_speed);

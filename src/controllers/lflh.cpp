@@ -50,7 +50,7 @@ Eigen::Vector2d localGoalDirection(const nav::Path& path, const core::Pose2& pos
   return local.norm() > 1e-9 ? Eigen::Vector2d(local.normalized()) : Eigen::Vector2d(1.0, 0.0);
 }
 
-core::Pose2 sensorPose(const core::Pose2& pose, const sim::LidarConfig& lidar) {
+core::Pose2 sensorPose(const core::Pose2& pose, const core::LidarConfig& lidar) {
   const Eigen::Vector2d p = pose.transform({lidar.mount_x, lidar.mount_y});
   return {p.x(), p.y(), pose.yaw};
 }

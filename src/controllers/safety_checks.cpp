@@ -9,7 +9,7 @@ Box footprintBox(double length, double width, double offset) {
   return {-length / 2 - offset, length / 2 + offset, -width / 2 - offset, width / 2 + offset};
 }
 
-std::vector<Eigen::Vector2d> scanPoints(const core::LaserScan& scan, const sim::LidarConfig& lidar) {
+std::vector<Eigen::Vector2d> scanPoints(const core::LaserScan& scan, const core::LidarConfig& lidar) {
   std::vector<Eigen::Vector2d> points;
   points.reserve(scan.ranges.size());
   for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
@@ -43,7 +43,7 @@ bool rolloutHit(const std::vector<Eigen::Vector2d>& points, const Box& footprint
   return false;
 }
 
-bool frontCheckHit(const core::LaserScan& scan, const sim::LidarConfig& lidar, const core::Twist& command,
+bool frontCheckHit(const core::LaserScan& scan, const core::LidarConfig& lidar, const core::Twist& command,
                    const FrontCheck& check) {
   const Box region{-check.half_length, check.half_length + std::max(check.pad_front, check.speed_gain * command.linear),
                    -check.half_width - check.pad_x, check.half_width + check.pad_x};

@@ -30,7 +30,7 @@ std::string hex(std::uint64_t value) {
 
 Recording collectExploration(const CollectConfig& config, const std::string& name) {
   const sim::ObstacleField empty;
-  const sim::RobotConfig robot;
+  const core::RobotConfig robot;
   const sim::PhysicsConfig physics;
   sim::Simulator simulator(empty, robot, physics, {0.0, 0.0, 0.0});
   core::Rng rng(config.seed);

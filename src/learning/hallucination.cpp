@@ -149,8 +149,8 @@ double SweptFootprint::gap(const Obstacle& obstacle) const {
 // Demonstrations
 
 std::optional<Demonstration> hallucinate(const Recording& recording, std::size_t record, int render,
-                                         const HallucinationConfig& config, const sim::RobotConfig& robot,
-                                         const sim::LidarConfig& lidar) {
+                                         const HallucinationConfig& config, const core::RobotConfig& robot,
+                                         const core::LidarConfig& lidar) {
   const auto& records = recording.records;
   const auto steps = [&](double seconds) { return static_cast<std::size_t>(std::lround(seconds * recording.rate)); };
   const std::size_t goal_steps = steps(config.goal_time);
@@ -266,7 +266,7 @@ std::optional<Demonstration> hallucinate(const Recording& recording, std::size_t
   return demo;
 }
 
-std::vector<double> renderScan(const std::vector<Obstacle>& obstacles, const sim::LidarConfig& lidar,
+std::vector<double> renderScan(const std::vector<Obstacle>& obstacles, const core::LidarConfig& lidar,
                                core::FastNoise* noise) {
   sim::ObstacleField field;
   for (const Obstacle& o : obstacles) {
@@ -305,7 +305,7 @@ void mirrorExample(float* input, float* target, int beams) {
 }
 
 Dataset buildDataset(const Recording& recording, const HallucinationConfig& config, double range_clip,
-                     const sim::RobotConfig& robot, const sim::LidarConfig& lidar) {
+                     const core::RobotConfig& robot, const core::LidarConfig& lidar) {
   Dataset data;
   data.beams = lidar.beams;
   data.record_count = recording.records.size();

@@ -27,23 +27,7 @@ double approxAtan2(double y, double x) {
 
 }  // namespace
 
-core::Pose2 LidarConfig::sensorPose(const core::Pose2& robot) const {
-  const Eigen::Vector2d origin = robot.transform({mount_x, mount_y});
-  return {origin.x(), origin.y(), robot.yaw};
-}
-
-void validate(const LidarConfig& c, core::Errors& errors, const std::string& prefix) {
-  errors.check(c.beams >= 2 && c.beams <= 100000, prefix + ".beams", "must be in [2, 100000]");
-  errors.check(c.angle_max > c.angle_min, prefix + ".angle_max", "must be greater than angle_min");
-  errors.check(c.angle_min >= -std::numbers::pi && c.angle_max <= std::numbers::pi, prefix + ".angle_min",
-               "the field of view must lie within [-pi, pi]");
-  errors.check(c.range_min >= 0.0, prefix + ".range_min", "must be >= 0");
-  errors.check(c.range_max > c.range_min, prefix + ".range_max", "must be greater than range_min");
-  errors.check(c.noise_stddev >= 0.0, prefix + ".noise_stddev", "must be >= 0");
-  errors.check(c.rate > 0.0, prefix + ".rate", "must be > 0");
-}
-
-LidarCaster::LidarCaster(const LidarConfig& config, const ObstacleField& field)
+LidarCaster::LidarCaster(const core::LidarConfig& config, const ObstacleField& field)
     : config_(config), field_(&field),
       bucket_start_(static_cast<std::size_t>(std::ceil((config.range_max + field.maxRadius()) * 4.0)) + 2, 0) {
   beam_cos_.resize(static_cast<std::size_t>(config.beams));
@@ -169,7 +153,7 @@ core::LaserScan LidarCaster::scan(const core::Pose2& robot_pose, double stamp, c
   return scan;
 }
 
-void addRangeNoise(const LidarConfig& config, core::FastNoise& noise, std::vector<double>& ranges) {
+void addRangeNoise(const core::LidarConfig& config, core::FastNoise& noise, std::vector<double>& ranges) {
   if (config.noise_stddev <= 0.0) return;
   for (double& range : ranges) {
     if (!std::isfinite(range)) continue;  // Gazebo's noise does not turn a miss into a hit

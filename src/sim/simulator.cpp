@@ -24,7 +24,7 @@ void validate(const PhysicsConfig& c, core::Errors& errors, const std::string& p
   errors.check(c.position_iterations >= 1, prefix + ".position_iterations", "must be >= 1");
 }
 
-bool rectOverlapsCircle(const core::Pose2& pose, const RobotRect& rect, const Eigen::Vector2d& centre, double radius) {
+bool rectOverlapsCircle(const core::Pose2& pose, const core::RobotRect& rect, const Eigen::Vector2d& centre, double radius) {
   // Circle centre in the rectangle's frame; the closest rectangle point is the clamped centre.
   const Eigen::Vector2d local = pose.inverseTransform(centre) - Eigen::Vector2d(rect.centre_x, rect.centre_y);
   const double qx = std::clamp(local.x(), -rect.half_length, rect.half_length);
@@ -39,7 +39,7 @@ struct Simulator::Box2D {
   b2Body* robot = nullptr;
 };
 
-Simulator::Simulator(const ObstacleField& field, const RobotConfig& robot, const PhysicsConfig& physics,
+Simulator::Simulator(const ObstacleField& field, const core::RobotConfig& robot, const PhysicsConfig& physics,
                      const core::Pose2& start, std::uint64_t seed)
     : field_(&field), robot_(robot), physics_(physics), rects_(robot.collisionRects()),
       box2d_(std::make_unique<Box2D>()), pose_(start), slip_noise_(seed) {
@@ -68,8 +68,8 @@ Simulator::Simulator(const ObstacleField& field, const RobotConfig& robot, const
   robot_def.angle = static_cast<float>(start.yaw);
   box2d_->robot = world.CreateBody(&robot_def);
   double area = 0.0;
-  for (const RobotRect& r : rects_) area += 4.0 * r.half_length * r.half_width;
-  for (const RobotRect& r : rects_) {
+  for (const core::RobotRect& r : rects_) area += 4.0 * r.half_length * r.half_width;
+  for (const core::RobotRect& r : rects_) {
     b2PolygonShape box;
     box.SetAsBox(static_cast<float>(r.half_length), static_cast<float>(r.half_width),
                  b2Vec2(static_cast<float>(r.centre_x), static_cast<float>(r.centre_y)), 0.0f);
@@ -170,7 +170,7 @@ std::optional<CollisionInfo> Simulator::findCollision(const core::Pose2& pose) c
 
 bool Simulator::overlaps(const core::Pose2& pose) const { return findCollision(pose).has_value(); }
 
-Simulator::ReferenceScan Simulator::referenceScan(const LidarConfig& lidar, const core::Pose2& sensor_pose) const {
+Simulator::ReferenceScan Simulator::referenceScan(const core::LidarConfig& lidar, const core::Pose2& sensor_pose) const {
   struct ClosestHit : b2RayCastCallback {
     float fraction = 1.0f;
     int hit = -1;

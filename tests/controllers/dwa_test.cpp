@@ -14,7 +14,7 @@ struct Segment {
 
 // A 720-beam UST-10 scan from the sensor (at the robot centre here) against wall segments.
 core::LaserScan scanOf(const std::vector<Segment>& walls) {
-  const sim::LidarConfig lidar;
+  const core::LidarConfig lidar;
   core::LaserScan scan;
   scan.angle_min = lidar.angle_min;
   scan.angle_increment = lidar.angleIncrement();

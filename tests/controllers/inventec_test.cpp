@@ -119,7 +119,7 @@ TEST(InventecFsmPaper, BlockedRearGoesStraightToForwardAndAnUnsafeForwardBacktra
 
 /// A scan with one return at `bearing` [rad] and `range` [m] (sensor frame), every other beam a miss.
 core::LaserScan oneReturn(double bearing, double range) {
-  const sim::LidarConfig lidar;
+  const core::LidarConfig lidar;
   core::LaserScan scan;
   scan.angle_min = lidar.angle_min;
   scan.angle_increment = lidar.angleIncrement();
@@ -131,13 +131,13 @@ core::LaserScan oneReturn(double bearing, double range) {
 
 /// The robot-frame point of that return (the sensor is 0.055 m ahead of the centre).
 Eigen::Vector2d pointOf(const core::LaserScan& scan) {
-  const sim::LidarConfig lidar;
+  const core::LidarConfig lidar;
   const auto points = scanPoints(scan, lidar);
   return points.at(0);
 }
 
 TEST(FrontCheck, IgnoresReturnsBeyondFortySevenDegreesEvenInsideTheBox) {
-  const sim::LidarConfig lidar;
+  const core::LidarConfig lidar;
   const FrontCheck check;
   // 0.25 m from the sensor at 50 deg: robot frame (0.216, 0.192), inside |y| <= 0.225, x <= 0.354.
   const core::LaserScan at50 = oneReturn(50 * kDeg, 0.25);
@@ -150,7 +150,7 @@ TEST(FrontCheck, IgnoresReturnsBeyondFortySevenDegreesEvenInsideTheBox) {
 }
 
 TEST(FrontCheck, ReachGrowsWithSpeed) {
-  const sim::LidarConfig lidar;
+  const core::LidarConfig lidar;
   const FrontCheck check;
   // Straight ahead, 0.40 m from the sensor: x = 0.455 from the centre.
   const core::LaserScan ahead = oneReturn(0.0, 0.40);
@@ -166,7 +166,7 @@ TEST(FrontCheck, ReachGrowsWithSpeed) {
 }
 
 TEST(FrontCheck, TurningRotatesTheRegionTowardTheTurn) {
-  const sim::LidarConfig lidar;
+  const core::LidarConfig lidar;
   const FrontCheck check;
   // A point ahead-left, just outside the straight region (|y| > 0.225): robot frame (0.30, 0.25).
   const double bx = 0.30 - lidar.mount_x, by = 0.25;
@@ -300,7 +300,7 @@ TEST(SafetyChecks, FootprintInflationSeesPointsWithinTheOffset) {
 }
 
 TEST(SafetyChecks, ScanPointsIncludeTheMountOffset) {
-  sim::LidarConfig lidar;  // mounted 0.055 m ahead
+  core::LidarConfig lidar;  // mounted 0.055 m ahead
   core::LaserScan scan;
   scan.angle_min = 0.0;
   scan.angle_increment = std::numbers::pi / 2;

@@ -25,7 +25,7 @@ const Recording& recording() {
 
 TEST(Hallucination, ObstaclesNeverTouchTheSweptFootprintAndTheNearestHugsIt) {
   const HallucinationConfig config;
-  const sim::RobotConfig robot;
+  const core::RobotConfig robot;
   int demos = 0;
   for (std::size_t record = 0; record < 1200; record += 37) {
     const auto demo = hallucinate(recording(), record, 0, config);
@@ -60,7 +60,7 @@ TEST(Hallucination, BlockingObstaclesHugTheSweepAndStandAhead) {
   HallucinationConfig config;
   config.constraining_min = config.constraining_max = 0;
   config.blocking_min = config.blocking_max = 3;
-  const sim::RobotConfig robot;
+  const core::RobotConfig robot;
   int demos = 0, ahead = 0, obstacles = 0;
   for (std::size_t record = 0; record < 1200; record += 37) {
     const auto demo = hallucinate(recording(), record, 0, config);
@@ -147,7 +147,7 @@ TEST(RenderScan, CircleAheadGivesTheHandComputedRange) {
   // and 360 are at -+0.003277 rad) hits at about 2 - 0.055 - 0.3 = 1.645 m. For beam 360
   // at angle a = 0.5 * 4.71238 / 719 = 0.0032770 rad: t = d cos a - sqrt(r^2 - d^2 sin^2 a),
   // d = 1.945: 1.944990 - sqrt(0.09 - 0.0000406) = 1.944990 - 0.299932 = 1.645058.
-  sim::LidarConfig lidar;
+  core::LidarConfig lidar;
   const std::vector<double> ranges = renderScan({makeObstacle({2.0, 0.0}, 0.3, 0.3, 0.0)}, lidar, nullptr);
   ASSERT_EQ(ranges.size(), 720u);
   EXPECT_NEAR(ranges[360], 1.645058, 2e-6);
@@ -161,14 +161,14 @@ TEST(RenderScan, CircleAheadGivesTheHandComputedRange) {
 }
 
 TEST(RenderScan, NoObstaclesMeansNoReturns) {
-  for (double r : renderScan({}, sim::LidarConfig{}, nullptr)) EXPECT_TRUE(std::isinf(r));
+  for (double r : renderScan({}, core::LidarConfig{}, nullptr)) EXPECT_TRUE(std::isinf(r));
 }
 
 TEST(Mirror, MirroredWorldGivesTheReversedScanAndTheMirroredExample) {
   const HallucinationConfig config;
   const auto demo = hallucinate(recording(), 300, 0, config);
   ASSERT_TRUE(demo);
-  sim::LidarConfig lidar;
+  core::LidarConfig lidar;
   const std::vector<double> original = renderScan(demo->obstacles, lidar, nullptr);
   const std::vector<double> reflected = renderScan(mirrored(demo->obstacles), lidar, nullptr);
   // Beam i at angle a_i mirrors beam 719 - i at -a_i (angle_min = -angle_max, sensor on the x axis).

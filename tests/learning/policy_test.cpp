@@ -176,7 +176,7 @@ TEST(ShippedPolicies, LoadAndMatchTheirTrainingConfigs) {
     EXPECT_LT(policy.info().validation_loss, policy.info().mean_predictor_loss);
     // Goal ahead: drive forward, and steer away from a circle (r 0.3 m) 1 m ahead and 0.3 m
     // to one side: right (w < 0) when it is on the left, left when it is on the right.
-    const sim::LidarConfig lidar;
+    const core::LidarConfig lidar;
     const core::Twist open = policy.act(scanOf(renderScan({}, lidar, nullptr)), {1.0, 0.0});
     const core::Twist left = policy.act(scanOf(renderScan({makeObstacle({1.0, 0.3}, 0.3, 0.3, 0.0)}, lidar, nullptr)), {1.0, 0.0});
     const core::Twist right = policy.act(scanOf(renderScan({makeObstacle({1.0, -0.3}, 0.3, 0.3, 0.0)}, lidar, nullptr)), {1.0, 0.0});

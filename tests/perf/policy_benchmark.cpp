@@ -6,8 +6,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include "barn/core/lidar_config.hpp"
 #include "barn/learning/policy.hpp"
-#include "barn/sim/lidar.hpp"
 
 namespace {
 
@@ -17,7 +17,7 @@ void BM_PolicyAct(benchmark::State& state) {
   const learning::Policy policy = learning::Policy::load(std::string(BARN_SOURCE_DIR) + "/configs/policies/lflh_1ms.policy");
   // A scan with returns on every third beam (the rest +inf), so clipping sees both cases.
   core::LaserScan scan;
-  const sim::LidarConfig lidar;
+  const core::LidarConfig lidar;
   scan.angle_min = lidar.angle_min;
   scan.angle_increment = lidar.angleIncrement();
   scan.ranges.assign(720, std::numeric_limits<double>::infinity());

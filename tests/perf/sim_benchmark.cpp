@@ -25,7 +25,7 @@ using namespace barn;
 struct Fixture {
   core::WorldSpec world = core::readWorldFile(std::string(BARN_SOURCE_DIR) + "/worlds/world_150.yaml");
   sim::ObstacleField field = sim::ObstacleField::fromWorld(world);
-  sim::LidarConfig lidar;
+  core::LidarConfig lidar;
   std::vector<core::Pose2> poses;
   Fixture() {
     for (int i = 0; i < 64; ++i) poses.push_back({-2.25, 3.0 + 0.1 * i, 1.57 + 0.01 * i});
@@ -47,7 +47,7 @@ BENCHMARK(BM_ScanFast)->Name("BM_Scan/fast");
 
 void BM_ScanBox2D(benchmark::State& state) {
   Fixture f;
-  const sim::Simulator simulator(f.field, sim::RobotConfig{}, sim::PhysicsConfig{}, f.poses[0]);
+  const sim::Simulator simulator(f.field, core::RobotConfig{}, sim::PhysicsConfig{}, f.poses[0]);
   std::size_t i = 0;
   for (auto _ : state) {
     auto scan = simulator.referenceScan(f.lidar, f.lidar.sensorPose(f.poses[i++ % f.poses.size()]));
@@ -65,7 +65,7 @@ void BM_SimulatedSecond(benchmark::State& state) {
   physics.rate = static_cast<double>(state.range(0));
   sim::LidarCaster caster(f.lidar, f.field);
   core::FastNoise noise(1);
-  auto simulator = std::make_unique<sim::Simulator>(f.field, sim::RobotConfig{}, physics, f.poses[0]);
+  auto simulator = std::make_unique<sim::Simulator>(f.field, core::RobotConfig{}, physics, f.poses[0]);
   const long steps_per_second = std::lround(physics.rate);
   const long steps_per_scan = std::lround(physics.rate / f.lidar.rate);
   long step = 0;
@@ -78,7 +78,7 @@ void BM_SimulatedSecond(benchmark::State& state) {
       }
       simulator->step();
       if (simulator->collision() || simulator->time() > 8.0) {
-        simulator = std::make_unique<sim::Simulator>(f.field, sim::RobotConfig{}, physics, f.poses[0]);
+        simulator = std::make_unique<sim::Simulator>(f.field, core::RobotConfig{}, physics, f.poses[0]);
       }
     }
   }

@@ -37,7 +37,7 @@ double bruteForceRange(double angle, const core::Pose2& sensor, const ObstacleFi
 TEST(Lidar, RayAgainstOneCircleGivesTheAnalyticDistance) {
   ObstacleField field;
   field.centres = {{2.0, 0.5}};
-  LidarConfig config;
+  core::LidarConfig config;
   config.noise_stddev = 0.0;
   LidarCaster caster(config, field);
   std::vector<double> ranges;
@@ -64,7 +64,7 @@ TEST(Lidar, HeadOnBeamHitsTheNearSurface) {
   // so a sensor yawed by -angle_min points beam 0 along +x.
   ObstacleField field;
   field.centres = {{3.0, 0.0}};
-  LidarConfig config;
+  core::LidarConfig config;
   LidarCaster caster(config, field);
   std::vector<double> ranges;
   caster.cast({0.0, 0.0, -config.angle_min}, ranges);
@@ -75,7 +75,7 @@ TEST(Lidar, ContainmentWallMatchesBruteForce) {
   // The back wall and side walls of BARN seen from the start pose, against brute force.
   ObstacleField field;
   field.centres = core::containmentCylinders();
-  LidarConfig config;
+  core::LidarConfig config;
   LidarCaster caster(config, field);
   const core::Pose2 sensor{-2.0, 1.0, 3.0};  // facing the back wall at y = 0.075
   std::vector<double> ranges;
@@ -100,7 +100,7 @@ TEST(Lidar, CirclesWithTheirOwnRadiiMatchBruteForce) {
   ObstacleField field;
   field.centres = {{1.0, 0.2}, {1.3, 0.5}, {2.5, 0.0}, {0.3, -1.2}, {-1.5, 1.0}, {0.5, 2.0}, {-0.4, -0.6}};
   field.radii = {0.3, 0.05, 0.6, 0.2, 0.45, 0.1, 0.15};
-  LidarConfig config;
+  core::LidarConfig config;
   LidarCaster caster(config, field);
   const core::Pose2 sensor{0.1, -0.1, 0.4};
   std::vector<double> ranges;
@@ -120,7 +120,7 @@ TEST(Lidar, CirclesWithTheirOwnRadiiMatchBruteForce) {
 }
 
 TEST(Lidar, SeesNothingInTheBlindWedgeButCatchesCirclesStraddlingItsEdge) {
-  LidarConfig config;
+  core::LidarConfig config;
   std::vector<double> ranges;
   // Directly behind: invisible.
   ObstacleField behind;
@@ -141,7 +141,7 @@ TEST(Lidar, SeesNothingInTheBlindWedgeButCatchesCirclesStraddlingItsEdge) {
 TEST(Lidar, ReportsInfinityBeyondMaxRangeAndClampsBelowMinRange) {
   ObstacleField field;
   field.centres = {{40.0, 0.0}};
-  LidarConfig config;
+  core::LidarConfig config;
   LidarCaster far(config, field);
   std::vector<double> ranges;
   far.cast({0.0, 0.0, -config.angle_min}, ranges);
@@ -155,7 +155,7 @@ TEST(Lidar, ReportsInfinityBeyondMaxRangeAndClampsBelowMinRange) {
 TEST(Lidar, NoiseIsSeededAndHasTheConfiguredSpread) {
   const core::WorldSpec world = core::readWorldFile("worlds/world_000.yaml");
   const ObstacleField field = ObstacleField::fromWorld(world);
-  LidarConfig config;  // noise_stddev 0.001
+  core::LidarConfig config;  // noise_stddev 0.001
   LidarCaster caster(config, field);
   const core::Pose2 robot{-2.0, 3.0, 1.57};
   core::FastNoise a(7), b(7), c(8);
@@ -188,7 +188,7 @@ TEST(Lidar, NoiseIsSeededAndHasTheConfiguredSpread) {
 // cylinder on every beam, and the exact (double) distance to the cylinder Box2D saw must
 // equal the fast caster's range to 1e-5 m. Box2D's own ranges must agree to float precision.
 TEST(Lidar, AgreesWithBox2DRayCastInRealWorlds) {
-  LidarConfig config;
+  core::LidarConfig config;
   int compared = 0;
   int grazing = 0;
   double worst_exact = 0.0;
@@ -197,7 +197,7 @@ TEST(Lidar, AgreesWithBox2DRayCastInRealWorlds) {
                            "worlds/world_299.yaml"}) {
     const core::WorldSpec world = core::readWorldFile(name);
     const ObstacleField field = ObstacleField::fromWorld(world);
-    const Simulator reference(field, RobotConfig{}, PhysicsConfig{}, {-2.0, 3.0, 1.57});
+    const Simulator reference(field, core::RobotConfig{}, PhysicsConfig{}, {-2.0, 3.0, 1.57});
     LidarCaster caster(config, field);
     core::Rng rng(42);
     int poses = 0;

@@ -21,7 +21,7 @@ void drive(Simulator& sim, core::Twist cmd, double seconds) {
 
 TEST(Simulator, AcceleratesNoFasterThanTractionAndTheSpeedLimit) {
   const ObstacleField empty;
-  Simulator sim(empty, RobotConfig{}, PhysicsConfig{}, {0.0, 0.0, 0.0});
+  Simulator sim(empty, core::RobotConfig{}, PhysicsConfig{}, {0.0, 0.0, 0.0});
   double previous = 0.0;
   for (int k = 0; k < 200; ++k) {  // 1 s at 200 Hz
     sim.command({3.0, 0.0});       // above the 2 m/s limit
@@ -37,7 +37,7 @@ TEST(Simulator, AcceleratesNoFasterThanTractionAndTheSpeedLimit) {
 
 TEST(Simulator, YawRateFollowsTheControllerAccelerationLimit) {
   const ObstacleField empty;
-  Simulator sim(empty, RobotConfig{}, PhysicsConfig{}, {0.0, 0.0, 0.0});
+  Simulator sim(empty, core::RobotConfig{}, PhysicsConfig{}, {0.0, 0.0, 0.0});
   sim.command({0.0, 10.0});  // clamped to 4 rad/s
   sim.step();
   // 25 rad/s^2 * 0.005 s = 0.125 rad/s after one step (traction allows 40 rad/s^2).
@@ -48,7 +48,7 @@ TEST(Simulator, YawRateFollowsTheControllerAccelerationLimit) {
 
 TEST(Simulator, WithoutTurnSlipATurnInPlaceStaysOnTheSpot) {
   const ObstacleField empty;
-  RobotConfig robot;
+  core::RobotConfig robot;
   robot.turn_slip_speed = 0.0;
   Simulator sim(empty, robot, PhysicsConfig{}, {1.0, 2.0, 0.3}, 7);
   drive(sim, {0.0, 1.5}, 5.0);
@@ -60,7 +60,7 @@ TEST(Simulator, TurnSlipMakesATurningBodyWanderReproduciblyPerSeed) {
   // 5 s at 1.5 rad/s with 0.02 m/s of slip per rad/s: slip speed stddev 0.03 m/s, correlated
   // over 0.5 s, so the body wanders a few centimetres (random walk ~ sqrt(2 0.03^2 0.5 5) =
   // 0.047 m), never metres; the same seed wanders the same way, another seed differently.
-  RobotConfig robot;
+  core::RobotConfig robot;
   robot.turn_slip_speed = 0.02;
   const ObstacleField empty;
   const auto wander = [&](std::uint64_t seed) {
@@ -83,7 +83,7 @@ TEST(Simulator, TurnSlipMakesATurningBodyWanderReproduciblyPerSeed) {
 // slides at the traction limit, covering v^2 / (2 mu g).
 double stoppingDistance(double speed) {
   const ObstacleField empty;
-  Simulator sim(empty, RobotConfig{}, PhysicsConfig{}, {0.0, 0.0, 0.0});
+  Simulator sim(empty, core::RobotConfig{}, PhysicsConfig{}, {0.0, 0.0, 0.0});
   drive(sim, {speed, 0.0}, 2.0);
   const double x0 = sim.pose().x;
   drive(sim, {0.0, 0.0}, 2.0);
@@ -103,7 +103,7 @@ TEST(Simulator, BrakingFromTwoMetresPerSecondSlidesAsTractionPredicts) {
 
 TEST(Simulator, StopsWhenCommandsStopArriving) {
   const ObstacleField empty;
-  Simulator sim(empty, RobotConfig{}, PhysicsConfig{}, {0.0, 0.0, 0.0});
+  Simulator sim(empty, core::RobotConfig{}, PhysicsConfig{}, {0.0, 0.0, 0.0});
   sim.command({1.0, 0.0});
   for (int k = 0; k < 400; ++k) sim.step();  // 2 s without a new command
   // Driven for 0.25 s (accelerating at 4.905 m/s^2 for 0.204 s to 1 m/s), then braked.
@@ -117,7 +117,7 @@ TEST(Simulator, DrivingIntoACylinderIsACollisionAtTheFrontBumper) {
   // its surface at 2 - 0.075, i.e. robot centre x = 1.715.
   ObstacleField field;
   field.centres = {{2.0, 0.0}};
-  Simulator sim(field, RobotConfig{}, PhysicsConfig{}, {0.0, 0.0, 0.0});
+  Simulator sim(field, core::RobotConfig{}, PhysicsConfig{}, {0.0, 0.0, 0.0});
   while (!sim.collision() && sim.time() < 10.0) {
     sim.command({0.5, 0.0});
     sim.step();
@@ -136,7 +136,7 @@ TEST(Simulator, CirclesWithTheirOwnRadiiCollideAtTheirOwnSurface) {
   ObstacleField field;
   field.centres = {{1.0, 0.4}, {3.0, 0.0}};
   field.radii = {0.05, 0.5};
-  Simulator sim(field, RobotConfig{}, PhysicsConfig{}, {0.0, 0.0, 0.0});
+  Simulator sim(field, core::RobotConfig{}, PhysicsConfig{}, {0.0, 0.0, 0.0});
   while (!sim.collision() && sim.time() < 10.0) {
     sim.command({0.5, 0.0});
     sim.step();
@@ -151,7 +151,7 @@ TEST(Simulator, CirclesWithTheirOwnRadiiCollideAtTheirOwnSurface) {
 double sideClearanceRun(double gap) {
   ObstacleField field;
   field.centres = {{1.5, 0.207795 + 0.075 + gap}};
-  Simulator sim(field, RobotConfig{}, PhysicsConfig{}, {0.0, 0.0, 0.0});
+  Simulator sim(field, core::RobotConfig{}, PhysicsConfig{}, {0.0, 0.0, 0.0});
   drive(sim, {1.0, 0.0}, 3.0);
   return sim.collision() ? 1.0 : 0.0;
 }
@@ -163,7 +163,7 @@ TEST(Simulator, BrushingPastACylinderIsNoCollisionButTouchingIs) {
 }
 
 TEST(Simulator, RectangleCircleOverlapIsExactAtCorners) {
-  const RobotRect rect{0.0, 0.0, 0.21, 0.155};
+  const core::RobotRect rect{0.0, 0.0, 0.21, 0.155};
   const core::Pose2 pose{0.0, 0.0, 0.0};
   // A circle on the corner's diagonal: the corner (0.21, 0.155) is at distance
   // |c - corner| from the centre; overlap iff that is < r.
@@ -181,7 +181,7 @@ TEST(Simulator, SameCommandsGiveTheSamePoseBitForBit) {
   ObstacleField field;
   field.centres = {{5.0, 5.0}};
   const auto run = [&] {
-    Simulator sim(field, RobotConfig{}, PhysicsConfig{}, {0.1, 0.2, 0.3});
+    Simulator sim(field, core::RobotConfig{}, PhysicsConfig{}, {0.1, 0.2, 0.3});
     for (int k = 0; k < 1000; ++k) {
       sim.command({1.5 * std::sin(0.01 * k), 2.0 * std::cos(0.013 * k)});
       sim.step();
@@ -199,7 +199,7 @@ TEST(Simulator, TurningAtSpeedSlidesSideways) {
   // At 2 m/s and 4 rad/s the centripetal demand v w = 8 m/s^2 exceeds mu g = 4.9 m/s^2, so
   // the body cannot follow the heading: a sideways velocity appears.
   const ObstacleField empty;
-  Simulator sim(empty, RobotConfig{}, PhysicsConfig{}, {0.0, 0.0, 0.0});
+  Simulator sim(empty, core::RobotConfig{}, PhysicsConfig{}, {0.0, 0.0, 0.0});
   drive(sim, {2.0, 0.0}, 1.0);
   drive(sim, {2.0, 4.0}, 0.3);
   EXPECT_GT(std::abs(sim.sidewaysSpeed()), 0.1);

@@ -15,15 +15,15 @@
 #include <string_view>
 #include <vector>
 
+#include "barn/bench/odometry_drift.hpp"
 #include "barn/controllers/controller.hpp"
 #include "barn/core/config.hpp"
 #include "barn/core/protocol.hpp"
 #include "barn/core/rng.hpp"
+#include "barn/core/robot_config.hpp"
 #include "barn/core/world.hpp"
-#include "barn/bench/odometry_drift.hpp"
 #include "barn/sim/lidar.hpp"
 #include "barn/sim/obstacle_field.hpp"
-#include "barn/sim/robot_config.hpp"
 #include "barn/sim/simulator.hpp"
 
 namespace barn::bench {
@@ -55,8 +55,8 @@ struct LatencyConfig {
 struct EpisodeConfig {
   std::string protocol = "barn2023";  // protocol preset (barn2023, barn2024)
   sim::PhysicsConfig physics;
-  sim::RobotConfig robot;
-  sim::LidarConfig lidar;
+  core::RobotConfig robot;
+  core::LidarConfig lidar;
   OdometryNoise odometry;
   LatencyConfig latency;
 

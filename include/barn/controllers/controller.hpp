@@ -14,9 +14,9 @@
 
 #include <Eigen/Core>
 
+#include "barn/core/lidar_config.hpp"
+#include "barn/core/robot_config.hpp"
 #include "barn/core/types.hpp"
-#include "barn/sim/lidar.hpp"
-#include "barn/sim/robot_config.hpp"
 
 namespace barn::controllers {
 
@@ -26,8 +26,8 @@ struct EpisodeInfo {
   Eigen::Vector2d goal = Eigen::Vector2d::Zero();  // [m] odom frame
   double goal_tolerance = 1.0;         // [m] success radius
   std::uint64_t seed = 0;              // for any randomness the controller declares
-  sim::LidarConfig lidar;              // sensor geometry: mount offset, beam layout, range
-  sim::RobotConfig robot;              // speed limits and the planning footprint
+  core::LidarConfig lidar;              // sensor geometry: mount offset, beam layout, range
+  core::RobotConfig robot;              // speed limits and the planning footprint
 };
 
 /// One control tick's input.

@@ -10,9 +10,9 @@
 
 #include <Eigen/Core>
 
+#include "barn/core/lidar_config.hpp"
 #include "barn/core/types.hpp"
 #include "barn/nav/costmap.hpp"
-#include "barn/sim/lidar.hpp"
 
 namespace barn::controllers {
 
@@ -29,7 +29,7 @@ struct Box {
 Box footprintBox(double length, double width, double offset);
 
 /// Every finite return of the scan as a point in the robot frame.
-std::vector<Eigen::Vector2d> scanPoints(const core::LaserScan& scan, const sim::LidarConfig& lidar);
+std::vector<Eigen::Vector2d> scanPoints(const core::LaserScan& scan, const core::LidarConfig& lidar);
 
 /// Footprint inflation (FI): true if any point lies inside the rectangle grown by the offset.
 /// A direct rectangle test, the whole of what the original did with a polygon library.
@@ -60,7 +60,7 @@ struct FrontCheck {
   double speed_gain = 0.25;    // [s] code: linear_v_gain
   double rotate_gain = 0.2;    // [s] code: rotate_w_gain
 };
-bool frontCheckHit(const core::LaserScan& scan, const sim::LidarConfig& lidar, const core::Twist& command,
+bool frontCheckHit(const core::LaserScan& scan, const core::LidarConfig& lidar, const core::Twist& command,
                    const FrontCheck& check);
 
 /// The LiDAR ring of the team's code (`is_collide`): true if any raw range (from the sensor, not

@@ -41,7 +41,7 @@ struct Recording {
   std::vector<MotionRecord> records;
 };
 
-/// Drives the default Jackal (sim::RobotConfig, sim::PhysicsConfig) in an empty world for
+/// Drives the default Jackal (core::RobotConfig, sim::PhysicsConfig) in an empty world for
 /// `config.duration` seconds. Deterministic: the same config gives the same records bit for bit.
 Recording collectExploration(const CollectConfig& config, const std::string& name);
 

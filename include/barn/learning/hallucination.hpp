@@ -4,7 +4,7 @@
 /// Method (a geometric stand-in for the original's learned hallucination model, §2.2–2.3).
 /// For a record at pose P, in P's frame:
 ///  1. The swept footprint S is the union of the robot's planning footprint (0.508 x 0.430 m,
-///     sim::RobotConfig::footprint_*) at the poses of the next `horizon` seconds, with poses
+///     core::RobotConfig::footprint_*) at the poses of the next `horizon` seconds, with poses
 ///     interpolated so that no footprint point moves more than `sweep_step` between two of
 ///     them. The planning footprint contains the collision shape (0.458 x 0.416 m), so an
 ///     obstacle clear of it is clear in the simulator too, and it is what the navigation stack
@@ -48,11 +48,11 @@
 #include <Eigen/Core>
 
 #include "barn/core/rng.hpp"
+#include "barn/core/robot_config.hpp"
 #include "barn/core/types.hpp"
 #include "barn/learning/exploration.hpp"
 #include "barn/learning/lflh_config.hpp"
 #include "barn/sim/lidar.hpp"
-#include "barn/sim/robot_config.hpp"
 
 namespace barn::learning {
 
@@ -117,11 +117,11 @@ struct Demonstration {
 /// or if its goal is closer than min_goal_distance (the robot barely moves).
 std::optional<Demonstration> hallucinate(const Recording& recording, std::size_t record, int render,
                                          const HallucinationConfig& config,
-                                         const sim::RobotConfig& robot = {}, const sim::LidarConfig& lidar = {});
+                                         const core::RobotConfig& robot = {}, const core::LidarConfig& lidar = {});
 
 /// The scan of `obstacles` from a robot at the origin, cast by sim::LidarCaster; no noise if
 /// `noise` is null.
-std::vector<double> renderScan(const std::vector<Obstacle>& obstacles, const sim::LidarConfig& lidar,
+std::vector<double> renderScan(const std::vector<Obstacle>& obstacles, const core::LidarConfig& lidar,
                                core::FastNoise* noise);
 
 /// Obstacles mirrored across the robot's x axis (y -> -y).
@@ -149,6 +149,6 @@ void mirrorExample(float* input, float* target, int beams);
 /// Every demonstration of the recording (records 0, stride, 2 stride, ..., renders_per_sample
 /// each). Deterministic: each draw is seeded from (seed, record, render) alone.
 Dataset buildDataset(const Recording& recording, const HallucinationConfig& config, double range_clip,
-                     const sim::RobotConfig& robot = {}, const sim::LidarConfig& lidar = {});
+                     const core::RobotConfig& robot = {}, const core::LidarConfig& lidar = {});
 
 }  // namespace barn::learning

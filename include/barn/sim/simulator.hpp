@@ -28,10 +28,10 @@
 
 #include "barn/core/errors.hpp"
 #include "barn/core/rng.hpp"
+#include "barn/core/robot_config.hpp"
 #include "barn/core/types.hpp"
 #include "barn/sim/lidar.hpp"
 #include "barn/sim/obstacle_field.hpp"
-#include "barn/sim/robot_config.hpp"
 
 namespace barn::sim {
 
@@ -57,8 +57,8 @@ struct CollisionInfo {
 
 class Simulator {
  public:
-  /// `seed` drives the robot's random turn slip (RobotConfig::turn_slip_speed), if any.
-  Simulator(const ObstacleField& field, const RobotConfig& robot, const PhysicsConfig& physics,
+  /// `seed` drives the robot's random turn slip (core::RobotConfig::turn_slip_speed), if any.
+  Simulator(const ObstacleField& field, const core::RobotConfig& robot, const PhysicsConfig& physics,
             const core::Pose2& start, std::uint64_t seed = 0);
   ~Simulator();
   Simulator(const Simulator&) = delete;
@@ -88,7 +88,7 @@ class Simulator {
     std::vector<double> ranges;  // [m] +inf for no hit within range_max
     std::vector<int> hit;        // index into ObstacleField::centres, -1 for no hit
   };
-  ReferenceScan referenceScan(const LidarConfig& lidar, const core::Pose2& sensor_pose) const;
+  ReferenceScan referenceScan(const core::LidarConfig& lidar, const core::Pose2& sensor_pose) const;
 
   /// True if the robot's collision shape at `pose` overlaps a cylinder (exact geometry).
   bool overlaps(const core::Pose2& pose) const;
@@ -98,9 +98,9 @@ class Simulator {
   std::optional<CollisionInfo> findCollision(const core::Pose2& pose) const;
 
   const ObstacleField* field_;
-  RobotConfig robot_;
+  core::RobotConfig robot_;
   PhysicsConfig physics_;
-  std::vector<RobotRect> rects_;
+  std::vector<core::RobotRect> rects_;
   std::unique_ptr<Box2D> box2d_;
 
   double time_ = 0.0;
@@ -116,7 +116,7 @@ class Simulator {
 };
 
 /// Exact overlap of a rectangle (in `pose`'s frame) with a circle in the world frame.
-bool rectOverlapsCircle(const core::Pose2& pose, const RobotRect& rect, const Eigen::Vector2d& centre, double radius);
+bool rectOverlapsCircle(const core::Pose2& pose, const core::RobotRect& rect, const Eigen::Vector2d& centre, double radius);
 
 /// Box2D 2.4.1 initialises a static table on its first contact; call once before running
 /// simulators on several threads.

@@ -1,9 +1,9 @@
-#include "barn/sim/robot_config.hpp"
+#include "barn/core/robot_config.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-namespace barn::sim {
+namespace barn::core {
 
 std::vector<RobotRect> RobotConfig::collisionRects() const {
   std::vector<RobotRect> rects;
@@ -21,7 +21,7 @@ double RobotConfig::collisionRadius() const {
   return radius;
 }
 
-void validate(const RobotConfig& c, core::Errors& errors, const std::string& prefix) {
+void validate(const RobotConfig& c, Errors& errors, const std::string& prefix) {
   const auto positive = [&](double value, const char* field) {
     errors.check(value > 0.0, prefix + "." + field, "must be > 0");
   };
@@ -47,4 +47,4 @@ void validate(const RobotConfig& c, core::Errors& errors, const std::string& pre
   errors.check(c.wheel_offset_y >= 0.0, prefix + ".wheel_offset_y", "must be >= 0");
 }
 
-}  // namespace barn::sim
+}  // namespace barn::core

@@ -1,11 +1,16 @@
 #pragma once
-/// The simulated Clearpath Jackal: collision shape, drive limits and traction.
+/// The Clearpath Jackal's description: collision shape, drive limits, planning footprint,
+/// traction and slip.
+///
+/// It lives in core, not sim, because controllers plan with the footprint and drive limits
+/// (EpisodeInfo), and a controller must build without the simulator. sim::Simulator drives it.
 
+#include <string>
 #include <vector>
 
 #include "barn/core/errors.hpp"
 
-namespace barn::sim {
+namespace barn::core {
 
 /// An axis-aligned rectangle in the robot frame (x forward, y left).
 struct RobotRect {
@@ -78,6 +83,6 @@ struct RobotConfig {
 };
 
 /// Records every out-of-range field of `config` (prefix: the config's key path).
-void validate(const RobotConfig& config, core::Errors& errors, const std::string& prefix = "robot");
+void validate(const RobotConfig& config, Errors& errors, const std::string& prefix = "robot");
 
-}  // namespace barn::sim
+}  // namespace barn::core
