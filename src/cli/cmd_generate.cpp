@@ -3,6 +3,9 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <set>
+#include <string>
+#include <vector>
 
 #include "barn/core/errors.hpp"
 #include "barn/core/text_io.hpp"
@@ -20,7 +23,19 @@ struct GenerateOptions {
   std::uint64_t seed = generator::SweepConfig{}.base_seed;
   int worlds_per_set = generator::SweepConfig{}.worlds_per_set;
   bool check = false;
+  bool force = false;
 };
+
+// The world files and index already in `dir` (a world set written before).
+std::vector<std::filesystem::path> existingWorldSetFiles(const std::filesystem::path& dir) {
+  std::vector<std::filesystem::path> files;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name == "index.csv" || (name.starts_with("world_") && name.ends_with(".yaml"))) files.push_back(entry.path());
+  }
+  return files;
+}
 
 // Compares the freshly generated files with those in `dir`; prints every difference.
 int checkAgainstFolder(const std::filesystem::path& dir, const std::vector<core::WorldSpec>& worlds) {
@@ -57,6 +72,8 @@ void addGenerateCommand(CLI::App& app, CommandContext& context) {
   cmd->add_option("--worlds-per-set", options->worlds_per_set, "Accepted worlds per parameter set")
       ->check(CLI::Range(1, 10000))
       ->capture_default_str();
+  cmd->add_flag("--force", options->force,
+                "Replace the world set already in --out (its world files not in the new set are deleted)");
   cmd->add_flag("--check", options->check,
                 "Do not write: compare the generated files with those in --out byte for byte (exit 1 on a difference)");
   cmd->callback([options, &context] {
@@ -80,8 +97,21 @@ void addGenerateCommand(CLI::App& app, CommandContext& context) {
       }
       return;
     }
+    // A set is written whole or not at all: into a folder holding another set only with
+    // --force, and then none of the old set's files stay behind (a smaller set written over a
+    // larger one would otherwise leave a mixed folder that `--worlds all` runs).
+    const std::vector<std::filesystem::path> old_files = existingWorldSetFiles(options->out);
+    if (!old_files.empty() && !options->force)
+      throw core::InputError(options->out + ": already holds a world set (" + std::to_string(old_files.size()) +
+                             " files); --force replaces it, or choose another --out");
     core::writeWorldSet(options->out, worlds);
-    std::printf("wrote %zu world files and index.csv to %s\n", worlds.size(), options->out.c_str());
+    std::set<std::string> written = {"index.csv"};
+    for (const auto& w : worlds) written.insert(core::worldFileName(w.id));
+    std::size_t removed = 0;
+    for (const auto& file : old_files)
+      if (!written.count(file.filename().string())) removed += std::filesystem::remove(file) ? 1 : 0;
+    std::printf("wrote %zu world files and index.csv to %s%s\n", worlds.size(), options->out.c_str(),
+                removed ? (" (removed " + std::to_string(removed) + " files of the old set)").c_str() : "");
   });
 }
 

@@ -246,6 +246,20 @@ TEST_F(BarnCli, GenerateWritesTheCommittedSet) {
   EXPECT_EQ(differing, 0);
 }
 
+TEST_F(BarnCli, GenerateNeverLeavesAMixedWorldFolder) {
+  // A smaller set over a larger one: refused without --force; with it, no old file stays.
+  const fs::path out = dir_ / "generated";
+  ASSERT_EQ(run("generate --worlds-per-set 2 --out " + quote(out)).exit_code, 0);
+  ASSERT_EQ(fileNames(out).size(), 25u);
+  const RunResult refused = run("generate --worlds-per-set 1 --out " + quote(out));
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
+  EXPECT_THAT(refused.output, HasSubstr("already holds a world set"));
+  EXPECT_EQ(fileNames(out).size(), 25u);
+  const RunResult forced = run("generate --worlds-per-set 1 --force --out " + quote(out));
+  ASSERT_EQ(forced.exit_code, 0) << forced.output;
+  EXPECT_EQ(fileNames(out).size(), 13u);  // 12 worlds + index.csv, nothing of the old set
+}
+
 // ---------------------------------------------------------------------------------------------
 // import-barn (needs the original dataset in ../shared/barn_dataset)
 
