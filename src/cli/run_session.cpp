@@ -107,6 +107,14 @@ Session newSession(const std::string& controller_name, const core::ConfigNode& c
                              session.dir.string() + " or choose another --out");
   };
   refuseAnExistingRun();  // before any work, for a quick answer
+  // A bound on one record's bookkeeping (a few hundred bytes per episode, set up before the
+  // first one runs): beyond it, shards (--shard K/N) split the run across processes.
+  constexpr std::size_t kMaxEpisodesPerRecord = 1'000'000;
+  const std::size_t episodes = loaded.worlds.size() * static_cast<std::size_t>(std::max(trials, 0));
+  if (episodes > kMaxEpisodesPerRecord)
+    throw core::InputError("--trials: " + std::to_string(loaded.worlds.size()) + " worlds x " + std::to_string(trials) +
+                           " trials = " + std::to_string(episodes) + " episodes, more than one record holds (" +
+                           std::to_string(kMaxEpisodesPerRecord) + "); split the run with --shard K/N");
   session.spec.make_controller = controllers::makeControllerFactory(controller_config);
   session.spec.episode = episode;
   bench::RunManifest& m = session.manifest;

@@ -327,6 +327,14 @@ TEST_F(BarnRun, ASecondProcessOnTheSameRecordIsRefused) {
   EXPECT_EQ(run(kSmallRun + " --out " + quote(out)).exit_code, 0);
 }
 
+TEST_F(BarnRun, AnEnormousRunIsRefusedAtOnceWithShardsSuggested) {
+  // 300 worlds x 100000 trials would set up 30 million episodes before the first one.
+  const RunResult r = run("run --controller straight --worlds all --trials 100000 --out " + quote(dir_ / "r"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, AllOf(HasSubstr("30000000 episodes"), HasSubstr("--shard")));
+  EXPECT_FALSE(fs::exists(dir_ / "r"));
+}
+
 TEST_F(BarnRun, ShardWithNoEpisodesStillMerges) {
   // 1 world x 1 trial over 3 shards: shards 2 and 3 hold no episode at all.
   const std::string args = "run --controller pure_pursuit --worlds 0 --trials 1 --jobs 1";
