@@ -14,10 +14,14 @@
 namespace barn::core {
 
 std::string readTextFile(const std::filesystem::path& path) {
+  // A folder opens as a stream on Linux and reads as nothing: it would pass as an empty file.
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw InputError(path.string() + ": is a folder, not a file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string() + ": cannot read (missing or not readable)");
   std::ostringstream buffer;
   buffer << in.rdbuf();
+  if (in.bad()) throw InputError(path.string() + ": cannot read (" + std::strerror(errno) + ")");
   return buffer.str();
 }
 

@@ -1,0 +1,63 @@
+#include "barn/core/text_io.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <unistd.h>
+
+#include "barn/core/errors.hpp"
+
+namespace barn::core {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+fs::path scratch(const std::string& stem) {
+  const fs::path dir = fs::temp_directory_path() / (stem + "_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+TEST(TextIo, AFolderIsNotReadAsAnEmptyFile) {
+  const fs::path dir = scratch("barn_text_io_folder");
+  try {
+    readTextFile(dir);
+    FAIL() << "a folder was read as a file";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("is a folder"));
+  }
+  fs::remove_all(dir);
+}
+
+TEST(TextIo, AtomicWritesLandWholeAndLeaveNoStagingBehind) {
+  const fs::path dir = scratch("barn_text_io_atomic");
+  writeFileAtomic(dir / "a.txt", "first");
+  writeFileAtomic(dir / "a.txt", "second");
+  EXPECT_EQ(readTextFile(dir / "a.txt"), "second");
+  writeFilesAtomic(dir / "set", {{"x", "1"}, {"y", "22"}});
+  EXPECT_EQ(readTextFile(dir / "set" / "y"), "22");
+  int entries = 0;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir / "set")) ++entries;
+  EXPECT_EQ(entries, 2);  // x and y, no staging folder
+  fs::remove_all(dir);
+}
+
+TEST(TextIo, AFailedWriteIsAnIoErrorWithTheSystemsReason) {
+  // A path below a regular file cannot be created: the error names it and says why.
+  const fs::path dir = scratch("barn_text_io_fail");
+  writeFileAtomic(dir / "file", "x");
+  try {
+    writeFileAtomic(dir / "file" / "below", "data");
+    FAIL() << "no error";
+  } catch (const IoError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("below"));
+    EXPECT_THAT(e.what(), HasSubstr("Not a directory"));
+  }
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace barn::core
