@@ -13,6 +13,7 @@
 #include "barn/bench/batch.hpp"
 #include "barn/bench/episode.hpp"
 #include "barn/bench/results_io.hpp"
+#include "barn/bench/run_record.hpp"
 #include "barn/bench/world_selection.hpp"
 #include "barn/controllers/external_protocol.hpp"
 #include "barn/core/errors.hpp"
@@ -120,6 +121,37 @@ class PyEpisode {
   double dt_;
 };
 
+// Writes the complete record of a Python controller's run, as barn run writes one: the
+// manifest (what was run), episodes.csv (sorted) and summary.json. `rows` are the episodes'
+// csv_row() lines; they are checked against the record (seeds, no episode twice, none missing).
+void writeRecord(const std::string& out, const std::string& controller, const std::string& controller_config,
+                 const std::string& worlds_spec, const std::string& world_dir, const std::string& sim_config,
+                 const std::string& protocol, int trials, std::uint64_t seed, const std::vector<std::string>& rows,
+                 int jobs, double wall_time_s) {
+  const bench::LoadedWorlds loaded = bench::loadWorlds(worlds_spec, world_dir);
+  bench::RunManifest m;
+  m.controller = controller;
+  m.controller_config = controller_config;
+  m.episode_config = core::writeConfig(loadEpisodeConfig(sim_config, protocol));
+  m.worlds_spec = worlds_spec;
+  m.worlds_folder = loaded.folder.string();
+  for (const auto& w : loaded.worlds) m.world_ids.push_back(w.id);
+  m.worlds_digest = bench::worldsDigest(loaded.worlds);
+  m.trials = trials;
+  m.seed = seed;
+  m.episodes_total = rows.size();
+  m.threads = jobs;
+  m.wall_time_s = wall_time_s;
+  std::vector<bench::EpisodeResult> results;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    std::string line = rows[i];
+    while (!line.empty() && (line.back() == '\n' || line.back() == '\r')) line.pop_back();
+    results.push_back(bench::parseEpisodeRow(line, out + " row " + std::to_string(i + 1)));
+  }
+  bench::checkRows(m, results, out, {}, true);
+  bench::writeCompleteRecord(out, m, results, loaded.worlds);
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_core, m) {
@@ -147,5 +179,9 @@ PYBIND11_MODULE(_core, m) {
   m.def("episode_seed", &bench::episodeSeed, py::arg("run_seed"), py::arg("world_id"), py::arg("trial"),
         "The seed `barn run --seed run_seed` gives this episode");
   m.def("episodes_csv_header", &bench::episodesCsvHeader);
+  m.def("write_record", &writeRecord, py::arg("out"), py::arg("controller"), py::arg("controller_config"),
+        py::arg("worlds_spec"), py::arg("world_dir"), py::arg("sim_config"), py::arg("protocol"), py::arg("trials"),
+        py::arg("seed"), py::arg("rows"), py::arg("jobs"), py::arg("wall_time_s"),
+        "Writes a complete run record (manifest.yaml, episodes.csv, summary.json) as barn run does");
   m.attr("SOURCE_DIR") = BARN_SOURCE_DIR;
 }

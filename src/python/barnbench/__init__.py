@@ -21,6 +21,7 @@ import math
 import multiprocessing
 import os
 import subprocess
+import time
 
 import numpy as np
 
@@ -125,8 +126,9 @@ def run(controller, worlds="test50", world_dir=None, trials=1, jobs=2, seed=0, p
     (docs/external_controller.md); `obs` is Env's observation with the scan as float64, the
     exact doubles C++ and external controllers see.
     `config` is a controller config file for a built-in run (barn run --config; e.g. an
-    `external` controller). Returns the summary (mean score, success, collision, timeout
-    rates, episodes)."""
+    `external` controller). Either way `out` holds barn run's record (manifest.yaml,
+    episodes.csv, summary.json; `barn compare` and `barn plot scores` read it) and its summary
+    is returned."""
     if out is None:
         raise InputError("out: a folder for the record is required")
     if isinstance(controller, str):
@@ -178,7 +180,7 @@ def _run_python(controller_class, worlds, world_dir, trials, jobs, seed, protoco
     ids, folder = _core.select_worlds(str(worlds), str(world_dir))
     tasks = [(controller_class, w, folder, sim_config, protocol, _core.episode_seed(seed, w, t), t)
              for w in ids for t in range(trials)]
-    os.makedirs(out, exist_ok=True)
+    started = time.monotonic()
     if jobs == 1:
         finished = [_run_one(t) for t in tasks]
     else:
@@ -186,24 +188,9 @@ def _run_python(controller_class, worlds, world_dir, trials, jobs, seed, protoco
         # (world, seed), so the record does not depend on the number of jobs.
         with multiprocessing.get_context("fork").Pool(jobs) as pool:
             finished = pool.map(_run_one, tasks, chunksize=1)
-    order = {w: i for i, w in enumerate(ids)}
-    finished.sort(key=lambda r: (order[r[0]], r[1]))
-    partial = os.path.join(out, "episodes.csv.partial")
-    with open(partial, "w") as f:
-        f.write(_core.episodes_csv_header())
-        for _, _, row, _ in finished:
-            f.write(row)
-    os.replace(partial, os.path.join(out, "episodes.csv"))
-    results = [r for _, _, _, r in finished]
-    n = len(results)
-    summary = {
-        "episodes": n,
-        "score": sum(r["score"] for r in results) / n,
-        "success": sum(r["outcome"] == "success" for r in results) / n,
-        "collision": sum(r["outcome"] == "collision" for r in results) / n,
-        "timeout": sum(r["outcome"] == "timeout" for r in results) / n,
-        "error": sum(r["outcome"] == "error" for r in results) / n,
-    }
-    with open(os.path.join(out, "summary.json"), "w") as f:
-        json.dump(summary, f, indent=2)
-    return summary
+    rows = [row for _, _, row, _ in finished]
+    name = f"{controller_class.__module__}.{controller_class.__qualname__}"
+    _core.write_record(str(out), name, f"type: python\npython:\n  class: {name}\n", str(worlds), str(world_dir),
+                       sim_config, protocol, trials, seed, rows, jobs, time.monotonic() - started)
+    with open(os.path.join(out, "summary.json")) as f:
+        return json.load(f)

@@ -94,6 +94,9 @@ def test_a_python_controller_and_its_cpp_twin_give_identical_records(tmp_path):
     py = (tmp_path / "py" / "episodes.csv").read_text()
     assert cpp == py
     assert cpp.count("\n") == 1 + 5 * 2
+    # The whole record, as barn run writes it: the summary too, and a manifest naming the class.
+    assert (tmp_path / "cpp" / "summary.json").read_text() == (tmp_path / "py" / "summary.json").read_text()
+    assert "class: test_env.StraightTwin" in (tmp_path / "py" / "manifest.yaml").read_text()
 
 
 def test_a_python_controllers_record_does_not_depend_on_jobs(tmp_path):
@@ -116,7 +119,7 @@ class Crashes:
 def test_a_failing_python_controller_fails_only_its_own_episodes(tmp_path):
     summary = barnbench.run(Crashes, worlds="0,100", jobs=2, out=str(tmp_path / "r"))
     rows = (tmp_path / "r" / "episodes.csv").read_text().splitlines()
-    assert summary["episodes"] == 2 and summary["error"] == 0.5
+    assert summary["summary"]["episodes"] == 2 and summary["summary"]["error_rate"] == 0.5
     assert "controller threw: no map" in rows[2] and rows[1].split(",")[3] == "timeout"
 
 
