@@ -189,6 +189,21 @@ std::vector<core::WorldSpec> loadManifestWorlds(const RunManifest& manifest) {
   return worlds;
 }
 
+RunManifest newManifest(const std::string& controller, const std::string& controller_config, const EpisodeConfig& episode,
+                        const LoadedWorlds& worlds, const std::string& worlds_spec, int trials, std::uint64_t seed) {
+  RunManifest m;
+  m.controller = controller;
+  m.controller_config = controller_config;
+  m.episode_config = core::writeConfig(episode);
+  m.worlds_spec = worlds_spec;
+  m.worlds_folder = worlds.folder.string();
+  for (const auto& w : worlds.worlds) m.world_ids.push_back(w.id);
+  m.worlds_digest = worldsDigest(worlds.worlds);
+  m.trials = trials;
+  m.seed = seed;
+  return m;
+}
+
 void checkRows(const RunManifest& manifest, const std::vector<EpisodeResult>& rows, const std::string& where,
                const std::vector<std::size_t>& allowed, bool complete) {
   const std::size_t trials = static_cast<std::size_t>(std::max(manifest.trials, 0));

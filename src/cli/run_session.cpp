@@ -117,16 +117,9 @@ Session newSession(const std::string& controller_name, const core::ConfigNode& c
                            std::to_string(kMaxEpisodesPerRecord) + "); split the run with --shard K/N");
   session.spec.make_controller = controllers::makeControllerFactory(controller_config);
   session.spec.episode = episode;
+  session.manifest = bench::newManifest(controller_name, controllers::effectiveControllerConfig(controller_config), episode,
+                                       loaded, worlds_spec, trials, seed);
   bench::RunManifest& m = session.manifest;
-  m.controller = controller_name;
-  m.controller_config = controllers::effectiveControllerConfig(controller_config);
-  m.episode_config = core::writeConfig(episode);
-  m.worlds_spec = worlds_spec;
-  m.worlds_folder = loaded.folder.string();
-  for (const auto& w : loaded.worlds) m.world_ids.push_back(w.id);
-  m.worlds_digest = bench::worldsDigest(loaded.worlds);
-  m.trials = trials;
-  m.seed = seed;
   m.shard_index = shard_index;
   m.shard_count = shard_count;
   session.worlds = loaded.worlds;

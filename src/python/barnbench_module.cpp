@@ -129,16 +129,8 @@ void writeRecord(const std::string& out, const std::string& controller, const st
                  const std::string& protocol, int trials, std::uint64_t seed, const std::vector<std::string>& rows,
                  int jobs, double wall_time_s) {
   const bench::LoadedWorlds loaded = bench::loadWorlds(worlds_spec, world_dir);
-  bench::RunManifest m;
-  m.controller = controller;
-  m.controller_config = controller_config;
-  m.episode_config = core::writeConfig(loadEpisodeConfig(sim_config, protocol));
-  m.worlds_spec = worlds_spec;
-  m.worlds_folder = loaded.folder.string();
-  for (const auto& w : loaded.worlds) m.world_ids.push_back(w.id);
-  m.worlds_digest = bench::worldsDigest(loaded.worlds);
-  m.trials = trials;
-  m.seed = seed;
+  bench::RunManifest m = bench::newManifest(controller, controller_config, loadEpisodeConfig(sim_config, protocol), loaded,
+                                            worlds_spec, trials, seed);
   m.episodes_total = rows.size();
   m.threads = jobs;
   m.wall_time_s = wall_time_s;

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "barn/bench/episode.hpp"
+#include "barn/bench/world_selection.hpp"
 
 namespace barn::bench {
 
@@ -55,6 +56,12 @@ struct RunManifest {
   double wall_time_s = 0.0;  // summed over resumed sessions
   double sim_time_s = 0.0;
 };
+
+/// The manifest of a new run: what is run (controller name and effective config text, the
+/// episode config, the worlds loaded from `worlds_spec`, trials, seed); the rest left at its
+/// defaults for the caller.
+RunManifest newManifest(const std::string& controller, const std::string& controller_config, const EpisodeConfig& episode,
+                        const LoadedWorlds& worlds, const std::string& worlds_spec, int trials, std::uint64_t seed);
 
 /// The manifest's text. An imported record (source set) has no seed or controller_config
 /// lines; a non-finite sim_time_s (unknown) is left out. Missing fields read back as defaults.
