@@ -471,6 +471,27 @@ TEST_F(BarnRunWorldFolder, KeepGoingSkipsTheBrokenWorld) {
   EXPECT_THAT(readFile(out / "manifest.yaml"), HasSubstr("world_ids: [0, 2]"));
 }
 
+TEST_F(BarnRunWorldFolder, KeepGoingSkipsAWorldWithAListAsAKey) {
+  // "? grid:" makes the whole grid block (a map) the key of an entry: a key yaml-cpp cannot
+  // convert to a name, which used to stop the whole run with exit code 1 even with --keep-going.
+  fs::copy_file(kWorlds / "world_001.yaml", worlds_ / "world_001.yaml", fs::copy_options::overwrite_existing);
+  const std::string text = readFile(worlds_ / "world_002.yaml");
+  const auto grid = text.find("\ngrid:");
+  ASSERT_NE(grid, std::string::npos);
+  writeFile(worlds_ / "world_002.yaml", text.substr(0, grid + 1) + "? " + text.substr(grid + 1));
+  const RunResult rejected = run("run --controller pure_pursuit --trials 1 --worlds " + quote(worlds_) + " --out " +
+                                 quote(dir_ / "rejected"));
+  EXPECT_EQ(rejected.exit_code, 2) << rejected.output;
+  EXPECT_THAT(rejected.output, AllOf(HasSubstr("world_002.yaml: "), HasSubstr("line "), Not(HasSubstr("bad conversion"))));
+
+  const fs::path out = dir_ / "o";
+  const RunResult r = run("run --controller pure_pursuit --trials 1 --keep-going --worlds " + quote(worlds_) +
+                          " --out " + quote(out));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, AllOf(HasSubstr("skipped (--keep-going)"), HasSubstr("world_002.yaml: line ")));
+  EXPECT_THAT(readFile(out / "manifest.yaml"), HasSubstr("world_ids: [0, 1]"));
+}
+
 TEST_F(BarnRunWorldFolder, KeepGoingRunCanBeResumed) {
   const fs::path out = dir_ / "o";
   const RunResult stopped = run("run --controller pure_pursuit --trials 2 --jobs 1 --stop-after 1 --keep-going --worlds " +
