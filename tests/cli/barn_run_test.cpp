@@ -523,6 +523,22 @@ TEST_F(BarnRun, ControllerConfigWithAnUnknownKeyIsRejectedNamingIt) {
                  {"pure_pursuit.sped"});
 }
 
+TEST_F(BarnRun, ControllerConfigWithAListAsAKeyIsRejectedNamingFileAndLine) {
+  const fs::path config = dir_ / "pp.yaml";
+  writeFile(config, "type: pure_pursuit\npure_pursuit: {speed: 1}\n[1]: 2\n");
+  expectRejected("run --controller pure_pursuit --worlds 0 --config " + quote(config), dir_ / "o",
+                 {"pp.yaml: line 3: a key is a list or a map"});
+}
+
+TEST_F(BarnRun, PolicyThatIsADeviceOrAFolderIsRejectedNamingIt) {
+  // policy: /dev/zero used to read forever and end in std::bad_alloc.
+  for (const std::string& policy : {std::string("/dev/zero"), dir_.string()}) {
+    const fs::path config = dir_ / "lflh.yaml";
+    writeFile(config, "type: lflh\nlflh: {policy: " + policy + "}\n");
+    expectRejected("run --controller lflh --worlds 0 --config " + quote(config), dir_ / "o", {policy + ": "});
+  }
+}
+
 TEST_F(BarnRun, SimConfigWithANegativeSpeedIsRejectedNamingIt) {
   const fs::path config = dir_ / "sim.yaml";
   const std::string text = readFile(kRepo / "configs" / "sim" / "barn.yaml");
