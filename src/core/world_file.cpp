@@ -114,9 +114,10 @@ class FieldReader {
   void rejectUnknownKeys(const std::string& prefix = {}) {
     std::set<std::string> listed;
     for (const auto& item : map_) {
-      // A list or map as a key (`[1]: 2`, or `? grid:`, which makes the grid block a key) has
-      // no name to look up or report; yaml-cpp's as<std::string>() would throw a bare "bad
-      // conversion" naming neither file nor line.
+      // A list or map as a key (`[1]: 2`, or a grid row written `? - "0101..."`, which ends the
+      // grid list and makes the rows after it a key) has no name to look up or report;
+      // yaml-cpp's as<std::string>() would throw a bare "bad conversion" naming neither file
+      // nor line.
       if (!item.first.IsScalar()) {
         const std::string owner = prefix.empty() ? "a key" : "a key in " + prefix.substr(0, prefix.size() - 1);
         errors_.add(lineOf(item.first), owner + " is a list or a map, expected a plain name");

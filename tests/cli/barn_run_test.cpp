@@ -472,13 +472,16 @@ TEST_F(BarnRunWorldFolder, KeepGoingSkipsTheBrokenWorld) {
 }
 
 TEST_F(BarnRunWorldFolder, KeepGoingSkipsAWorldWithAListAsAKey) {
-  // "? grid:" makes the whole grid block (a map) the key of an entry: a key yaml-cpp cannot
-  // convert to a name, which used to stop the whole run with exit code 1 even with --keep-going.
+  // A grid row prefixed "? " (in place of its indentation) ends the grid list and makes the
+  // remaining rows the key of a new entry: a key yaml-cpp cannot convert to a name, which used
+  // to stop the whole run with exit code 1 and no file name, even with --keep-going.
   fs::copy_file(kWorlds / "world_001.yaml", worlds_ / "world_001.yaml", fs::copy_options::overwrite_existing);
-  const std::string text = readFile(worlds_ / "world_002.yaml");
-  const auto grid = text.find("\ngrid:");
-  ASSERT_NE(grid, std::string::npos);
-  writeFile(worlds_ / "world_002.yaml", text.substr(0, grid + 1) + "? " + text.substr(grid + 1));
+  std::string text = readFile(worlds_ / "world_002.yaml");
+  std::size_t row = text.find("\ngrid:");
+  for (int k = 0; k < 5 && row != std::string::npos; ++k) row = text.find("\n  - \"", row + 1);
+  ASSERT_NE(row, std::string::npos);
+  text.replace(row + 1, 2, "? ");
+  writeFile(worlds_ / "world_002.yaml", text);
   const RunResult rejected = run("run --controller pure_pursuit --trials 1 --worlds " + quote(worlds_) + " --out " +
                                  quote(dir_ / "rejected"));
   EXPECT_EQ(rejected.exit_code, 2) << rejected.output;

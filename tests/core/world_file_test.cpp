@@ -157,6 +157,21 @@ TEST(WorldFile, AKeyThatIsAListInsideMetricsNamesTheField) {
   EXPECT_THAT(errorOf(text), HasSubstr("a key in norm_metrics is a list or a map"));
 }
 
+TEST(WorldFile, AGridRowPrefixedWithAQuestionMarkIsAnInputErrorNamingTheLine) {
+  // Found by the world-file fuzzer: "? " in place of a row's indentation ends the grid list and
+  // starts a top-level entry whose key is a list (the rest of the rows).
+  const std::string text = formatWorldFile(straightWorld());
+  const std::string row = "  - \"000000000000000000000000000000\"\n";  // rows 1 to 28 are empty
+  const std::size_t row3 = text.find(row, text.find(row, text.find(row) + 1) + 1);
+  ASSERT_NE(row3, std::string::npos);
+  std::string broken = text;
+  broken.replace(row3, 2, "? ");
+  const int line = lineOf(broken, "? - ");
+  const std::string message = errorOf(broken);
+  EXPECT_THAT(message, HasSubstr("test.yaml: line " + std::to_string(line) + ": a key is a list or a map"));
+  EXPECT_THAT(message, HasSubstr("test.yaml: grid: expected 30 rows"));
+}
+
 TEST(WorldFile, AGridBlockWrittenAsAComplexKeyIsAnInputErrorNamingTheLine) {
   // "? grid:" makes the grid block (a map) the key of an entry whose value is null.
   const std::string text = replaced(formatWorldFile(straightWorld()), "\ngrid:", "\n? grid:");
