@@ -36,6 +36,13 @@ seeds() {
     config) ls configs/sim/*.yaml configs/controllers/*.yaml configs/lflh/*.yaml examples/external/*.yaml ;;
   esac
 }
+# Dictionaries of the formats' tokens (tests/fuzz/*.dict).
+dict() {
+  case "$1" in
+    world_file|config) echo tests/fuzz/yaml.dict ;;
+    *) echo "tests/fuzz/$1.dict" ;;
+  esac
+}
 # Longest input tried: a little over the largest seed that matters (the shipped policies,
 # 1 MB of weights, are cut to their header).
 max_len() {
@@ -52,11 +59,11 @@ for target in "${targets[@]}"; do
   log="build-fuzz/logs/$target.log"
   mkdir -p "$corpus" "$findings" "$(dirname "$log")"
   seeds "$target" | paste -sd, > "build-fuzz/logs/$target.seeds"
-  # -malloc_limit_mb: no reader needs 256 MB for an input of at most max_len bytes, so a
+  # -malloc_limit_mb: no reader needs 64 MB at once for an input of at most max_len bytes, so a
   # bigger single allocation means a size taken from the input unchecked.
   if "build-fuzz/tests/fuzz/fuzz_$target" "$corpus" -seed_inputs="@build-fuzz/logs/$target.seeds" \
-       -max_total_time="$seconds" -max_len="$(max_len "$target")" -timeout=10 \
-       -rss_limit_mb=2048 -malloc_limit_mb=256 -artifact_prefix="$findings/" > "$log" 2>&1; then
+       -dict="$(dict "$target")" -max_total_time="$seconds" -max_len="$(max_len "$target")" -timeout=10 \
+       -rss_limit_mb=2048 -malloc_limit_mb=64 -artifact_prefix="$findings/" > "$log" 2>&1; then
     echo "fuzz: $target ok ($(grep -o 'Done [0-9]* runs in [0-9]* second(s)' "$log" | tail -n 1))"
   else
     echo "fuzz: $target FOUND A PROBLEM (log: $log; input in $findings/)"
