@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # Installs dependencies if needed, builds, runs the whole test suite (unit tests, the BARN
-# dataset fidelity tests when ../shared/barn_dataset exists, the CLI checks), then the score
-# regression check against the committed baseline (results/baseline, see the README).
+# dataset fidelity tests when ../shared/barn_dataset exists, the CLI checks), a 5-second smoke
+# run of each file-reader fuzzer (tools/fuzz.sh, its own clang build in build-fuzz), then the
+# score regression check against the committed baseline (results/baseline, see the README).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/setup.sh
 ctest --test-dir build --output-on-failure -j "$(nproc)"
+tools/fuzz.sh 5
 build/barn regress --baseline results/baseline

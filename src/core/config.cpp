@@ -19,13 +19,23 @@ ConfigNode::~ConfigNode() = default;
 ConfigNode::ConfigNode(const ConfigNode&) = default;
 ConfigNode& ConfigNode::operator=(const ConfigNode&) = default;
 
+namespace {
+
+// "line 3, column 7: message" for a yaml-cpp exception (yaml-cpp counts from 0).
+std::string describeYamlError(const YAML::Exception& e) {
+  if (e.mark.is_null()) return e.msg;
+  return "line " + std::to_string(e.mark.line + 1) + ", column " + std::to_string(e.mark.column + 1) + ": " + e.msg;
+}
+
+}  // namespace
+
 ConfigNode ConfigNode::parseString(const std::string& text, const std::string& source_name) {
   ConfigNode result;
   result.source_ = source_name;
   try {
     result.impl_->node = YAML::Load(text);
   } catch (const YAML::Exception& e) {
-    throw InputError(source_name + ": not valid YAML: " + e.what());
+    throw InputError(source_name + ": not valid YAML: " + describeYamlError(e));
   }
   return result;
 }
@@ -60,7 +70,17 @@ ConfigNode ConfigNode::element(std::size_t index) const {
 std::vector<std::string> ConfigNode::keys() const {
   std::vector<std::string> keys;
   if (!isMap()) return keys;
-  for (const auto& item : impl_->node) keys.push_back(item.first.as<std::string>());
+  for (const auto& item : impl_->node) {
+    // A list or map as a key (`[1]: 2`) has no name to look up or report; yaml-cpp's
+    // as<std::string>() would throw a bare "bad conversion" naming neither file nor line.
+    if (!item.first.IsScalar()) {
+      const YAML::Mark mark = item.first.Mark();
+      const std::string line = mark.is_null() ? "unknown line" : "line " + std::to_string(mark.line + 1);
+      const std::string owner = path_.empty() ? "a key" : "a key in " + path_;
+      throw InputError(source_ + ": " + line + ": " + owner + " is a list or a map, expected a plain name");
+    }
+    keys.push_back(item.first.Scalar());
+  }
   return keys;
 }
 
@@ -197,8 +217,15 @@ std::string ConfigNode::where(std::string_view key) const {
 ConfigReader::ConfigReader(const ConfigNode& node, Errors& errors) : node_(node), errors_(errors) {}
 
 void ConfigReader::finish() {
+  std::vector<std::string> keys;
+  try {
+    keys = node_.keys();
+  } catch (const InputError& e) {
+    errors_.add("", e.what());  // a key that is a list or map; the other errors still count
+    return;
+  }
   std::set<std::string> listed;
-  for (const std::string& key : node_.keys()) {
+  for (const std::string& key : keys) {
     if (!listed.insert(key).second) {
       errors_.add(node_.where(key), "duplicate key");
     } else if (std::find(seen_.begin(), seen_.end(), key) == seen_.end()) {

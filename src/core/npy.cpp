@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "barn/core/errors.hpp"
+#include "barn/core/text_io.hpp"
 
 namespace barn::core {
 namespace {
@@ -224,8 +225,9 @@ Array readNpy(const std::filesystem::path& path, std::string_view expected_descr
   using Value = typename decltype(Array::values)::value_type;
   static_assert(sizeof(Value) == 8);
 
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) fail(path, "cannot open (is a directory)");
+  // Folders, devices and fifos have no size to check the header against (and a fifo would
+  // block on open): refused with the path.
+  requireRegularFile(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(path, "cannot open");
 

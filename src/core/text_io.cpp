@@ -13,10 +13,19 @@
 
 namespace barn::core {
 
-std::string readTextFile(const std::filesystem::path& path) {
-  // A folder opens as a stream on Linux and reads as nothing: it would pass as an empty file.
+void requireRegularFile(const std::filesystem::path& path) {
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw InputError(path.string() + ": is a folder, not a file");
+  const std::filesystem::file_status status = std::filesystem::status(path, ec);
+  if (ec || !std::filesystem::exists(status)) throw InputError(path.string() + ": cannot read (missing or not readable)");
+  if (std::filesystem::is_directory(status)) throw InputError(path.string() + ": is a folder, expected a file");
+  // A device (/dev/zero) never ends and a fifo blocks until someone writes to it: reading
+  // either would hang or exhaust memory instead of failing.
+  if (!std::filesystem::is_regular_file(status))
+    throw InputError(path.string() + ": not a regular file (a device, fifo or socket), expected a file");
+}
+
+std::string readTextFile(const std::filesystem::path& path) {
+  requireRegularFile(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string() + ": cannot read (missing or not readable)");
   std::ostringstream buffer;

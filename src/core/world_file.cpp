@@ -80,6 +80,18 @@ std::string formatWorldFile(const WorldSpec& world) {
 
 namespace {
 
+// "line 12" (1-based) for error messages; yaml-cpp counts lines from 0.
+std::string lineOf(const YAML::Node& node) {
+  const YAML::Mark mark = node.Mark();
+  return mark.is_null() ? std::string("unknown line") : "line " + std::to_string(mark.line + 1);
+}
+
+// "line 3, column 7: message" for a yaml-cpp exception, or just the message if it has no position.
+std::string describeYamlError(const YAML::Exception& e) {
+  if (e.mark.is_null()) return e.msg;
+  return "line " + std::to_string(e.mark.line + 1) + ", column " + std::to_string(e.mark.column + 1) + ": " + e.msg;
+}
+
 // Strict field access on a YAML map: every failure is recorded in `errors` with its key path.
 class FieldReader {
  public:
@@ -102,7 +114,16 @@ class FieldReader {
   void rejectUnknownKeys(const std::string& prefix = {}) {
     std::set<std::string> listed;
     for (const auto& item : map_) {
-      const std::string key = item.first.as<std::string>();
+      // A list or map as a key (`[1]: 2`, or a grid row written `? - "0101..."`, which ends the
+      // grid list and makes the rows after it a key) has no name to look up or report;
+      // yaml-cpp's as<std::string>() would throw a bare "bad conversion" naming neither file
+      // nor line.
+      if (!item.first.IsScalar()) {
+        const std::string owner = prefix.empty() ? "a key" : "a key in " + prefix.substr(0, prefix.size() - 1);
+        errors_.add(lineOf(item.first), owner + " is a list or a map, expected a plain name");
+        continue;
+      }
+      const std::string key = item.first.Scalar();
       if (!listed.insert(key).second) errors_.add(prefix + key, "duplicate key");
       else if (!seen_.count(key)) errors_.add(prefix + key, "unknown key");
     }
@@ -233,16 +254,8 @@ void validateWorld(const WorldSpec& world, double stored_length, double stored_t
                "is " + formatDouble(stored_time) + " but the path gives " + formatDouble(time));
 }
 
-}  // namespace
-
-WorldSpec parseWorldFile(const std::string& text, const std::string& source_name) {
+WorldSpec readWorldNode(const YAML::Node& root, const std::string& source_name) {
   Errors errors(source_name);
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    throw InputError(source_name + ": not valid YAML: " + e.what());
-  }
   if (!root.IsMap()) throw InputError(source_name + ": expected a YAML map (a barnbench world file)");
 
   WorldSpec world;
@@ -337,6 +350,25 @@ WorldSpec parseWorldFile(const std::string& text, const std::string& source_name
   if (grid_ok && cells_ok && numbers_ok) validateWorld(world, stored_length, stored_time, errors);
   errors.throwIfAny();
   return world;
+}
+
+}  // namespace
+
+WorldSpec parseWorldFile(const std::string& text, const std::string& source_name) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw InputError(source_name + ": not valid YAML: " + describeYamlError(e));
+  }
+  // The reader checks every node's type before converting it, so yaml-cpp should not throw
+  // here; if a document still trips it, the user gets the file and line, not a bare yaml-cpp
+  // message and exit code 1.
+  try {
+    return readWorldNode(root, source_name);
+  } catch (const YAML::Exception& e) {
+    throw InputError(source_name + ": " + describeYamlError(e));
+  }
 }
 
 WorldSpec readWorldFile(const std::filesystem::path& path) {

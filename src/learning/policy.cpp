@@ -97,8 +97,13 @@ Policy::Policy(PolicyInfo info, MlpParameters<float> weights) : info_(std::move(
 }
 
 Policy Policy::load(const std::filesystem::path& path) {
-  const std::string file = core::readTextFile(path);
-  const std::string where = path.string() + ": ";
+  // readTextFile refuses folders, devices and fifos (a policy: /dev/zero would never end), and
+  // a regular file is read at its own size, so a header cannot make this allocate more.
+  return parse(core::readTextFile(path), path.string());
+}
+
+Policy Policy::parse(const std::string& file, const std::string& source_name) {
+  const std::string where = source_name + ": ";
   const auto fail = [&](const std::string& message) { throw core::InputError(where + message); };
 
   // Header: "key: value" lines up to end_header.
@@ -195,8 +200,13 @@ Policy Policy::load(const std::filesystem::path& path) {
   if (sizes[3] != 2) fail("wrong shape: architecture " + header["architecture"] + " has " + std::to_string(sizes[3]) + " outputs, expected 2 (v, w)");
   info.hidden = sizes[1];
 
-  MlpParameters<float> weights = MlpParameters<float>::zeros(sizes[0], sizes[1], sizes[3]);
-  const std::size_t expected = 4 * weights.count();
+  // The payload size follows from the architecture; check it against the header and the file
+  // before allocating, so a short file claiming a huge network (100002-4096-4096-2 is 1.7 GB)
+  // is refused without the allocation. The sizes are bounded above, so this cannot overflow.
+  const auto inputs = static_cast<std::size_t>(sizes[0]);
+  const auto hidden = static_cast<std::size_t>(sizes[1]);
+  const auto outputs = static_cast<std::size_t>(sizes[3]);
+  const std::size_t expected = 4 * (hidden * inputs + hidden + hidden * hidden + hidden + outputs * hidden + outputs);
   if (static_cast<std::size_t>(integer("payload_bytes", 0, std::numeric_limits<long long>::max())) != expected)
     fail("wrong shape: payload_bytes " + header["payload_bytes"] + " does not match architecture " +
          header["architecture"] + " (" + std::to_string(expected) + " bytes)");
@@ -205,6 +215,7 @@ Policy Policy::load(const std::filesystem::path& path) {
     fail("truncated: expected " + std::to_string(expected) + " bytes of weights, found " + std::to_string(available));
   if (available > expected)
     fail(std::to_string(available - expected) + " bytes after the weights (expected exactly " + std::to_string(expected) + ")");
+  MlpParameters<float> weights = MlpParameters<float>::zeros(sizes[0], sizes[1], sizes[3]);
   const char* in = file.data() + pos;
   std::string bad_block;
   weights.forEachBlock([&](const char* name, float* data, Eigen::Index size) {

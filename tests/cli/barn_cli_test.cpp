@@ -194,6 +194,23 @@ TEST_F(BarnCli, WorldFileErrorsAreAllReportedAtOnce) {
   EXPECT_THAT(r.output, AllOf(HasSubstr("abc"), HasSubstr("colour")));
 }
 
+TEST_F(BarnCli, WorldFileWithAListAsAKeyIsAnInputErrorNamingFileAndLine) {
+  // yaml-cpp cannot convert the key [1] to a name; this used to escape as "yaml-cpp: bad
+  // conversion" with exit code 1 and no file name.
+  const std::string text = readFile(kWorld0);
+  const int last_line = static_cast<int>(std::count(text.begin(), text.end(), '\n'));
+  const RunResult r = run("world info " + quote(editedWorld("list_key.yaml", text + "[1]: 2\n")));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, AllOf(HasSubstr("list_key.yaml: line " + std::to_string(last_line + 1) + ":"),
+                              HasSubstr("is a list or a map"), Not(HasSubstr("bad conversion"))));
+}
+
+TEST_F(BarnCli, WorldInfoOnADeviceIsRefused) {
+  const RunResult r = run("world info /dev/zero");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("/dev/zero: not a regular file"));
+}
+
 // ---------------------------------------------------------------------------------------------
 // world render
 

@@ -543,6 +543,30 @@ TEST_F(BarnRunWorldFolder, KeepGoingSkipsTheBrokenWorld) {
   EXPECT_THAT(readFile(out / "manifest.yaml"), HasSubstr("world_ids: [0, 2]"));
 }
 
+TEST_F(BarnRunWorldFolder, KeepGoingSkipsAWorldWithAListAsAKey) {
+  // A grid row prefixed "? " (in place of its indentation) ends the grid list and makes the
+  // remaining rows the key of a new entry: a key yaml-cpp cannot convert to a name, which used
+  // to stop the whole run with exit code 1 and no file name, even with --keep-going.
+  fs::copy_file(kWorlds / "world_001.yaml", worlds_ / "world_001.yaml", fs::copy_options::overwrite_existing);
+  std::string text = readFile(worlds_ / "world_002.yaml");
+  std::size_t row = text.find("\ngrid:");
+  for (int k = 0; k < 5 && row != std::string::npos; ++k) row = text.find("\n  - \"", row + 1);
+  ASSERT_NE(row, std::string::npos);
+  text.replace(row + 1, 2, "? ");
+  writeFile(worlds_ / "world_002.yaml", text);
+  const RunResult rejected = run("run --controller pure_pursuit --trials 1 --worlds " + quote(worlds_) + " --out " +
+                                 quote(dir_ / "rejected"));
+  EXPECT_EQ(rejected.exit_code, 2) << rejected.output;
+  EXPECT_THAT(rejected.output, AllOf(HasSubstr("world_002.yaml: "), HasSubstr("line "), Not(HasSubstr("bad conversion"))));
+
+  const fs::path out = dir_ / "o";
+  const RunResult r = run("run --controller pure_pursuit --trials 1 --keep-going --worlds " + quote(worlds_) +
+                          " --out " + quote(out));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, AllOf(HasSubstr("skipped (--keep-going)"), HasSubstr("world_002.yaml: line ")));
+  EXPECT_THAT(readFile(out / "manifest.yaml"), HasSubstr("world_ids: [0, 1]"));
+}
+
 TEST_F(BarnRunWorldFolder, KeepGoingRunCanBeResumed) {
   const fs::path out = dir_ / "o";
   const RunResult stopped = run("run --controller pure_pursuit --trials 2 --jobs 1 --stop-after 1 --keep-going --worlds " +
@@ -572,6 +596,22 @@ TEST_F(BarnRun, ControllerConfigWithAnUnknownKeyIsRejectedNamingIt) {
   writeFile(config, "type: pure_pursuit\npure_pursuit: {sped: 1}\n");
   expectRejected("run --controller pure_pursuit --worlds 0 --config " + quote(config), dir_ / "o",
                  {"pure_pursuit.sped"});
+}
+
+TEST_F(BarnRun, ControllerConfigWithAListAsAKeyIsRejectedNamingFileAndLine) {
+  const fs::path config = dir_ / "pp.yaml";
+  writeFile(config, "type: pure_pursuit\npure_pursuit: {speed: 1}\n[1]: 2\n");
+  expectRejected("run --controller pure_pursuit --worlds 0 --config " + quote(config), dir_ / "o",
+                 {"pp.yaml: line 3: a key is a list or a map"});
+}
+
+TEST_F(BarnRun, PolicyThatIsADeviceOrAFolderIsRejectedNamingIt) {
+  // policy: /dev/zero used to read forever and end in std::bad_alloc.
+  for (const std::string& policy : {std::string("/dev/zero"), dir_.string()}) {
+    const fs::path config = dir_ / "lflh.yaml";
+    writeFile(config, "type: lflh\nlflh: {policy: " + policy + "}\n");
+    expectRejected("run --controller lflh --worlds 0 --config " + quote(config), dir_ / "o", {policy + ": "});
+  }
 }
 
 TEST_F(BarnRun, SimConfigWithANegativeSpeedIsRejectedNamingIt) {

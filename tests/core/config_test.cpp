@@ -82,6 +82,29 @@ TEST(Config, MalformedYamlNamesTheFile) {
   EXPECT_THAT(errorOf("- 1\n- 2"), HasSubstr("expected a map"));
 }
 
+TEST(Config, MalformedYamlNamesTheLine) {
+  // The unclosed list runs to the end of the text, where yaml-cpp notices (line 2).
+  EXPECT_THAT(errorOf("beams: 3\nspeeds: [1, 2"), HasSubstr("test.yaml: not valid YAML: line 2"));
+}
+
+TEST(Config, AKeyThatIsAListNamesTheFileAndLine) {
+  EXPECT_THAT(errorOf("beams: 3\n[1]: 2"),
+              HasSubstr("test.yaml: line 2: a key is a list or a map, expected a plain name"));
+  EXPECT_THAT(errorOf("safety:\n  ? {a: 1}\n  : 2"),
+              HasSubstr("test.yaml: line 2: a key in safety is a list or a map, expected a plain name"));
+}
+
+TEST(Config, AKeyThatIsAListDoesNotHideTheOtherErrors) {
+  const std::string message = errorOf("beams: x\n[1]: 2");
+  EXPECT_THAT(message, HasSubstr("beams: expected an integer"));
+  EXPECT_THAT(message, HasSubstr("line 2: a key is a list or a map"));
+}
+
+TEST(Config, KeysOfAMapWithAListKeyIsAnInputError) {
+  const ConfigNode node = ConfigNode::parseString("? [1, 2]\n: 3", "test.yaml");
+  EXPECT_THROW(node.keys(), InputError);
+}
+
 TEST(Config, OverridesSetNestedKeys) {
   ConfigNode node = ConfigNode::parseString("beams: 360", "test.yaml");
   node.set("safety.offset", "0.08");

@@ -1,5 +1,7 @@
 #include "barn/core/npy.hpp"
 
+#include <sys/stat.h>
+
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -207,6 +209,14 @@ TEST_F(NpyTest, BadMagicThrows) {
   expectInputError(readNpyInt64, write("empty_file.npy", ""), "not a .npy file (empty file)");
 }
 
+TEST_F(NpyTest, FoldersDevicesAndFifosAreRefused) {
+  expectInputError(readNpyInt64, dir_, "is a folder, expected a file");
+  expectInputError(readNpyInt64, "/dev/zero", "not a regular file");
+  const fs::path fifo = dir_ / "fifo.npy";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  expectInputError(readNpyFloat64, fifo, "not a regular file");  // instead of blocking on open
+}
+
 TEST_F(NpyTest, UnsupportedVersionThrows) {
   std::string file = npyFile(dictFor("<i8", "(1,)"), int64Data({1}));
   file[6] = '\x04';
@@ -267,8 +277,7 @@ TEST_F(NpyTest, MalformedHeaderDictThrows) {
 }
 
 TEST_F(NpyTest, MissingFileThrows) {
-  expectInputError(readNpyInt64, dir_ / "does_not_exist.npy", "cannot open");
-  expectInputError(readNpyFloat64, dir_, "cannot open");
+  expectInputError(readNpyInt64, dir_ / "does_not_exist.npy", "cannot read (missing or not readable)");
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
 #include "barn/core/world_file.hpp"
 
+#include <algorithm>
+
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -133,7 +135,51 @@ TEST(WorldFile, ReportsEveryProblemAtOnce) {
 
 TEST(WorldFile, RejectsTextThatIsNotAWorld) {
   EXPECT_THAT(errorOf("just a string"), HasSubstr("expected a YAML map"));
-  EXPECT_THAT(errorOf("a: [unclosed"), HasSubstr("not valid YAML"));
+  EXPECT_THAT(errorOf("a: [unclosed"), HasSubstr("test.yaml: not valid YAML: line 1"));
+}
+
+// Line of `needle` in `text`, 1-based, as the error messages count.
+int lineOf(const std::string& text, const std::string& needle) {
+  const auto at = text.find(needle);
+  EXPECT_NE(at, std::string::npos) << needle;
+  return 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
+}
+
+TEST(WorldFile, AKeyThatIsAListIsAnInputErrorNamingTheLine) {
+  const std::string text = formatWorldFile(straightWorld()) + "[1]: 2\n";
+  const int line = lineOf(text, "[1]: 2");
+  EXPECT_THAT(errorOf(text), HasSubstr("test.yaml: line " + std::to_string(line) +
+                                       ": a key is a list or a map, expected a plain name"));
+}
+
+TEST(WorldFile, AKeyThatIsAListInsideMetricsNamesTheField) {
+  const std::string text = replaced(formatWorldFile(straightWorld()), "norm_metrics: {", "norm_metrics: {[1]: 2, ");
+  EXPECT_THAT(errorOf(text), HasSubstr("a key in norm_metrics is a list or a map"));
+}
+
+TEST(WorldFile, AGridRowPrefixedWithAQuestionMarkIsAnInputErrorNamingTheLine) {
+  // Found by the world-file fuzzer: "? " in place of a row's indentation ends the grid list and
+  // starts a top-level entry whose key is a list (the rest of the rows).
+  const std::string text = formatWorldFile(straightWorld());
+  const std::string row = "  - \"000000000000000000000000000000\"\n";  // rows 1 to 28 are empty
+  const std::size_t row3 = text.find(row, text.find(row, text.find(row) + 1) + 1);
+  ASSERT_NE(row3, std::string::npos);
+  std::string broken = text;
+  broken.replace(row3, 2, "? ");
+  const int line = lineOf(broken, "? - ");
+  const std::string message = errorOf(broken);
+  EXPECT_THAT(message, HasSubstr("test.yaml: line " + std::to_string(line) + ": a key is a list or a map"));
+  EXPECT_THAT(message, HasSubstr("test.yaml: grid: expected 30 rows"));
+}
+
+TEST(WorldFile, AGridBlockWrittenAsAComplexKeyIsAnInputErrorNamingTheLine) {
+  // "? grid:" makes the grid block (a map) the key of an entry whose value is null.
+  const std::string text = replaced(formatWorldFile(straightWorld()), "\ngrid:", "\n? grid:");
+  const int line = lineOf(text, "? grid:");
+  const std::string message = errorOf(text);
+  EXPECT_THAT(message, HasSubstr("test.yaml: line " + std::to_string(line) + ": a key is a list or a map"));
+  EXPECT_THAT(message, HasSubstr("test.yaml: grid: missing"));
+  EXPECT_THAT(message, ::testing::Not(HasSubstr("bad conversion")));
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "barn/core/text_io.hpp"
@@ -137,8 +138,42 @@ TEST_F(PolicyLoadErrors, NonFiniteWeight) {
   EXPECT_THAT(errorOf(text), HasSubstr("block w2 holds a non-finite value"));
 }
 
+TEST_F(PolicyLoadErrors, AHugeArchitectureInAShortFileIsRefusedBeforeAllocating) {
+  // 100002-4096-4096-2: 4 * (4096 * 100002 + 4096 + 4096 * 4096 + 4096 + 2 * 4096 + 2) bytes
+  // = 1.7 GB claimed by a file of a few hundred bytes.
+  std::string text = replaced("architecture: 722-8-8-2", "architecture: 100002-4096-4096-2");
+  text.replace(text.find("beams: 720"), 10, "beams: 100000");
+  text.replace(text.find("payload_bytes: 23496"), 20, "payload_bytes: 1705607176");
+  text.resize(text.find("end_header\n") + 11);
+  EXPECT_THAT(errorOf(text), HasSubstr("bad.policy: truncated: expected 1705607176 bytes of weights, found 0"));
+}
+
 TEST(PolicyLoad, MissingFileNamesIt) {
   EXPECT_THROW(Policy::load("/nonexistent/x.policy"), core::InputError);
+}
+
+std::string loadError(const fs::path& path) {
+  try {
+    Policy::load(path);
+  } catch (const core::InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(PolicyLoad, AFolderIsRefusedNamingIt) {
+  const fs::path dir = tempDir("folder");
+  EXPECT_THAT(loadError(dir), HasSubstr(dir.string() + ": is a folder, expected a file"));
+}
+
+TEST(PolicyLoad, ADeviceIsRefusedInsteadOfReadForever) {
+  EXPECT_THAT(loadError("/dev/zero"), HasSubstr("/dev/zero: not a regular file"));
+}
+
+TEST(PolicyLoad, AFifoIsRefusedInsteadOfBlocking) {
+  const fs::path fifo = tempDir("fifo") / "weights.policy";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_THAT(loadError(fifo), HasSubstr(fifo.string() + ": not a regular file"));
 }
 
 TEST(Policy, ActClipsLikeTrainingAndMatchesTheNetwork) {

@@ -46,7 +46,9 @@ class ConfigNode {
   ConfigNode child(std::string_view key) const;
   /// Element `index` of a sequence (a null node past the end or if this is not a sequence).
   ConfigNode element(std::size_t index) const;
-  std::vector<std::string> keys() const;  // in file order, duplicates included
+  /// Keys in file order, duplicates included; InputError naming the file and line if a key is
+  /// a list or a map (`[1]: 2`) rather than a name.
+  std::vector<std::string> keys() const;
 
   /// Scalar reads; false if the node is not a scalar of that type.
   bool read(double& value) const;

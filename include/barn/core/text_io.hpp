@@ -9,7 +9,12 @@
 
 namespace barn::core {
 
-/// Reads a whole file; throws InputError "<path>: cannot read" if it cannot.
+/// Throws InputError naming `path` unless it is a regular file (after following symlinks):
+/// missing, a folder, or a device, fifo or socket, which could hang or never end.
+void requireRegularFile(const std::filesystem::path& path);
+
+/// Reads a whole regular file; throws InputError naming the path if it cannot (see
+/// requireRegularFile).
 std::string readTextFile(const std::filesystem::path& path);
 
 /// Writes `content` to `path` through a temporary file and a rename, so a reader never sees

@@ -49,8 +49,11 @@ class Policy {
  public:
   Policy(PolicyInfo info, MlpParameters<float> weights);
 
-  /// Reads and checks a policy file; InputError naming the file and the mismatch.
+  /// Reads and checks a policy file; InputError naming the file and the mismatch (also for a
+  /// folder, a device or a fifo).
   static Policy load(const std::filesystem::path& path);
+  /// Checks and decodes the bytes of a policy file; `source_name` prefixes every error.
+  static Policy parse(const std::string& bytes, const std::string& source_name);
 
   /// The command for one scan and the goal direction in the robot frame (x forward, y left;
   /// normalised here, any length > 0). Ranges are clipped exactly as in training; +inf and NaN

@@ -1,0 +1,25 @@
+// Fuzz target: the LfLH policy file reader (learning::Policy::parse, what Policy::load runs
+// on the file's bytes).
+//
+// Bad input must end in core::InputError. A policy that loads must also act: one scan of its
+// beam count goes through the network (the shapes the header promised must hold).
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+#include "barn/core/errors.hpp"
+#include "barn/learning/policy.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  using namespace barn;
+  const std::string bytes(reinterpret_cast<const char*>(data), size);
+  try {
+    const learning::Policy policy = learning::Policy::parse(bytes, "fuzz.policy");
+    core::LaserScan scan;
+    scan.ranges.assign(static_cast<std::size_t>(policy.info().beams), 1.0);
+    policy.act(scan, {1.0, 0.0});
+  } catch (const core::InputError&) {
+  }
+  return 0;
+}
