@@ -107,6 +107,12 @@ RunManifest readManifest(const std::filesystem::path& path) {
   errors.check(!f.controller.empty(), "controller", "missing");
   errors.check(f.trials >= 1, "trials", "must be >= 1");
   errors.check(!f.world_ids.empty(), "world_ids", "missing");
+  // Read as numbers, so an id like 1e300 must be caught here: converting it to int would be
+  // undefined behaviour.
+  for (const double id : f.world_ids)
+    errors.check(std::isfinite(id) && id >= 0.0 && id <= 1e9 && id == std::floor(id), "world_ids",
+                 core::formatDouble(id) + " is not a world id (a whole number from 0)");
+  errors.check(f.episodes_total >= 0 && f.episodes_done >= 0, "episodes_done", "must be >= 0");
   errors.check(f.shard_count >= 0 && f.shard_index >= 0 && f.shard_index <= f.shard_count, "shard_index",
                "must be within 1..shard_count (or both 0)");
   errors.throwIfAny();

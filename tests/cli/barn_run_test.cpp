@@ -335,6 +335,16 @@ TEST_F(BarnRun, AnEnormousRunIsRefusedAtOnceWithShardsSuggested) {
   EXPECT_FALSE(fs::exists(dir_ / "r"));
 }
 
+TEST_F(BarnRun, ResumeRejectsAWorldIdThatIsNotOne) {
+  // Converting 1e300 to an int would be undefined behaviour: the manifest check names it.
+  const fs::path out = dir_ / "r";
+  ASSERT_EQ(run(kSmallRun + " --jobs 1 --stop-after 2 --out " + quote(out)).exit_code, 1);
+  writeFile(out / "manifest.yaml", replaceLine(readFile(out / "manifest.yaml"), "world_ids:", "world_ids: [1e300, 30]"));
+  const RunResult r = run("run --resume " + quote(out));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, AllOf(HasSubstr("world_ids"), HasSubstr("is not a world id")));
+}
+
 TEST_F(BarnRun, ShardWithNoEpisodesStillMerges) {
   // 1 world x 1 trial over 3 shards: shards 2 and 3 hold no episode at all.
   const std::string args = "run --controller pure_pursuit --worlds 0 --trials 1 --jobs 1";
