@@ -345,6 +345,24 @@ TEST_F(BarnRun, ResumeRejectsAWorldIdThatIsNotOne) {
   EXPECT_THAT(r.output, AllOf(HasSubstr("world_ids"), HasSubstr("is not a world id")));
 }
 
+TEST_F(BarnRun, AJournalWriteThatFailsStopsTheRunWithTheSystemsReason) {
+  // A 2 kB file size limit (ulimit -f, SIGXFSZ ignored) fails the journal's append part-way,
+  // as a full disk would: the run stops at once with exit 1 and the reason, and the rows
+  // journaled before it let --resume finish the record once there is room.
+  const fs::path out = dir_ / "r";
+  const fs::path capture = dir_ / "output.txt";
+  const std::string command = "bash -c \"ulimit -f 2; trap '' XFSZ; " + quote(kBarn) + " " + kSmallRun + " --jobs 1 --out " +
+                              quote(out) + "\" > " + quote(capture) + " 2>&1";
+  const int status = std::system(command.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 1);
+  EXPECT_THAT(readFile(capture), AllOf(HasSubstr("episodes.partial.csv: write failed: File too large"), HasSubstr("--resume")));
+  EXPECT_FALSE(fs::exists(out / "episodes.csv"));
+  const RunResult resumed = run("run --resume " + quote(out));
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  expectSameAsReference(out);
+}
+
 TEST_F(BarnRun, ShardWithNoEpisodesStillMerges) {
   // 1 world x 1 trial over 3 shards: shards 2 and 3 hold no episode at all.
   const std::string args = "run --controller pure_pursuit --worlds 0 --trials 1 --jobs 1";
