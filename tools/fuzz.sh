@@ -27,11 +27,26 @@ cmake -S . -B build-fuzz -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Release
 cmake --build build-fuzz -j "$(nproc)" --target $(printf 'fuzz_%s ' "${targets[@]}") > build-fuzz/build.log 2>&1 ||
   { tail -n 40 build-fuzz/build.log; exit 1; }
 
+# Small .npy seeds (no data files in the repository): the shapes and versions the reader meets.
+mkdir -p build-fuzz/seeds/npy
+/usr/bin/python3 - build-fuzz/seeds/npy <<'PY'
+import sys
+import numpy as np
+from numpy.lib import format as npy_format
+out = sys.argv[1]
+np.save(f"{out}/empty_float64.npy", np.zeros((0, 3), dtype=np.float64))
+np.save(f"{out}/grid_int64.npy", np.arange(16, dtype=np.int64).reshape(4, 4) % 2)
+np.save(f"{out}/path_float64.npy", np.array([[0.0, 0.0], [0.5, 1.25], [1.0, 2.5]]))
+np.save(f"{out}/scalar_int64.npy", np.array(7, dtype=np.int64))
+with open(f"{out}/v2_int64.npy", "wb") as f:
+    npy_format.write_array(f, np.array([1, 2, 3], dtype=np.int64), version=(2, 0))
+PY
+
 # The seeds are read where they are (libFuzzer's -seed_inputs), not copied.
 seeds() {
   case "$1" in
     world_file) ls worlds/world_*.yaml ;;
-    npy) ls tests/fuzz/seeds/npy/*.npy ;;
+    npy) ls build-fuzz/seeds/npy/*.npy ;;
     policy) ls tests/fuzz/seeds/policy/*.policy configs/policies/*.policy ;;
     config) ls configs/sim/*.yaml configs/controllers/*.yaml configs/lflh/*.yaml examples/external/*.yaml ;;
   esac
