@@ -168,7 +168,7 @@ def _run_one(task):
             episode.fail(f"controller threw: {e}")
             break
         episode.step(v, w, state)
-    return world, trial, episode.csv_row(trial), episode.result()
+    return episode.csv_row(trial)
 
 
 _worker_controller = None
@@ -182,13 +182,12 @@ def _run_python(controller_class, worlds, world_dir, trials, jobs, seed, protoco
              for w in ids for t in range(trials)]
     started = time.monotonic()
     if jobs == 1:
-        finished = [_run_one(t) for t in tasks]
+        rows = [_run_one(t) for t in tasks]
     else:
         # Processes, so Python controllers run in parallel; each episode is deterministic given
         # (world, seed), so the record does not depend on the number of jobs.
         with multiprocessing.get_context("fork").Pool(jobs) as pool:
-            finished = pool.map(_run_one, tasks, chunksize=1)
-    rows = [row for _, _, row, _ in finished]
+            rows = pool.map(_run_one, tasks, chunksize=1)
     name = f"{controller_class.__module__}.{controller_class.__qualname__}"
     _core.write_record(str(out), name, f"type: python\npython:\n  class: {name}\n", str(worlds), str(world_dir),
                        sim_config, protocol, trials, seed, rows, jobs, time.monotonic() - started)
