@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
 # Installs dependencies if needed, builds, runs the whole test suite (unit tests, the BARN
 # dataset fidelity tests when ../shared/barn_dataset exists, the CLI checks), a 5-second smoke
-# run of each file-reader fuzzer (tools/fuzz.sh, its own clang build in build-fuzz), then the
-# score regression check against the committed baseline (results/baseline, see the README).
+# run of each file-reader fuzzer (tools/fuzz.sh, its own clang build in build-fuzz), the Slurm
+# path on a throw-away local Slurm (tools/slurm/test_slurm.sh), then the score regression check
+# against the committed baseline (results/baseline, see the README).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/setup.sh
 ctest --test-dir build --output-on-failure -j "$(nproc)"
 tools/fuzz.sh 5
+tools/slurm/test_slurm.sh
 build/barn regress --baseline results/baseline
