@@ -93,7 +93,7 @@ wait_idle 180
 log=$work/requeue/logs/shard_1.log
 grep -q "attempt 2" "$log" || fail "shard 1 did not run a second time ($log)"
 kept=$(sed -n 's/^resuming: \([0-9]*\) episodes already finished/\1/p' "$log")
-[ -n "$kept" ] && [ "$kept" -gt 0 ] || fail "the requeued task did not resume its shard ($log)"
+if [ -z "$kept" ] || [ "$kept" -eq 0 ]; then fail "the requeued task did not resume its shard ($log)"; fi
 for file in episodes.csv summary.json; do same_file "$work/reference_requeue/$file" "$work/requeue/merged/$file"; done
 echo "slurm test: task requeued mid-run resumed with $kept episodes kept; merged record identical"
 echo "slurm test: passed"
