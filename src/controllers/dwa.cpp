@@ -47,6 +47,7 @@ void validate(const DwaConfig& c, core::Errors& errors, const std::string& prefi
   errors.check(c.scoring_window > 0.0, prefix + ".scoring_window", "must be > 0");
   errors.check(c.escape_vel < 0.0, prefix + ".escape_vel", "must be < 0 (backwards)");
   errors.check(c.recovery.controller_patience > 0.0, prefix + ".recovery.controller_patience", "must be > 0");
+  errors.check(c.recovery.planner_patience > 0.0, prefix + ".recovery.planner_patience", "must be > 0");
   errors.check(c.escape_reset_dist > 0.0, prefix + ".escape_reset_dist", "must be > 0");
   errors.check(c.escape_reset_theta > 0.0, prefix + ".escape_reset_theta", "must be > 0");
   errors.check(c.recovery.max_rotation_speed > 0.0, prefix + ".recovery.max_rotation_speed", "must be > 0");
@@ -67,6 +68,8 @@ void DwaController::reset(const EpisodeInfo& info) {
   mode_ = Mode::Planning;
   last_valid_time_ = 0.0;
   recovery_index_ = 0;
+  recovery_trigger_ = RecoveryTrigger::Controller;
+  waiting_since_ = 0.0;
   rotated_ = 0.0;
   escaping_ = false;
   rotating_left_ = rotating_right_ = stuck_left_ = stuck_right_ = false;
@@ -76,6 +79,7 @@ void DwaController::reset(const EpisodeInfo& info) {
 std::string_view DwaController::stateLabel() const {
   switch (mode_) {
     case Mode::Planning: return escaping_ ? "escaping" : "planning";
+    case Mode::WaitingForPlan: return "waiting";
     case Mode::RecoveryRotate: return "recovery";
     case Mode::GaveUp: return "aborted";
   }
@@ -502,8 +506,7 @@ core::Twist DwaController::recover(const Observation& obs) {
                                       r.max_rotation_speed);
       return {0.0, speed};
     }
-    mode_ = Mode::Planning;  // the turn is done (or would hit): plan again
-    nav_.replan(pose);
+    waitForPlan(obs.time);  // the turn is done (or would hit): plan again
     return {};
   }
   if (recovery_index_ >= 4) {
@@ -517,7 +520,7 @@ core::Twist DwaController::recover(const Observation& obs) {
       nav_.mutableGlobalCostmap().clearOutside(pose.position(), keep);
       nav_.mutableLocalCostmap().clearOutside(pose.position(), keep);
     }
-    nav_.replan(pose);
+    waitForPlan(obs.time);
     return {};
   }
   mode_ = Mode::RecoveryRotate;
@@ -537,16 +540,41 @@ core::Twist DwaController::act(const Observation& obs) {
     const core::Twist turn = recover(obs);
     if (mode_ == Mode::RecoveryRotate) return turn;
   }
+  const bool recoveries = config_.recovery.enabled;
+  if (mode_ == Mode::WaitingForPlan) {
+    // The plan of this cycle (nav_.update) stands for the one move_base's planner thread makes
+    // between two control cycles once woken.
+    if (!nav_.lastPlanFound()) {
+      if (recoveries && obs.time - waiting_since_ > config_.recovery.planner_patience) {
+        recovery_trigger_ = RecoveryTrigger::Planner;
+        return recover(obs);
+      }
+      return {};
+    }
+    mode_ = Mode::Planning;
+  }
+  // A new plan handed to the controller ends recoveries the planner started.
+  if (recovery_trigger_ == RecoveryTrigger::Planner && nav_.lastPlanFound()) recovery_index_ = 0;
   updateDistanceMaps(pose);
   const DwaTrajectory best = findBestPath(pose, obs.odom_twist);
   if (best.cost >= 0.0) {
     last_valid_time_ = obs.time;
-    recovery_index_ = 0;
+    if (recovery_trigger_ == RecoveryTrigger::Controller) recovery_index_ = 0;
     return {best.vx, best.vtheta};
   }
-  // move_base: a failed cycle publishes zero; after controller_patience, the recoveries.
-  if (config_.recovery.enabled && obs.time - last_valid_time_ >= config_.recovery.controller_patience) return recover(obs);
+  // move_base: a failed cycle publishes zero; after controller_patience, the recoveries; else it
+  // waits for the planner.
+  if (recoveries && obs.time - last_valid_time_ >= config_.recovery.controller_patience) {
+    recovery_trigger_ = RecoveryTrigger::Controller;
+    return recover(obs);
+  }
+  waitForPlan(obs.time);
   return {};
+}
+
+void DwaController::waitForPlan(double time) {
+  mode_ = Mode::WaitingForPlan;
+  waiting_since_ = time;
 }
 
 }  // namespace barn::controllers

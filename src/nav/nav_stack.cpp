@@ -51,6 +51,7 @@ void NavStack::reset(const Eigen::Vector2d& goal) {
   path_.clear();
   last_global_update_ = last_local_update_ = last_plan_ = last_scan_stamp_ = -1e9;
   plans_ = failed_plans_ = 0;
+  last_plan_found_ = false;
 }
 
 std::vector<Eigen::Vector2d> NavStack::paddedFootprint() const {
@@ -112,7 +113,9 @@ void NavStack::applyLocalUpdates() const {
 void NavStack::replan(const core::Pose2& robot_pose) {
   Plan plan = planner_.plan(global_, robot_pose.position(), goal_);
   ++plans_;
-  // move_base keeps following the last path while the planner fails (planner_patience).
+  last_plan_found_ = plan.found;
+  // While the robot is moving, move_base keeps following the last path when the planner
+  // fails; a controller that is waiting for a plan (DWA) asks lastPlanFound().
   if (plan.found) path_ = std::move(plan.path);
   else ++failed_plans_;
 }

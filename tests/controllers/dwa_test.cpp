@@ -133,6 +133,48 @@ TEST(Dwa, EscapingEndsAfterTurningEscapeResetTheta) {
   EXPECT_FALSE(dwa.escaping());
 }
 
+TEST(Dwa, WaitsForAPlanThenRecoversAfterPlannerPatience) {
+  // The goal lies in a wall 1 m ahead: the planner never finds a path, so no roll-out can
+  // reach it (-2) and no command is valid. move_base stops and waits in PLANNING; after
+  // planner_patience (5 s) without a plan it runs the first recovery (clearing, a no-op in
+  // BARN) and waits again; 5 s later the second, the rotation. Without the PLANNING state the
+  // robot would only recover after controller_patience (15 s).
+  DwaConfig config;
+  config.nav.global_costmap.width = 10.0;
+  config.nav.global_costmap.height = 6.0;
+  config.nav.global_costmap.origin_x = -3.0;
+  config.nav.global_costmap.origin_y = -3.0;
+  DwaController dwa(config);
+  EpisodeInfo info;
+  info.goal = {1.0, 0.0};
+  info.lidar.mount_x = 0.0;
+  dwa.reset(info);
+  const core::LaserScan wall = scanOf({{{1.0, -3.0}, {1.0, 3.0}}});
+  Observation obs;
+  obs.goal = info.goal;
+  double first_turn = -1.0;
+  for (int tick = 0; tick <= 220 && first_turn < 0.0; ++tick) {
+    obs.time = 0.05 * tick;
+    core::LaserScan stamped = wall;
+    stamped.stamp = obs.time;
+    obs.scan = &stamped;
+    const core::Twist cmd = dwa.act(obs);
+    EXPECT_DOUBLE_EQ(cmd.linear, 0.0);
+    if (cmd.angular != 0.0) {
+      first_turn = obs.time;
+      EXPECT_GT(cmd.angular, 0.0);  // rotate_recovery turns counter-clockwise
+      EXPECT_EQ(dwa.stateLabel(), "recovery");
+    } else {
+      EXPECT_EQ(dwa.stateLabel(), "waiting") << "at " << obs.time << " s";
+    }
+  }
+  // The clearing after 5 s (patience counted from the first failed cycle), the turn 5 s later.
+  EXPECT_GT(first_turn, 10.0);
+  EXPECT_LT(first_turn, 10.3);
+  EXPECT_GT(dwa.navStack().plansMade(), 100);
+  EXPECT_EQ(dwa.navStack().plansMade(), dwa.navStack().plansFailed());
+}
+
 TEST(Dwa, RejectsUnknownConfigKeysAndBadValues) {
   DwaConfig config;
   config.max_vel_x = -1.0;

@@ -16,8 +16,11 @@
 /// against oscillation). If nothing is valid the robot backs up blindly at escape_vel, even
 /// when the map says the back-up hits (-1), and only "no way on" (-2) stops it; it escapes
 /// (rotations and back-up only) until it has moved escape_reset_dist or turned
-/// escape_reset_theta. If no command is valid for controller_patience seconds, move_base's
-/// recoveries run (DwaRecoveryConfig); after them the robot gives up, as move_base aborts.
+/// escape_reset_theta. A cycle without a valid command stops the robot until the global
+/// planner finds a path again (move_base's PLANNING state). If no command is valid for
+/// controller_patience seconds, or no plan is found for planner_patience seconds while waiting,
+/// move_base's recoveries run (DwaRecoveryConfig); after them the robot gives up, as move_base
+/// aborts.
 
 #include <span>
 #include <vector>
@@ -28,11 +31,15 @@
 
 namespace barn::controllers {
 
-/// move_base's recoveries after controller_patience without a valid command, in its default
-/// order: clear the costmaps beyond 3 m, rotate, clear beyond 1.84 m, rotate; then abort.
+/// move_base's recoveries, in its default order: clear the costmaps beyond 3 m, rotate, clear
+/// beyond 1.84 m, rotate; then abort. They start after controller_patience without a valid
+/// command, or after planner_patience without a plan while the controller waits for one (after
+/// a cycle without a valid command move_base stops and runs the controller again only once the
+/// global planner has found a path: its PLANNING state).
 struct DwaRecoveryConfig {
   bool enabled = true;
   double controller_patience = 15.0;       // [s] without a valid command before recovering
+  double planner_patience = 5.0;           // [s] waiting for a plan before recovering
   // BARN's clearing recoveries clear nothing: ClearCostmapRecovery resets only layers named
   // "obstacles", and BARN's obstacle layer is called "obstacles_layer". true clears as intended.
   bool clear_costmaps = false;
@@ -47,7 +54,8 @@ struct DwaRecoveryConfig {
   double rotation_tolerance = 0.157;       // [rad] yaw_goal_tolerance
   double sweep_step = 0.017;               // [rad] sim_granularity of the sweep check
   template <class V> void visit(V& v) {
-    v("enabled", enabled); v("controller_patience", controller_patience); v("clear_costmaps", clear_costmaps);
+    v("enabled", enabled); v("controller_patience", controller_patience);
+    v("planner_patience", planner_patience); v("clear_costmaps", clear_costmaps);
     v("conservative_reset_distance", conservative_reset_distance);
     v("aggressive_reset_distance", aggressive_reset_distance); v("max_rotation_speed", max_rotation_speed);
     v("min_rotation_speed", min_rotation_speed); v("rotation_acceleration", rotation_acceleration);
@@ -127,7 +135,14 @@ class DwaController : public Controller {
   bool escaping() const { return escaping_; }
 
  private:
-  enum class Mode { Planning, RecoveryRotate, GaveUp };
+  /// move_base's states: Planning is its CONTROLLING (the planner's name is kept for the
+  /// state label), WaitingForPlan its PLANNING, RecoveryRotate a running rotate_recovery.
+  enum class Mode { Planning, WaitingForPlan, RecoveryRotate, GaveUp };
+  /// What started the current recoveries: move_base forgets them when that recovers.
+  enum class RecoveryTrigger { Controller, Planner };
+
+  /// move_base enters PLANNING: stop until the global planner finds a path.
+  void waitForPlan(double time);
 
   /// The headings of every roll-out with the same step count and yaw-rate sample: the yaw
   /// sequence depends on nothing else within one findBestPath(), so its sines and cosines
@@ -249,6 +264,8 @@ class DwaController : public Controller {
   Mode mode_ = Mode::Planning;
   double last_valid_time_ = 0.0;
   int recovery_index_ = 0;  // next of move_base's four recoveries
+  RecoveryTrigger recovery_trigger_ = RecoveryTrigger::Controller;
+  double waiting_since_ = 0.0;  // [s] when the controller started waiting for a plan
   double rotated_ = 0.0;    // [rad] turned in the current recovery rotation
   double last_yaw_ = 0.0;
   // TrajectoryPlanner's flags.

@@ -74,6 +74,8 @@ class NavStack {
   const Eigen::Vector2d& goal() const { return goal_; }
   int plansMade() const { return plans_; }
   int plansFailed() const { return failed_plans_; }
+  /// Whether the latest plan found a path (path() is then that path; else the one before).
+  bool lastPlanFound() const { return last_plan_found_; }
 
  private:
   /// One update of the local costmap: a scan (folded in, then the footprint cleared) or only
@@ -104,6 +106,7 @@ class NavStack {
   double last_scan_stamp_ = -1e9;
   int plans_ = 0;
   int failed_plans_ = 0;
+  bool last_plan_found_ = false;
 };
 
 }  // namespace barn::nav
