@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "barn/bench/record_session.hpp"
 #include "barn/bench/harness_out.hpp"
 #include "barn/bench/report.hpp"
 #include "barn/bench/results_io.hpp"
@@ -15,7 +16,6 @@
 #include "barn/core/errors.hpp"
 #include "barn/core/text_io.hpp"
 #include "commands.hpp"
-#include "run_environment.hpp"
 
 namespace barn::cli {
 
@@ -85,7 +85,7 @@ void importOut(const ImportOutOptions& o) {
   m.source_digest = hex64(core::fnv1a64(text));
   m.episodes_total = imported.results.size();
   m.barnbench_version = BARN_VERSION;
-  m.git_commit = gitCommit();
+  m.git_commit = bench::gitCommit();
   bench::writeCompleteRecord(o.out, m, imported.results, worlds);
   std::printf("imported %zu episodes on %zu worlds from %s (scored with %s)\n", imported.results.size(),
               imported.world_ids.size(), o.file.c_str(), protocol.name.c_str());

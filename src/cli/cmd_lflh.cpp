@@ -3,9 +3,9 @@
 
 #include <chrono>
 #include <cstdio>
-#include <ctime>
 #include <memory>
 
+#include "barn/bench/record_session.hpp"
 #include "barn/core/text_io.hpp"
 #include "barn/learning/exploration.hpp"
 #include "barn/learning/hallucination.hpp"
@@ -30,15 +30,6 @@ struct LflhOptions {
 
 double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-std::string utcNow() {
-  const std::time_t now = std::time(nullptr);
-  std::tm utc{};
-  gmtime_r(&now, &utc);
-  char text[32];
-  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &utc);
-  return text;
 }
 
 // `policy.policy` -> `policy.<suffix>` beside it.
@@ -98,7 +89,7 @@ void runTrain(const LflhOptions& options) {
   info.hidden = config.train.hidden;
   info.name = config.name;
   info.config_hash = learning::configHash(config);
-  info.trained = utcNow();
+  info.trained = bench::utcNow();
   info.seed = config.train.seed;
   info.epochs = config.train.epochs;
   info.train_loss = result.history.back().train;

@@ -69,10 +69,6 @@ core::ConfigNode controllerConfigFor(const std::string& controller, const std::s
 /// The validated simulation config (default configs/sim/barn.yaml), protocol overridden if given.
 bench::EpisodeConfig episodeConfigFor(const std::string& sim_config, const std::string& protocol);
 
-/// Combines the shard records of one run into the record a single run writes in `out`
-/// (InputError if they are not all the shards of one experiment, each complete).
-void mergeRecords(const std::vector<std::string>& shards, const std::filesystem::path& out, bool print);
-
 /// Parses --shard K/N (1 <= K <= N); InputError otherwise.
 void parseShard(const std::string& text, int& index, int& count);
 

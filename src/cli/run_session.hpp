@@ -1,14 +1,15 @@
 #pragma once
-/// A run record being executed (fresh, resumed, or one cell of a sweep), and executing several
-/// of them in one parallel pool. The CLI's run, regress and sweep commands share this.
+/// Run records executed by the CLI (fresh, resumed, or the cells of a sweep), several in one
+/// parallel pool: the record's life is bench::RecordSession's; this adds the C++ batch, the
+/// progress line, Ctrl-C and the printed summaries. The run, regress and sweep commands share it.
 
 #include <cstdint>
 #include <filesystem>
-#include <utility>
 #include <string>
 #include <vector>
 
 #include "barn/bench/batch.hpp"
+#include "barn/bench/record_session.hpp"
 #include "barn/bench/run_record.hpp"
 #include "barn/bench/world_selection.hpp"
 #include "barn/core/config.hpp"
@@ -16,34 +17,12 @@
 
 namespace barn::cli {
 
-/// An exclusive lock on a record folder (flock on its `.barn.lock`), held while one barn
-/// process writes the record: a second `barn run --out` or `--resume` on the same folder gets a
-/// clear error instead of silently losing one run's results. Released when destroyed (or when
-/// the process dies).
-class RecordLock {
- public:
-  RecordLock() = default;
-  /// Takes the lock on `dir` (created if missing); InputError naming the holder if taken.
-  explicit RecordLock(const std::filesystem::path& dir);
-  RecordLock(RecordLock&& other) noexcept : fd_(std::exchange(other.fd_, -1)) {}
-  RecordLock& operator=(RecordLock&& other) noexcept;
-  RecordLock(const RecordLock&) = delete;
-  RecordLock& operator=(const RecordLock&) = delete;
-  ~RecordLock();
-
- private:
-  int fd_ = -1;
-};
-
+/// A record to write (bench::RecordSession) and how to run its episodes here: the C++
+/// controller factory and the episode config, for the parallel batch.
 struct Session {
-  RecordLock lock;                             // held from before the folder is looked at
-  std::filesystem::path dir;                   // the record folder
-  bench::RunManifest manifest;
-  std::vector<core::WorldSpec> worlds;
+  bench::RecordSession record;
   bench::BatchSpec spec;
-  std::vector<bench::EpisodeResult> previous;  // finished in earlier sessions (resume)
 };
-
 
 /// A new record in `dir` (which must not hold one): everything validated, nothing written yet.
 Session newSession(const std::string& controller_name, const core::ConfigNode& controller_config,
