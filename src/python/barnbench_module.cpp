@@ -8,10 +8,16 @@
 
 #include <filesystem>
 #include <memory>
+#include <cerrno>
+#include <cstring>
 #include <string>
+#include <set>
+#include <tuple>
+#include <utility>
 
 #include "barn/bench/batch.hpp"
 #include "barn/bench/episode.hpp"
+#include "barn/bench/record_session.hpp"
 #include "barn/bench/results_io.hpp"
 #include "barn/bench/run_record.hpp"
 #include "barn/bench/world_selection.hpp"
@@ -39,15 +45,20 @@ bench::EpisodeConfig loadEpisodeConfig(const std::string& sim_config, const std:
   return bench::validatedEpisodeConfig(node, sim_config);
 }
 
+// The episode config a record holds (its manifest's episode_config text).
+bench::EpisodeConfig parseEpisodeConfig(const std::string& yaml) {
+  return bench::validatedEpisodeConfig(core::ConfigNode::parseString(yaml, "record episode_config"), "record episode_config");
+}
+
 // One episode Python steps. The obstacle field lives here, as long as the episode that
 // refers to it.
 class PyEpisode {
  public:
-  PyEpisode(const py::object& world, const std::string& world_dir, const std::string& sim_config,
-            const std::string& protocol, std::uint64_t seed, double dt)
+  PyEpisode(const py::object& world, const std::string& world_dir, const bench::EpisodeConfig& config,
+            std::uint64_t seed, double dt)
       : world_(loadWorld(world, world_dir)),
         field_(std::make_unique<sim::ObstacleField>(sim::ObstacleField::fromWorld(world_))),
-        config_(loadEpisodeConfig(sim_config, protocol)),
+        config_(config),
         episode_(std::make_unique<bench::Episode>(world_, *field_, config_, seed, dt)),
         dt_(dt) {}
 
@@ -121,38 +132,108 @@ class PyEpisode {
   double dt_;
 };
 
-// Writes the complete record of a Python controller's run, as barn run writes one: the
-// manifest (what was run), episodes.csv (sorted) and summary.json. `rows` are the episodes'
-// csv_row() lines; they are checked against the record (seeds, no episode twice, none missing).
-void writeRecord(const std::string& out, const std::string& controller, const std::string& controller_config,
-                 const std::string& worlds_spec, const std::string& world_dir, const std::string& sim_config,
-                 const std::string& protocol, int trials, std::uint64_t seed, const std::vector<std::string>& rows,
-                 int jobs, double wall_time_s) {
-  const bench::LoadedWorlds loaded = bench::loadWorlds(worlds_spec, world_dir);
-  bench::RunManifest m = bench::newManifest(controller, controller_config, loadEpisodeConfig(sim_config, protocol), loaded,
-                                            worlds_spec, trials, seed);
-  m.episodes_total = rows.size();
-  m.threads = jobs;
-  m.wall_time_s = wall_time_s;
-  std::vector<bench::EpisodeResult> results;
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    std::string line = rows[i];
-    while (!line.empty() && (line.back() == '\n' || line.back() == '\r')) line.pop_back();
-    results.push_back(bench::parseEpisodeRow(line, out + " row " + std::to_string(i + 1)));
+// A run record written from Python through bench's record life (record_session.hpp), so it
+// is created, journaled, resumed and completed exactly as `barn run` does it. Python runs the
+// pending episodes (in processes) and hands back each one's episodes.csv row as it finishes.
+class PyRecord {
+ public:
+  explicit PyRecord(bench::RecordSession session) : session_(std::move(session)) {}
+
+  static std::unique_ptr<PyRecord> create(const std::string& out, const std::string& controller,
+                                          const std::string& controller_config, const std::string& worlds_spec,
+                                          const std::string& world_dir, const std::string& sim_config,
+                                          const std::string& protocol, int trials, std::uint64_t seed, int shard_index,
+                                          int shard_count) {
+    bench::checkNoRecord(out);
+    if (trials < 1) throw core::InputError("trials: " + std::to_string(trials) + " (must be >= 1)");
+    if (shard_count < 0 || (shard_count > 0 && (shard_index < 1 || shard_index > shard_count)))
+      throw core::InputError("shard: " + std::to_string(shard_index) + "/" + std::to_string(shard_count) +
+                             " (K/N with 1 <= K <= N)");
+    const bench::LoadedWorlds loaded = bench::loadWorlds(worlds_spec, world_dir);
+    bench::RunManifest m = bench::newManifest(controller, controller_config, loadEpisodeConfig(sim_config, protocol),
+                                              loaded, worlds_spec, trials, seed);
+    m.shard_index = shard_index;
+    m.shard_count = shard_count;
+    return std::make_unique<PyRecord>(bench::createRecord(std::move(m), loaded.worlds, out));
   }
-  bench::checkRows(m, results, out, {}, true);
-  bench::writeCompleteRecord(out, m, results, loaded.worlds);
-}
+
+  static std::unique_ptr<PyRecord> open(const std::string& dir) {
+    return std::make_unique<PyRecord>(bench::openRecord(dir));
+  }
+
+  // (world id, trial, seed) of every episode still to run, in run order.
+  std::vector<std::tuple<int, int, std::uint64_t>> pending() const {
+    std::vector<std::tuple<int, int, std::uint64_t>> out;
+    const int trials = session_.manifest.trials;
+    for (std::size_t i : bench::pendingEpisodes(session_)) {
+      const int world = session_.worlds[i / static_cast<std::size_t>(trials)].id;
+      const int trial = static_cast<int>(i % static_cast<std::size_t>(trials));
+      out.emplace_back(world, trial, bench::episodeSeed(session_.manifest.seed, world, trial));
+    }
+    return out;
+  }
+
+  void begin(int threads) {
+    pending_ = bench::pendingEpisodes(session_);
+    journal_ = std::make_unique<bench::RecordJournal>(session_, pending_.size(), threads);
+    finished_.clear();
+    done_.clear();
+  }
+
+  // A finished episode's csv_row(), checked against the record before it is journaled.
+  void append(std::string row) {
+    if (!journal_) throw core::InputError("record: begin() first");
+    while (!row.empty() && (row.back() == '\n' || row.back() == '\r')) row.pop_back();
+    bench::EpisodeResult r = bench::parseEpisodeRow(row, (session_.dir / bench::kJournalFile).string());
+    bench::checkRows(session_.manifest, {r}, session_.dir.string(), pending_, false);
+    if (!done_.insert({r.world_id, r.trial}).second)
+      throw core::InputError(session_.dir.string() + ": world " + std::to_string(r.world_id) + " trial " +
+                             std::to_string(r.trial) + " given twice");
+    if (!journal_->append(r))
+      throw core::IoError((session_.dir / bench::kJournalFile).string() + ": write failed: " + std::strerror(errno));
+    finished_.push_back(std::move(r));
+  }
+
+  // True if the record is complete now; else it is left to resume.
+  bool finish(double wall_time_s) {
+    if (!journal_) throw core::InputError("record: begin() first");
+    const bool complete = journal_->finish(std::move(finished_), wall_time_s);
+    journal_.reset();
+    finished_.clear();
+    return complete;
+  }
+
+  const bench::RunManifest& manifest() const { return session_.manifest; }
+  std::string dir() const { return session_.dir.string(); }
+
+ private:
+  bench::RecordSession session_;
+  std::unique_ptr<bench::RecordJournal> journal_;
+  std::vector<bench::EpisodeResult> finished_;
+  std::vector<std::size_t> pending_;     // what begin() found left to run: only these may come
+  std::set<std::pair<int, int>> done_;   // (world, trial) appended since begin()
+};
 
 }  // namespace
 
 PYBIND11_MODULE(_core, m) {
   m.doc() = "barnbench's C++ core: a steppable BARN episode and the run record's format";
   py::register_exception<core::InputError>(m, "InputError", PyExc_ValueError);
+  py::register_exception<core::IoError>(m, "IoError", PyExc_OSError);
 
   py::class_<PyEpisode>(m, "Episode")
-      .def(py::init<const py::object&, const std::string&, const std::string&, const std::string&, std::uint64_t, double>(),
+      .def(py::init([](const py::object& world, const std::string& world_dir, const std::string& sim_config,
+                       const std::string& protocol, std::uint64_t seed, double dt) {
+             return std::make_unique<PyEpisode>(world, world_dir, loadEpisodeConfig(sim_config, protocol), seed, dt);
+           }),
            py::arg("world"), py::arg("world_dir"), py::arg("sim_config"), py::arg("protocol"), py::arg("seed"), py::arg("dt"))
+      .def_static("from_record_config",
+                  [](const py::object& world, const std::string& world_dir, const std::string& episode_config,
+                     std::uint64_t seed, double dt) {
+                    return std::make_unique<PyEpisode>(world, world_dir, parseEpisodeConfig(episode_config), seed, dt);
+                  },
+                  py::arg("world"), py::arg("world_dir"), py::arg("episode_config"), py::arg("seed"), py::arg("dt"),
+                  "The episode of a record: its worlds folder and episode_config text")
       .def("observation", &PyEpisode::observation, py::arg("full_precision") = false)
       .def("info", &PyEpisode::info)
       .def("step", &PyEpisode::step, py::arg("v"), py::arg("w"), py::arg("state") = "")
@@ -171,9 +252,24 @@ PYBIND11_MODULE(_core, m) {
   m.def("episode_seed", &bench::episodeSeed, py::arg("run_seed"), py::arg("world_id"), py::arg("trial"),
         "The seed `barn run --seed run_seed` gives this episode");
   m.def("episodes_csv_header", &bench::episodesCsvHeader);
-  m.def("write_record", &writeRecord, py::arg("out"), py::arg("controller"), py::arg("controller_config"),
-        py::arg("worlds_spec"), py::arg("world_dir"), py::arg("sim_config"), py::arg("protocol"), py::arg("trials"),
-        py::arg("seed"), py::arg("rows"), py::arg("jobs"), py::arg("wall_time_s"),
-        "Writes a complete run record (manifest.yaml, episodes.csv, summary.json) as barn run does");
+  py::class_<PyRecord>(m, "Record")
+      .def_static("create", &PyRecord::create, py::arg("out"), py::arg("controller"), py::arg("controller_config"),
+                  py::arg("worlds_spec"), py::arg("world_dir"), py::arg("sim_config"), py::arg("protocol"),
+                  py::arg("trials"), py::arg("seed"), py::arg("shard_index") = 0, py::arg("shard_count") = 0,
+                  "A new run record in `out` (checked and locked; written by begin())")
+      .def_static("open", &PyRecord::open, py::arg("dir"), "The run record in `dir`, to finish")
+      .def("pending", &PyRecord::pending, "(world, trial, seed) of the episodes still to run")
+      .def("begin", &PyRecord::begin, py::arg("threads"), "Writes the manifest and the journal of earlier rows")
+      .def("append", &PyRecord::append, py::arg("row"), "Journals a finished episode's csv_row()")
+      .def("finish", &PyRecord::finish, py::arg("wall_time_s"),
+           "Completes the record (True) or leaves it to resume (False)")
+      .def_property_readonly("dir", &PyRecord::dir)
+      .def_property_readonly("controller", [](const PyRecord& r) { return r.manifest().controller; })
+      .def_property_readonly("worlds_folder", [](const PyRecord& r) { return r.manifest().worlds_folder; })
+      .def_property_readonly("episode_config", [](const PyRecord& r) { return r.manifest().episode_config; })
+      .def_property_readonly("complete", [](const PyRecord& r) { return r.manifest().complete; });
+  m.def("merge", [](const std::vector<std::string>& shards, const std::string& out) {
+        bench::mergeShardRecords(std::vector<std::filesystem::path>(shards.begin(), shards.end()), out);
+      }, py::arg("shards"), py::arg("out"), "Merges the shard records of one run into `out`, as barn merge does");
   m.attr("SOURCE_DIR") = BARN_SOURCE_DIR;
 }

@@ -10,6 +10,8 @@
     print(info["outcome"], info["score"])
 
     summary = barnbench.run(MyController, worlds="test50", trials=1, jobs=2, out="results/mine")
+    barnbench.run(MyController, out="results/mine", resume=True)   # after an interruption
+    barnbench.merge(["shard_1", "shard_2"], out="merged")         # run(..., shard=(k, 2)) each
 
 Observations are dicts of numpy arrays in the odom frame (the start, facing the protocol's
 heading): "scan" (720 float32, inf for no return), "pose" (x, y, yaw), "twist" (v, w),
@@ -26,9 +28,9 @@ import time
 import numpy as np
 
 from . import _core
-from ._core import InputError
+from ._core import InputError, IoError
 
-__all__ = ["Env", "run", "default_reward", "InputError"]
+__all__ = ["Env", "run", "merge", "default_reward", "InputError", "IoError"]
 
 _SOURCE_DIR = _core.SOURCE_DIR
 _DEFAULT_SIM_CONFIG = os.path.join(_SOURCE_DIR, "configs", "sim", "barn.yaml")
@@ -116,7 +118,7 @@ def _barn_binary():
 
 
 def run(controller, worlds="test50", world_dir=None, trials=1, jobs=2, seed=0, protocol="barn2023", out=None,
-        sim_config=None, config=None):
+        sim_config=None, config=None, resume=False, shard=None):
     """Scores `controller` on `worlds` x `trials` and writes the experiment record to `out`.
 
     `controller` is a built-in name ("dwa", "inventec_fi", ...: run by `barn run`, the same
@@ -128,34 +130,65 @@ def run(controller, worlds="test50", world_dir=None, trials=1, jobs=2, seed=0, p
     `config` is a controller config file for a built-in run (barn run --config; e.g. an
     `external` controller). Either way `out` holds barn run's record (manifest.yaml,
     episodes.csv, summary.json; `barn compare` and `barn plot scores` read it) and its summary
-    is returned."""
+    is returned.
+    The record is journaled as episodes finish, as barn run does: after an interruption
+    (Ctrl-C, a killed job) `run(controller, out=DIR, resume=True)` runs only what is left (the
+    experiment's settings come from the record). `shard=(k, n)` runs every n-th episode from
+    the k-th (barn run --shard k/n); merge() puts the shards together."""
     if out is None:
         raise InputError("out: a folder for the record is required")
+    shard_index, shard_count = _shard(shard)
     if isinstance(controller, str):
-        command = [_barn_binary(), "run", "--controller", controller, "--worlds", str(worlds), "--trials", str(trials),
-                   "--jobs", str(jobs), "--seed", str(seed), "--protocol", protocol, "--out", str(out)]
-        if world_dir:
-            command += ["--world-dir", str(world_dir)]
-        if sim_config:
-            command += ["--sim-config", str(sim_config)]
-        if config:
-            command += ["--config", str(config)]
+        if resume:
+            command = [_barn_binary(), "run", "--resume", str(out), "--jobs", str(jobs)]
+        else:
+            command = [_barn_binary(), "run", "--controller", controller, "--worlds", str(worlds), "--trials",
+                       str(trials), "--jobs", str(jobs), "--seed", str(seed), "--protocol", protocol, "--out", str(out)]
+            if world_dir:
+                command += ["--world-dir", str(world_dir)]
+            if sim_config:
+                command += ["--sim-config", str(sim_config)]
+            if config:
+                command += ["--config", str(config)]
+            if shard_count:
+                command += ["--shard", f"{shard_index}/{shard_count}"]
         done = subprocess.run(command, capture_output=True, text=True)
         if done.returncode != 0:
             raise InputError(done.stderr.strip() or done.stdout.strip())
         with open(os.path.join(out, "summary.json")) as f:
             return json.load(f)
     return _run_python(controller, worlds, world_dir or _DEFAULT_WORLD_DIR, trials, jobs, seed, protocol, out,
-                       sim_config or _DEFAULT_SIM_CONFIG)
+                       sim_config or _DEFAULT_SIM_CONFIG, resume, shard_index, shard_count)
+
+
+def merge(shards, out):
+    """Merges the shard records of one run (run(..., shard=(k, n)) or barn run --shard) into
+    `out`, the record a single run writes, as `barn merge` does; returns its summary."""
+    _core.merge([str(s) for s in shards], str(out))
+    with open(os.path.join(out, "summary.json")) as f:
+        return json.load(f)
+
+
+def _shard(shard):
+    if shard is None:
+        return 0, 0
+    try:
+        index, count = (int(x) for x in shard)
+    except (TypeError, ValueError):
+        raise InputError(f"shard: {shard!r} is not a pair (k, n)") from None
+    if count < 1 or not 1 <= index <= count:
+        raise InputError(f"shard: ({index}, {count}) needs 1 <= k <= n")
+    return index, count
 
 
 def _run_one(task):
-    controller_class, world, world_dir, sim_config, protocol, seed, trial = task
+    controller_class, world, world_dir, episode_config, seed, trial = task
     global _worker_controller
     if _worker_controller is None or type(_worker_controller) is not controller_class:
         _worker_controller = controller_class()
     controller = _worker_controller
-    episode = _core.Episode(world, world_dir, sim_config, protocol, seed, float(getattr(controller, "period", 0.05)))
+    episode = _core.Episode.from_record_config(world, world_dir, episode_config, seed,
+                                               float(getattr(controller, "period", 0.05)))
     try:
         controller.reset(episode.info())
     except Exception as e:  # a failing controller ends its own episode only
@@ -174,22 +207,37 @@ def _run_one(task):
 _worker_controller = None
 
 
-def _run_python(controller_class, worlds, world_dir, trials, jobs, seed, protocol, out, sim_config):
+def _run_python(controller_class, worlds, world_dir, trials, jobs, seed, protocol, out, sim_config, resume,
+                shard_index, shard_count):
     if not isinstance(controller_class, type):
         raise InputError("controller: a built-in name or a class with reset(info) and act(obs)")
-    ids, folder = _core.select_worlds(str(worlds), str(world_dir))
-    tasks = [(controller_class, w, folder, sim_config, protocol, _core.episode_seed(seed, w, t), t)
-             for w in ids for t in range(trials)]
-    started = time.monotonic()
-    if jobs == 1:
-        rows = [_run_one(t) for t in tasks]
-    else:
-        # Processes, so Python controllers run in parallel; each episode is deterministic given
-        # (world, seed), so the record does not depend on the number of jobs.
-        with multiprocessing.get_context("fork").Pool(jobs) as pool:
-            rows = pool.map(_run_one, tasks, chunksize=1)
     name = f"{controller_class.__module__}.{controller_class.__qualname__}"
-    _core.write_record(str(out), name, f"type: python\npython:\n  class: {name}\n", str(worlds), str(world_dir),
-                       sim_config, protocol, trials, seed, rows, jobs, time.monotonic() - started)
-    with open(os.path.join(out, "summary.json")) as f:
+    if resume:
+        record = _core.Record.open(str(out))
+        if record.controller != name:
+            raise InputError(f"{out}: a record of {record.controller}, not of {name}")
+    else:
+        record = _core.Record.create(str(out), name, f"type: python\npython:\n  class: {name}\n", str(worlds),
+                                     str(world_dir), sim_config, protocol, trials, seed, shard_index, shard_count)
+    if not record.complete:
+        tasks = [(controller_class, w, record.worlds_folder, record.episode_config, s, t)
+                 for w, t, s in record.pending()]
+        record.begin(jobs)
+        started = time.monotonic()
+        complete = False
+        try:
+            if jobs == 1:
+                for task in tasks:
+                    record.append(_run_one(task))
+            else:
+                # Processes, so Python controllers run in parallel; each episode is deterministic
+                # given (world, seed), so the record does not depend on the number of jobs.
+                with multiprocessing.get_context("fork").Pool(jobs) as pool:
+                    for row in pool.imap_unordered(_run_one, tasks):
+                        record.append(row)
+        finally:  # an interruption leaves a record to resume
+            complete = record.finish(time.monotonic() - started)
+        if not complete:
+            raise InputError(f"{out}: not complete; finish it with run(..., out={str(out)!r}, resume=True)")
+    with open(os.path.join(out, "summary.json")) as f:  # a shard's covers its episodes only
         return json.load(f)

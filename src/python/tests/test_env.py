@@ -141,3 +141,52 @@ def test_the_gap_follower_in_python_as_an_external_program_and_in_cpp_gives_one_
     assert from_class == (tmp_path / "external" / "episodes.csv").read_text()
     assert from_class == (tmp_path / "cpp" / "episodes.csv").read_text()
     assert "gap:" in from_class  # the state labels came through too
+
+
+class InterruptedTwin(StraightTwin):
+    """StraightTwin that raises KeyboardInterrupt (as Ctrl-C would) in its `stop_at`-th reset."""
+    stop_at = None
+    resets = 0
+
+    def reset(self, info):
+        InterruptedTwin.resets += 1
+        if InterruptedTwin.resets == InterruptedTwin.stop_at:
+            raise KeyboardInterrupt
+        super().reset(info)
+
+
+def test_an_interrupted_python_run_resumes_to_the_record_of_an_uninterrupted_one(tmp_path):
+    options = dict(worlds="0:300:60", trials=2, seed=3)
+    whole = barnbench.run(InterruptedTwin, jobs=1, out=str(tmp_path / "whole"), **options)
+    InterruptedTwin.resets, InterruptedTwin.stop_at = 0, 4
+    with pytest.raises(KeyboardInterrupt):
+        barnbench.run(InterruptedTwin, jobs=1, out=str(tmp_path / "cut"), **options)
+    journal = (tmp_path / "cut" / "episodes.partial.csv").read_text().splitlines()
+    assert len(journal) == 1 + 3  # the header and the three episodes before the interruption
+    assert not (tmp_path / "cut" / "episodes.csv").exists()
+    InterruptedTwin.stop_at = None
+    # The settings come from the record: only the seven episodes left run, in two processes.
+    resumed = barnbench.run(InterruptedTwin, jobs=2, out=str(tmp_path / "cut"), resume=True)
+    assert resumed == whole
+    for name in ("episodes.csv", "summary.json"):
+        assert (tmp_path / "cut" / name).read_bytes() == (tmp_path / "whole" / name).read_bytes()
+    with pytest.raises(barnbench.InputError, match="not of test_env.StraightTwin"):
+        barnbench.run(StraightTwin, out=str(tmp_path / "cut"), resume=True)
+    with pytest.raises(barnbench.InputError, match="already holds a run"):
+        barnbench.run(InterruptedTwin, jobs=1, out=str(tmp_path / "cut"), **options)
+
+
+def test_python_shards_merge_into_the_record_of_one_run(tmp_path):
+    options = dict(worlds="0:300:60", trials=2, seed=6, jobs=2)
+    barnbench.run(StraightTwin, out=str(tmp_path / "whole"), **options)
+    shards = [str(tmp_path / f"shard_{k}") for k in (1, 2, 3)]
+    for k, shard in enumerate(shards, start=1):
+        barnbench.run(StraightTwin, out=shard, shard=(k, 3), **options)
+    merged = barnbench.merge(shards, out=str(tmp_path / "merged"))
+    assert merged["summary"]["episodes"] == 10
+    for name in ("episodes.csv", "summary.json"):
+        assert (tmp_path / "merged" / name).read_bytes() == (tmp_path / "whole" / name).read_bytes()
+    with pytest.raises(barnbench.InputError, match="missing"):
+        barnbench.merge(shards[:2], out=str(tmp_path / "partial"))
+    with pytest.raises(barnbench.InputError, match="shard"):
+        barnbench.run(StraightTwin, out=str(tmp_path / "bad"), shard=(4, 3), **options)
