@@ -2,10 +2,15 @@
 // written as an experiment record (see bench/run_record.hpp). Interruptible and resumable;
 // shardable across machines (barn merge puts the shards together).
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <string>
+#include <vector>
 
+#include "barn/controllers/registry.hpp"
 #include "barn/core/config.hpp"
+#include "barn/core/protocol.hpp"
 #include "barn/core/errors.hpp"
 #include "commands.hpp"
 #include "repo_paths.hpp"
@@ -35,12 +40,56 @@ struct RunOptions {
   std::size_t stop_after = 0;  // 0 = never
 };
 
+// Levenshtein distance, for "did you mean".
+std::size_t editDistance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+// The names --controller takes: the configs in configs/controllers/, then the bare types.
+std::vector<std::string> controllerNames() {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(repoPath("configs") / "controllers", ec))
+    if (entry.path().extension() == ".yaml") names.push_back(entry.path().stem().string());
+  std::sort(names.begin(), names.end());
+  for (const auto& type : controllers::controllerTypes())
+    if (std::find(names.begin(), names.end(), type) == names.end()) names.push_back(type);
+  return names;
+}
+
 // The controller config: --config FILE, else configs/controllers/NAME.yaml, else the type NAME
-// with its defaults.
+// with its defaults; an unknown NAME lists the known ones.
 core::ConfigNode controllerConfig(const RunOptions& options) {
   if (!options.config.empty()) return core::ConfigNode::parseFile(options.config);
   const auto file = repoPath("configs") / "controllers" / (options.controller + ".yaml");
   if (fs::exists(file)) return core::ConfigNode::parseFile(file);
+  const std::vector<std::string> types = controllers::controllerTypes();
+  if (std::find(types.begin(), types.end(), options.controller) == types.end()) {
+    const std::vector<std::string> names = controllerNames();
+    std::string known, closest;
+    std::size_t best = 3;  // suggest only a near miss
+    for (const auto& name : names) {
+      known += (known.empty() ? "" : ", ") + name;
+      if (const std::size_t d = editDistance(options.controller, name); d < best) {
+        best = d;
+        closest = name;
+      }
+    }
+    throw core::InputError("--controller " + options.controller + ": unknown" +
+                           (closest.empty() ? std::string() : "; did you mean " + closest + "?") + " (known: " + known +
+                           "; or --config FILE)");
+  }
   return core::ConfigNode::parseString("type: " + options.controller, "--controller " + options.controller);
 }
 
@@ -71,6 +120,14 @@ core::ConfigNode controllerConfigFor(const std::string& controller, const std::s
 }
 
 bench::EpisodeConfig episodeConfigFor(const std::string& sim_config, const std::string& protocol) {
+  if (!protocol.empty()) {
+    const std::vector<std::string> known = core::protocolNames();
+    if (std::find(known.begin(), known.end(), protocol) == known.end()) {
+      std::string list;
+      for (const auto& name : known) list += (list.empty() ? "" : ", ") + name;
+      throw core::InputError("--protocol " + protocol + ": unknown (known: " + list + ")");
+    }
+  }
   const fs::path sim_file = sim_config.empty() ? repoPath("configs") / "sim" / "barn.yaml" : fs::path(sim_config);
   core::ConfigNode sim_node = core::ConfigNode::parseFile(sim_file);
   if (!protocol.empty()) sim_node.set("protocol", protocol);

@@ -10,6 +10,7 @@
 #include "barn/bench/record_session.hpp"
 #include "barn/bench/results_io.hpp"
 #include "barn/bench/sweep_grid.hpp"
+#include "barn/controllers/registry.hpp"
 #include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/core/text_io.hpp"
@@ -41,6 +42,26 @@ struct SweepOptions {
   std::vector<std::string> merge;
   std::size_t stop_after = 0;
 };
+
+// InputError naming the --param whose key is not in the controller's effective config.
+void checkSweepKeys(const bench::SweepGrid& grid, const core::ConfigNode& base) {
+  std::string type;
+  base.child("type").read(type);
+  const core::ConfigNode effective =
+      core::ConfigNode::parseString(controllers::effectiveControllerConfig(base), "effective " + type + " config");
+  for (const auto& p : grid.parameters) {
+    const std::string path = p.key.rfind(type + ".", 0) == 0 ? p.key : type + "." + p.key;
+    core::ConfigNode node = effective;
+    for (std::size_t begin = 0; begin <= path.size() && !node.isNull();) {
+      const std::size_t dot = std::min(path.find('.', begin), path.size());
+      node = node.child(path.substr(begin, dot - begin));
+      begin = dot + 1;
+    }
+    if (node.isNull())
+      throw core::InputError("--param " + p.key + ": " + type + " has no setting " + path +
+                             " (barn config RECORD or configs/controllers/ list them)");
+  }
+}
 
 }  // namespace
 
@@ -92,8 +113,10 @@ void addSweepCommand(CLI::App& app, CommandContext& context) {
         dir += "_shard" + std::to_string(shard_index) + "of" + std::to_string(shard_count);
       if (fs::exists(dir / bench::kSweepFile))
         throw core::InputError(dir.string() + ": already holds a sweep; finish it with --resume or choose another --out");
-      // Validate every cell's config before anything runs.
+      // Validate every cell's config before anything runs; a key the controller does not have
+      // is the --param's fault, not the config file's.
       const core::ConfigNode base = controllerConfigFor(options->controller, options->config);
+      checkSweepKeys(grid, base);
       const bench::EpisodeConfig episode = episodeConfigFor(options->sim_config, options->protocol);
       const bench::LoadedWorlds loaded =
           bench::loadWorlds(options->worlds, options->world_dir.empty() ? repoPath("worlds") : fs::path(options->world_dir));

@@ -4,15 +4,18 @@
 
 #include <cstdio>
 #include <exception>
+#include <string>
 
 #include <CLI/CLI.hpp>
 
+#include "barn/bench/record_session.hpp"
 #include "barn/core/errors.hpp"
 #include "commands.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"barnbench: BARN worlds, simulation and scoring without ROS or Gazebo", "barn"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("barn (barnbench) ") + BARN_VERSION + ", commit " + barn::bench::gitCommit());
   barn::cli::CommandContext context;
   barn::cli::addGenerateCommand(app, context);
   barn::cli::addImportCommand(app, context);
