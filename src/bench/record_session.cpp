@@ -55,9 +55,18 @@ RecordLock::~RecordLock() {
 }
 
 void checkNoRecord(const fs::path& dir) {
-  if (fs::exists(dir / kManifestFile))
-    throw core::InputError(dir.string() + ": already holds a run; finish it with --resume " + dir.string() +
-                           " or choose another --out");
+  if (!fs::exists(dir / kManifestFile)) return;
+  bool complete = false;
+  try {
+    complete = readManifest(dir / kManifestFile).complete;
+  } catch (const core::InputError&) {
+    // A broken manifest is still a record not to overwrite; say so as for an unfinished one.
+  }
+  if (complete)
+    throw core::InputError(dir.string() + ": already holds a complete run; choose another --out (barn run --force "
+                           "replaces it once the new run is complete)");
+  throw core::InputError(dir.string() + ": already holds an unfinished run; finish it with --resume " + dir.string() +
+                         " or choose another --out");
 }
 
 RecordSession createRecord(RunManifest manifest, std::vector<core::WorldSpec> worlds, const fs::path& dir) {

@@ -3,11 +3,13 @@
 // shardable across machines (barn merge puts the shards together).
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <string>
 #include <vector>
 
+#include "barn/bench/record_session.hpp"
 #include "barn/controllers/registry.hpp"
 #include "barn/core/config.hpp"
 #include "barn/core/protocol.hpp"
@@ -36,6 +38,7 @@ struct RunOptions {
   std::string shard;
   std::string resume;
   bool keep_going = false;
+  bool force = false;
   bool trajectories = false;
   std::size_t stop_after = 0;  // 0 = never
 };
@@ -91,6 +94,35 @@ core::ConfigNode controllerConfig(const RunOptions& options) {
                            "; or --config FILE)");
   }
   return core::ConfigNode::parseString("type: " + options.controller, "--controller " + options.controller);
+}
+
+// UTC now as YYYYmmdd-HHMMSS, for a folder name.
+std::string timestamp() {
+  std::string iso = bench::utcNow();  // 2026-11-23T01:52:10Z
+  std::string out;
+  for (char ch : iso)
+    if (std::isdigit(static_cast<unsigned char>(ch))) out += ch;
+  return out.substr(0, 8) + "-" + out.substr(8, 6);
+}
+
+// --force: the new record (complete) takes the old one's place; an interrupted one stays
+// beside it, to resume, and the old record is untouched.
+void replaceRecord(Session& session, const fs::path& old_dir) {
+  const fs::path& new_dir = session.record.dir;
+  if (!session.record.manifest.complete) {
+    std::printf("--force: %s is untouched; the new run is in %s (finish it with barn run --resume %s, then move it)\n",
+                old_dir.c_str(), new_dir.c_str(), new_dir.c_str());
+    return;
+  }
+  const fs::path trash = old_dir.string() + ".old";
+  std::error_code ec;
+  fs::remove_all(trash, ec);
+  fs::rename(old_dir, trash, ec);
+  if (ec) throw core::IoError(old_dir.string() + ": cannot move aside: " + ec.message() + " (the new record is in " + new_dir.string() + ")");
+  fs::rename(new_dir, old_dir, ec);
+  if (ec) throw core::IoError(new_dir.string() + ": cannot move to " + old_dir.string() + ": " + ec.message() + " (the old record is in " + trash.string() + ")");
+  fs::remove_all(trash, ec);
+  std::printf("replaced %s\n", old_dir.c_str());
 }
 
 }  // namespace
@@ -157,12 +189,16 @@ void addRunCommand(CLI::App& app, CommandContext& context) {
                   "Stop after this many episodes, as Ctrl-C would (to try out --resume)");
   cmd->add_flag("--trajectories", options->trajectories,
                 "Also write trajectories/world_N_trial_T.csv (pose, command and state per control tick)");
+  cmd->add_flag("--force", options->force,
+                "Replace the record in --out, once the new run is complete (until then the old one stays)");
   cmd->callback([options, &context] {
+    fs::path replaced;  // with --force: the record the new one replaces
     if (options->resume.empty() && options->controller.empty())
       throw core::InputError("run: --controller is required (or --resume DIR)");
     if (!options->resume.empty() && (!options->controller.empty() || !options->config.empty() ||
                                      !options->shard.empty() || !options->out.empty()))
       throw core::InputError("run: --resume takes its settings from the record; give only --jobs (and --stop-after) with it");
+    if (options->force && options->out.empty()) throw core::InputError("--force: replaces the record in --out; give --out");
     Session session;
     if (options->resume.empty()) {
       // Everything is read and validated before the first episode.
@@ -176,6 +212,13 @@ void addRunCommand(CLI::App& app, CommandContext& context) {
       fs::path dir = options->out.empty() ? repoPath("results") / options->controller : fs::path(options->out);
       if (!options->shard.empty() && options->out.empty())
         dir += "_shard" + std::to_string(shard_index) + "of" + std::to_string(shard_count);
+      // The default folder is taken: a new one beside it, never someone's earlier results.
+      if (options->out.empty() && fs::exists(dir / bench::kManifestFile)) dir += "_" + timestamp();
+      if (options->force && fs::exists(dir / bench::kManifestFile)) {
+        replaced = dir;
+        dir += ".new";
+        bench::checkNoRecord(dir);
+      }
       session = newSession(options->controller, controller_node, episode, loaded, options->worlds, options->trials,
                            options->seed, shard_index, shard_count, dir);
     } else {
@@ -186,6 +229,7 @@ void addRunCommand(CLI::App& app, CommandContext& context) {
     session_options.trajectories = options->trajectories;
     session_options.stop_after = options->stop_after;
     context.exit_code = executeSessions({&session}, session_options, true);
+    if (!replaced.empty()) replaceRecord(session, replaced);
   });
 }
 

@@ -113,7 +113,7 @@ TEST_F(RecordSessionTest, ARecordIsNeverCreatedTwiceNorWrittenByTwoSessions) {
   EXPECT_THAT([&] { createRecord(manifest(), loaded_.worlds, root_ / "r"); },
               ::testing::ThrowsMessage<core::InputError>(HasSubstr("another barn process")));
   RecordJournal journal(first, 6, 1);  // writes the manifest
-  EXPECT_THAT([&] { checkNoRecord(root_ / "r"); }, ::testing::ThrowsMessage<core::InputError>(HasSubstr("already holds a run")));
+  EXPECT_THAT([&] { checkNoRecord(root_ / "r"); }, ::testing::ThrowsMessage<core::InputError>(HasSubstr("already holds an unfinished run")));
 }
 
 TEST_F(RecordSessionTest, AJournalRowOfAnotherExperimentIsRefusedOnResume) {

@@ -515,7 +515,19 @@ TEST_F(BarnRun, CtrlCStopsKeepsTheJournalAndResumeCompletes) {
 // Bad input: exit 2 before any episode, no record started
 
 TEST_F(BarnRun, UnknownControllerIsRejectedListingTheKnownOnes) {
-  expectRejected("run --controller nosuch --worlds 0", dir_ / "o", {"nosuch", "known:"});
+  expectRejected("run --controller nosuch --worlds 0", dir_ / "o", {"--controller nosuch", "known:", "inventec_fi", "dwa_fast"});
+  expectRejected("run --controller inventec_f --worlds 0", dir_ / "o", {"did you mean inventec_fi?"});
+}
+
+TEST_F(BarnRun, UnknownProtocolBlamesTheFlag) {
+  expectRejected("run --controller pure_pursuit --worlds 0 --protocol barn2025", dir_ / "o",
+                 {"--protocol barn2025", "barn2023", "barn2024"});
+}
+
+TEST_F(BarnRun, VersionNamesTheVersionAndCommit) {
+  const RunResult r = run("--version");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, AllOf(HasSubstr("barnbench"), HasSubstr("commit")));
 }
 
 TEST_F(BarnRun, UnknownWorldIdIsRejected) {
@@ -613,10 +625,37 @@ TEST_F(BarnRun, OutFolderHoldingARunIsRejected) {
   const std::string episodes = readFile(out / "episodes.csv");
   const RunResult r = run(kSmallRun + " --out " + quote(out));
   EXPECT_EQ(r.exit_code, 2) << r.output;
-  EXPECT_THAT(r.output, AllOf(HasSubstr("already holds a run"), Not(HasSubstr("running "))));
+  EXPECT_THAT(r.output, AllOf(HasSubstr("already holds a complete run"), HasSubstr("--force"), Not(HasSubstr("running "))));
   // The existing record is untouched.
   EXPECT_EQ(readFile(out / "manifest.yaml"), manifest);
   EXPECT_EQ(readFile(out / "episodes.csv"), episodes);
+}
+
+TEST_F(BarnRun, ForceReplacesACompleteRecordOnlyOnceTheNewRunIsComplete) {
+  const fs::path out = dir_ / "o";
+  ASSERT_EQ(run("run --controller pure_pursuit --worlds 0:300:100 --out " + quote(out)).exit_code, 0);
+  const std::string old_episodes = readFile(out / "episodes.csv");
+  // Interrupted: the old record stays as it was, the new one waits beside it.
+  const RunResult cut = run(kSmallRun + " --jobs 1 --stop-after 3 --force --out " + quote(out));
+  EXPECT_EQ(cut.exit_code, 1) << cut.output;
+  EXPECT_EQ(readFile(out / "episodes.csv"), old_episodes);
+  EXPECT_THAT(cut.output, HasSubstr("is untouched"));
+  EXPECT_TRUE(fs::exists(fs::path(out.string() + ".new") / "episodes.partial.csv"));
+  fs::remove_all(out.string() + ".new");
+  // Complete: the new record takes its place.
+  const RunResult r = run(kSmallRun + " --jobs 2 --force --out " + quote(out));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  expectSameAsReference(out);
+  EXPECT_FALSE(fs::exists(out.string() + ".new"));
+  EXPECT_FALSE(fs::exists(out.string() + ".old"));
+}
+
+TEST_F(BarnRun, AnUnfinishedRecordSuggestsResume) {
+  const fs::path out = dir_ / "o";
+  ASSERT_EQ(run(kSmallRun + " --jobs 1 --stop-after 2 --out " + quote(out)).exit_code, 1);
+  const RunResult r = run(kSmallRun + " --out " + quote(out));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("unfinished run; finish it with --resume"));
 }
 
 TEST_F(BarnRun, ControllerConfigWithAnUnknownKeyIsRejectedNamingIt) {

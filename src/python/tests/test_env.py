@@ -172,7 +172,7 @@ def test_an_interrupted_python_run_resumes_to_the_record_of_an_uninterrupted_one
         assert (tmp_path / "cut" / name).read_bytes() == (tmp_path / "whole" / name).read_bytes()
     with pytest.raises(barnbench.InputError, match="not of test_env.StraightTwin"):
         barnbench.run(StraightTwin, out=str(tmp_path / "cut"), resume=True)
-    with pytest.raises(barnbench.InputError, match="already holds a run"):
+    with pytest.raises(barnbench.InputError, match="already holds a complete run"):
         barnbench.run(InterruptedTwin, jobs=1, out=str(tmp_path / "cut"), **options)
 
 
