@@ -124,11 +124,22 @@ void writeSummaryFields(std::ostringstream& out, const RunSummary& s) {
 
 }  // namespace
 
-std::string summaryJson(const RunSummary& summary, const std::vector<BucketSummary>& breakdown) {
+std::string summaryJson(const std::string& world_set, const RunSummary& summary, const std::vector<WorldScore>& per_world,
+                        const std::vector<BucketSummary>& breakdown) {
+  const auto number = [](double v) { return std::isfinite(v) ? core::formatDouble(v) : std::string("null"); };
   std::ostringstream out;
-  out << "{\n  \"summary\": {";
+  out << "{\n  \"world_set\": \"" << world_set << "\",\n  \"summary\": {";
   writeSummaryFields(out, summary);
-  out << "},\n  \"breakdown\": [";
+  out << "},\n  \"per_world\": [";
+  for (std::size_t i = 0; i < per_world.size(); ++i) {
+    const WorldScore& w = per_world[i];
+    out << (i ? ",\n    " : "\n    ") << "{\"world\": " << w.world << ", \"trials\": " << w.trials
+        << ", \"score\": " << number(w.score) << ", \"score_ci95\": [" << number(w.score_ci_low) << ", "
+        << number(w.score_ci_high) << "], \"success_rate\": " << number(w.success_rate)
+        << ", \"collision_rate\": " << number(w.collision_rate) << ", \"timeout_rate\": " << number(w.timeout_rate)
+        << ", \"avg_success_time_s\": " << number(w.avg_success_time) << "}";
+  }
+  out << "\n  ],\n  \"breakdown\": [";
   for (std::size_t i = 0; i < breakdown.size(); ++i) {
     out << (i ? ",\n    " : "\n    ") << "{\"group\": \"" << breakdown[i].group << "\", \"bucket\": \""
         << breakdown[i].bucket << "\", ";
@@ -137,6 +148,64 @@ std::string summaryJson(const RunSummary& summary, const std::vector<BucketSumma
   }
   out << "\n  ]\n}\n";
   return out.str();
+}
+
+std::vector<WorldScore> perWorldScores(const std::vector<EpisodeResult>& results) {
+  std::vector<WorldScore> worlds;
+  std::map<int, std::size_t> index;
+  std::vector<std::vector<double>> scores;
+  std::vector<double> success_time;
+  for (const auto& r : results) {
+    auto [it, added] = index.emplace(r.world_id, worlds.size());
+    if (added) {
+      worlds.push_back({});
+      worlds.back().world = r.world_id;
+      scores.emplace_back();
+      success_time.push_back(0.0);
+    }
+    WorldScore& w = worlds[it->second];
+    ++w.trials;
+    scores[it->second].push_back(r.score);
+    w.success_rate += r.outcome == Outcome::Success;
+    w.collision_rate += r.outcome == Outcome::Collision;
+    w.timeout_rate += r.outcome == Outcome::Timeout;
+    if (r.outcome == Outcome::Success) success_time[it->second] += r.actual_time;
+  }
+  // Student's t(0.975, df) for df = 1 ... 30; the normal 1.96 beyond.
+  static constexpr double kT975[] = {12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228,
+                                     2.201,  2.179, 2.160, 2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086,
+                                     2.080,  2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048, 2.045, 2.042};
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  for (std::size_t i = 0; i < worlds.size(); ++i) {
+    WorldScore& w = worlds[i];
+    const double n = w.trials;
+    double sum = 0.0;
+    for (double v : scores[i]) sum += v;
+    w.score = sum / n;
+    w.score_ci_low = w.score_ci_high = kNaN;
+    if (w.trials > 1) {
+      double squares = 0.0;
+      for (double v : scores[i]) squares += (v - w.score) * (v - w.score);
+      const int df = w.trials - 1;
+      const double t = df <= 30 ? kT975[df - 1] : 1.96;
+      const double half = t * std::sqrt(squares / df / n);
+      w.score_ci_low = w.score - half;
+      w.score_ci_high = w.score + half;
+    }
+    const double successes = w.success_rate;
+    w.avg_success_time = successes > 0 ? success_time[i] / successes : kNaN;
+    w.success_rate /= n;
+    w.collision_rate /= n;
+    w.timeout_rate /= n;
+  }
+  return worlds;
+}
+
+std::string worldSetName(const std::vector<core::WorldSpec>& worlds) {
+  bool generated = false, imported = false;
+  for (const auto& w : worlds) (w.source == core::WorldSource::BarnDataset ? imported : generated) = true;
+  if (generated && imported) return "mixed";
+  return imported ? "official BARN (imported)" : "barnbench-generated";
 }
 
 std::string breakdownTable(const std::vector<BucketSummary>& breakdown) {

@@ -247,7 +247,8 @@ void writeCompleteRecord(const std::filesystem::path& dir, RunManifest manifest,
   manifest.episodes_done = results.size();
   manifest.sim_time_s = summary.sim_time;
   core::writeFilesAtomic(dir, {{kEpisodesFile, episodesCsv(results)},
-                               {kSummaryFile, summaryJson(summary, difficultyBreakdown(results, worlds))},
+                               {kSummaryFile, summaryJson(worldSetName(worlds), summary, perWorldScores(results),
+                                                          difficultyBreakdown(results, worlds))},
                                {kManifestFile, formatManifest(manifest)}});
   std::error_code ec;
   std::filesystem::remove(dir / kJournalFile, ec);

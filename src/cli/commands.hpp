@@ -44,6 +44,7 @@ void addImportCommand(CLI::App& app, CommandContext& context);
 void addWorldCommand(CLI::App& app, CommandContext& context);
 void addRunCommand(CLI::App& app, CommandContext& context);
 void addMergeCommand(CLI::App& app, CommandContext& context);
+void addShowCommand(CLI::App& app, CommandContext& context);
 void addLflhCommand(CLI::App& app, CommandContext& context);
 
 void addRegressCommand(CLI::App& app, CommandContext& context);
@@ -72,8 +73,9 @@ bench::EpisodeConfig episodeConfigFor(const std::string& sim_config, const std::
 /// Parses --shard K/N (1 <= K <= N); InputError otherwise.
 void parseShard(const std::string& text, int& index, int& count);
 
-/// Prints a complete record's summary table and difficulty breakdown.
+/// Prints a complete record's summary table and difficulty breakdown (the groups whose buckets
+/// all hold enough worlds to mean something, or every group with `every_bucket`).
 void printRecordSummary(const std::filesystem::path& dir, const bench::RunManifest& manifest,
-                        const std::vector<core::WorldSpec>& worlds);
+                        const std::vector<core::WorldSpec>& worlds, bool every_bucket = false);
 
 }  // namespace barn::cli

@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   barn::cli::addWorldCommand(app, context);
   barn::cli::addRunCommand(app, context);
   barn::cli::addMergeCommand(app, context);
+  barn::cli::addShowCommand(app, context);
   barn::cli::addRegressCommand(app, context);
   barn::cli::addSweepCommand(app, context);
   barn::cli::addPlotCommand(app, context);

@@ -66,16 +66,34 @@ Session resumedSession(const fs::path& dir) {
   return session;
 }
 
-void printRecordSummary(const fs::path& dir, const bench::RunManifest& m, const std::vector<core::WorldSpec>& worlds) {
+void printRecordSummary(const fs::path& dir, const bench::RunManifest& m, const std::vector<core::WorldSpec>& worlds,
+                        bool every_bucket) {
   const std::vector<bench::EpisodeResult> results = bench::readEpisodesCsv(dir / bench::kEpisodesFile);
   const bench::RunSummary summary = bench::summarise(results);
   const std::string protocol =
       core::readConfig<bench::EpisodeConfig>(core::ConfigNode::parseString(m.episode_config, "manifest")).protocol;
-  std::printf("%s", bench::summaryTable(summary, m.controller + " on " + m.worlds_spec + " x " + std::to_string(m.trials) +
-                                                     " trials (" + protocol + ")").c_str());
-  std::printf("%s", bench::breakdownTable(bench::difficultyBreakdown(results, worlds)).c_str());
+  std::printf("%s", bench::summaryTable(summary, m.controller + " on " + bench::worldSetName(worlds) + " worlds " +
+                                                     m.worlds_spec + " x " + std::to_string(m.trials) + " trials (" +
+                                                     protocol + ")").c_str());
+  // A bucket of a few worlds says little: a group is shown only when each of its buckets has
+  // kMinWorldsPerBucket worlds (all of them with every_bucket; summary.json has them all).
+  constexpr int kMinWorldsPerBucket = 5;
+  const std::vector<bench::BucketSummary> all = bench::difficultyBreakdown(results, worlds);
+  std::vector<bench::BucketSummary> shown;
+  std::size_t left_out = 0;
+  for (std::size_t begin = 0; begin < all.size();) {
+    std::size_t end = begin;
+    int fewest = all[begin].summary.worlds;
+    while (end < all.size() && all[end].group == all[begin].group) fewest = std::min(fewest, all[end++].summary.worlds);
+    if (every_bucket || fewest >= kMinWorldsPerBucket) shown.insert(shown.end(), all.begin() + static_cast<long>(begin), all.begin() + static_cast<long>(end));
+    else ++left_out;
+    begin = end;
+  }
+  if (!shown.empty()) std::printf("%s", bench::breakdownTable(shown).c_str());
+  if (left_out > 0)
+    std::printf("  (%zu difficulty groups with fewer than %d worlds per bucket not shown: barn show %s --breakdown)\n",
+                left_out, kMinWorldsPerBucket, dir.c_str());
 }
-
 
 int executeSessions(const std::vector<Session*>& sessions, const SessionOptions& options, bool print_summaries) {
   const int threads = options.jobs > 0 ? options.jobs : static_cast<int>(std::max(1L, ::sysconf(_SC_NPROCESSORS_ONLN)));

@@ -109,6 +109,46 @@ constexpr char kEpisodesHeader[] =
     "world,trial,seed,outcome,time_s,score,optimal_time_s,path_length_m,mean_speed_mps,sim_time_s,"
     "collision_x,collision_y,states,error\n";
 
+TEST(PerWorldScores, MeansRatesAndTheStudentTIntervalPerWorldInFirstSeenOrder) {
+  const std::vector<WorldScore> worlds = perWorldScores(unevenRun());
+  ASSERT_EQ(worlds.size(), 3u);
+  EXPECT_EQ(worlds[0].world, 8);
+  EXPECT_EQ(worlds[1].world, 3);
+  EXPECT_EQ(worlds[2].world, 1);
+  // World 8: scores 0.3, 0.15, 0 -> mean 0.15, sample sd 0.15, t(0.975, 2) = 4.303.
+  const WorldScore& w8 = worlds[0];
+  EXPECT_EQ(w8.trials, 3);
+  EXPECT_NEAR(w8.score, 0.15, 1e-12);
+  const double half = 4.303 * 0.15 / std::sqrt(3.0);
+  EXPECT_NEAR(w8.score_ci_low, 0.15 - half, 1e-12);
+  EXPECT_NEAR(w8.score_ci_high, 0.15 + half, 1e-12);
+  EXPECT_NEAR(w8.success_rate, 2.0 / 3.0, 1e-12);
+  EXPECT_NEAR(w8.collision_rate, 1.0 / 3.0, 1e-12);
+  EXPECT_NEAR(w8.avg_success_time, 25.0, 1e-12);
+  // One trial: no interval. No success: no time.
+  EXPECT_TRUE(std::isnan(worlds[1].score_ci_low) && std::isnan(worlds[1].score_ci_high));
+  EXPECT_TRUE(std::isnan(worlds[2].avg_success_time));
+  EXPECT_NEAR(worlds[2].timeout_rate, 0.5, 1e-12);
+}
+
+TEST(SummaryJson, NamesTheWorldSetAndListsEveryWorld) {
+  const std::vector<EpisodeResult> run = unevenRun();
+  const std::string json = summaryJson("barnbench-generated", summarise(run), perWorldScores(run), {});
+  EXPECT_THAT(json, HasSubstr("\"world_set\": \"barnbench-generated\""));
+  EXPECT_THAT(json, HasSubstr("{\"world\": 3, \"trials\": 1, \"score\": 0.5, \"score_ci95\": [null, null]"));
+  std::size_t entries = 0;
+  for (std::size_t at = json.find("{\"world\": "); at != std::string::npos; at = json.find("{\"world\": ", at + 1)) ++entries;
+  EXPECT_EQ(entries, 3u);
+}
+
+TEST(WorldSetName, SaysWhereTheWorldsComeFrom) {
+  core::WorldSpec generated, imported;
+  imported.source = core::WorldSource::BarnDataset;
+  EXPECT_EQ(worldSetName({generated, generated}), "barnbench-generated");
+  EXPECT_EQ(worldSetName({imported}), "official BARN (imported)");
+  EXPECT_EQ(worldSetName({imported, generated}), "mixed");
+}
+
 TEST(EpisodesCsv, HasTheHeaderAndOneRowPerResult) {
   const std::vector<EpisodeResult> results = unevenRun();
   const std::string csv = episodesCsv(results);

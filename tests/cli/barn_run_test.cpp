@@ -650,6 +650,29 @@ TEST_F(BarnRun, ForceReplacesACompleteRecordOnlyOnceTheNewRunIsComplete) {
   EXPECT_FALSE(fs::exists(out.string() + ".old"));
 }
 
+TEST_F(BarnRun, ShowPrintsTheSummaryAndOneLinePerWorld) {
+  ASSERT_EQ(reference().result.exit_code, 0) << reference().result.output;
+  const RunResult r = run("show " + quote(reference().dir));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, AllOf(HasSubstr("pure_pursuit on barnbench-generated worlds 0:300:30 x 2 trials"),
+                              HasSubstr("Avg Score"), HasSubstr("95 % interval")));
+  for (int world = 0; world < 300; world += 30) {
+    char line_start[32];
+    std::snprintf(line_start, sizeof(line_start), "\n  %5d       2", world);
+    EXPECT_THAT(r.output, HasSubstr(line_start)) << world;
+  }
+  // 10 worlds: the 12 fill x smoothing buckets would hold one world or none; left out unless asked.
+  EXPECT_THAT(r.output, AllOf(Not(HasSubstr("fill 0.15 / smooth 2")), HasSubstr("--breakdown")));
+  EXPECT_THAT(run("show --breakdown " + quote(reference().dir)).output, HasSubstr("fill 0.15 / smooth 2"));
+  const std::string summary = readFile(reference().dir / "summary.json");
+  EXPECT_THAT(summary, HasSubstr("\"world_set\": \"barnbench-generated\""));
+  std::size_t entries = 0;
+  for (std::size_t at = summary.find("{\"world\": "); at != std::string::npos; at = summary.find("{\"world\": ", at + 1))
+    ++entries;
+  EXPECT_EQ(entries, 10u);
+  EXPECT_EQ(run("show " + quote(dir_ / "nothing")).exit_code, 2);
+}
+
 TEST_F(BarnRun, AnUnfinishedRecordSuggestsResume) {
   const fs::path out = dir_ / "o";
   ASSERT_EQ(run(kSmallRun + " --jobs 1 --stop-after 2 --out " + quote(out)).exit_code, 1);

@@ -38,8 +38,29 @@ struct BucketSummary {
 std::vector<BucketSummary> difficultyBreakdown(const std::vector<EpisodeResult>& results,
                                                const std::vector<core::WorldSpec>& worlds);
 
-/// summary.json: the overall summary and the breakdown. Deterministic: no times or hosts.
-std::string summaryJson(const RunSummary& summary, const std::vector<BucketSummary>& breakdown);
+/// One world's results over its trials.
+struct WorldScore {
+  int world = 0;
+  int trials = 0;
+  double score = 0.0;          // mean over the trials
+  double score_ci_low = 0.0;   // 95 % interval of that mean: mean -+ t(0.975, n - 1) sd / sqrt(n)
+  double score_ci_high = 0.0;  //   (Student's t; NaN with a single trial)
+  double success_rate = 0.0;
+  double collision_rate = 0.0;
+  double timeout_rate = 0.0;
+  double avg_success_time = 0.0;  // [s] mean AT of the successful trials; NaN if none
+};
+
+/// Per world, in the order the worlds first appear in `results`.
+std::vector<WorldScore> perWorldScores(const std::vector<EpisodeResult>& results);
+
+/// What the worlds are: "barnbench-generated", "official BARN (imported)" or "mixed".
+std::string worldSetName(const std::vector<core::WorldSpec>& worlds);
+
+/// summary.json: the world set, the overall summary, the per-world scores and the breakdown.
+/// Deterministic: no times or hosts.
+std::string summaryJson(const std::string& world_set, const RunSummary& summary, const std::vector<WorldScore>& per_world,
+                        const std::vector<BucketSummary>& breakdown);
 
 /// The breakdown as a printed table.
 std::string breakdownTable(const std::vector<BucketSummary>& breakdown);

@@ -1,0 +1,62 @@
+// barn show: a finished record read back: its summary, the difficulty breakdown and one line
+// per world (outcomes, mean score with its 95 % interval over trials, mean successful time).
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "barn/bench/report.hpp"
+#include "barn/bench/results_io.hpp"
+#include "barn/bench/run_record.hpp"
+#include "barn/core/errors.hpp"
+#include "commands.hpp"
+
+namespace barn::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct ShowOptions {
+  std::string record;
+  bool breakdown = false;
+};
+
+std::string worldTable(const std::vector<bench::EpisodeResult>& results) {
+  std::string table = "  world  trials  success  collision  timeout   score  95 % interval      time [s]\n";
+  for (const bench::WorldScore& w : bench::perWorldScores(results)) {
+    char interval[48] = "            -";
+    if (std::isfinite(w.score_ci_low))
+      std::snprintf(interval, sizeof(interval), "[%+.4f, %+.4f]", w.score_ci_low, w.score_ci_high);
+    char time[16] = "     -";
+    if (std::isfinite(w.avg_success_time)) std::snprintf(time, sizeof(time), "%6.1f", w.avg_success_time);
+    char line[160];
+    std::snprintf(line, sizeof(line), "  %5d  %6d  %7.2f  %9.2f  %7.2f  %.4f  %-18s %s\n", w.world, w.trials,
+                  w.success_rate, w.collision_rate, w.timeout_rate, w.score, interval, time);
+    table += line;
+  }
+  return table;
+}
+
+}  // namespace
+
+void addShowCommand(CLI::App& app, CommandContext& /*context*/) {
+  auto options = std::make_shared<ShowOptions>();
+  CLI::App* cmd = app.add_subcommand("show", "Summary, difficulty breakdown and per-world table of a finished record");
+  cmd->add_option("record", options->record, "Run record folder")->required();
+  cmd->add_flag("--breakdown", options->breakdown, "Show every difficulty group, however few worlds its buckets hold");
+  cmd->callback([options] {
+    const fs::path dir = options->record;
+    if (!fs::exists(dir / bench::kManifestFile))
+      throw core::InputError(dir.string() + ": no run record here (no " + std::string(bench::kManifestFile) + ")");
+    const bench::RunManifest m = bench::readManifest(dir / bench::kManifestFile);
+    if (!m.complete)
+      throw core::InputError(dir.string() + ": not complete (" + std::to_string(m.episodes_done) + " of " +
+                             std::to_string(m.episodes_total) + " episodes); finish it with barn run --resume " + dir.string());
+    const std::vector<core::WorldSpec> worlds = bench::loadManifestWorlds(m);
+    printRecordSummary(dir, m, worlds, options->breakdown);
+    std::printf("%s", worldTable(bench::readEpisodesCsv(dir / bench::kEpisodesFile)).c_str());
+  });
+}
+
+}  // namespace barn::cli
