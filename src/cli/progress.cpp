@@ -14,9 +14,14 @@ std::string formatDuration(double seconds) {
 }
 
 ProgressReporter::ProgressReporter(std::size_t total, std::size_t already_done, bool terminal)
-    : total_(total), done_(already_done), terminal_(terminal), next_line_at_(already_done + std::max<std::size_t>(1, total / 10)) {}
+    : total_(total), done_(already_done), terminal_(terminal), next_line_at_(already_done + std::max<std::size_t>(1, total / 10)) {
+  heartbeat_ = std::thread([this] { heartbeat(); });
+}
+
+ProgressReporter::~ProgressReporter() { finish(); }
 
 void ProgressReporter::update(bool success, double sim_time) {
+  std::lock_guard<std::mutex> lock(mutex_);
   ++done_;
   ++done_here_;
   successes_ += success;
@@ -24,19 +29,36 @@ void ProgressReporter::update(bool success, double sim_time) {
   const auto now = std::chrono::steady_clock::now();
   const double since_print = std::chrono::duration<double>(now - last_print_).count();
   if (terminal_) {
-    if (since_print >= 0.1 || done_ == total_) print(false);
+    if (since_print >= 0.1 || done_ == total_) print();
   } else if (done_ >= next_line_at_ || since_print >= 30.0 || done_ == total_) {
-    print(false);
+    print();
     next_line_at_ = done_ + std::max<std::size_t>(1, total_ / 10);
   }
 }
 
+void ProgressReporter::heartbeat() {
+  const auto period = terminal_ ? std::chrono::seconds(1) : std::chrono::seconds(30);
+  std::unique_lock<std::mutex> lock(mutex_);
+  while (!stopping_) {
+    wake_.wait_for(lock, period, [this] { return stopping_; });
+    if (stopping_) break;
+    if (std::chrono::steady_clock::now() - last_print_ >= period) print();
+  }
+}
+
 void ProgressReporter::finish() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (stopping_) return;
+    stopping_ = true;
+  }
+  wake_.notify_all();
+  if (heartbeat_.joinable()) heartbeat_.join();
   if (terminal_) std::printf("\n");
   std::fflush(stdout);
 }
 
-void ProgressReporter::print(bool) {
+void ProgressReporter::print() {
   last_print_ = std::chrono::steady_clock::now();
   const double elapsed = std::chrono::duration<double>(last_print_ - start_).count();
   const double eta = done_here_ ? elapsed / static_cast<double>(done_here_) * static_cast<double>(total_ - done_) : 0.0;

@@ -3,6 +3,9 @@
 /// every 30 s) otherwise, so CI logs stay short.
 
 #include <chrono>
+#include <condition_variable>
+#include <mutex>
+#include <thread>
 #include <cstddef>
 #include <string>
 
@@ -10,15 +13,21 @@ namespace barn::cli {
 
 class ProgressReporter {
  public:
+  /// Starts a heartbeat that redraws the bar (every second on a terminal, a line every 30 s
+  /// otherwise) while episodes run, so a run of few long episodes is seen to be alive.
   ProgressReporter(std::size_t total, std::size_t already_done, bool terminal);
+  ~ProgressReporter();
+  ProgressReporter(const ProgressReporter&) = delete;
+  ProgressReporter& operator=(const ProgressReporter&) = delete;
 
   /// One more episode finished (`success`: it reached the goal; `sim_time`: its simulated s).
   void update(bool success, double sim_time);
-  /// Ends the bar's line on a terminal.
+  /// Stops the heartbeat and ends the bar's line on a terminal.
   void finish();
 
  private:
-  void print(bool final_line);
+  void print();  // with mutex_ held
+  void heartbeat();
 
   std::size_t total_;
   std::size_t done_;
@@ -29,6 +38,10 @@ class ProgressReporter {
   std::size_t next_line_at_;
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
   std::chrono::steady_clock::time_point last_print_ = start_;
+  std::mutex mutex_;  // update() and the heartbeat print from different threads
+  std::condition_variable wake_;
+  bool stopping_ = false;
+  std::thread heartbeat_;
 };
 
 /// "1:02:03" or "2:03".
