@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "cli_runner.hpp"
+#include "tests/external_data.hpp"
 
 namespace {
 
@@ -31,7 +32,7 @@ using testing::Not;
 const fs::path kRepo = BARN_SOURCE_DIR;
 const fs::path kWorlds = kRepo / "worlds";
 const fs::path kWorld0 = kWorlds / "world_000.yaml";
-const fs::path kDatasetDir = kRepo / ".." / "shared" / "barn_dataset";
+const fs::path kDatasetDir = barn::test::externalData("BARN_DATASET_DIR");
 
 
 
@@ -278,17 +279,17 @@ TEST_F(BarnCli, GenerateNeverLeavesAMixedWorldFolder) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// import-barn (needs the original dataset in ../shared/barn_dataset)
+// import-barn (needs a copy of the original dataset: BARN_DATASET_DIR)
 
 class BarnCliDataset : public BarnCli {
  protected:
   void SetUp() override {
     BarnCli::SetUp();
     if (!fs::is_directory(kDatasetDir / "grid_files"))
-      GTEST_SKIP() << "BARN dataset not found at " << kDatasetDir << "; import-barn tests skipped";
+      GTEST_SKIP() << "set BARN_DATASET_DIR to a copy of the original BARN dataset to run the import-barn tests";
   }
 
-  /// A dataset folder with worlds 0, 1 and 2 copied from the shared dataset, and `truncated`
+  /// A dataset folder with worlds 0, 1 and 2 copied from the original dataset, and `truncated`
   /// (a grid file name) cut to half its size.
   fs::path fakeDataset(const std::string& truncated) {
     const fs::path fake = dir_ / "dataset";
@@ -332,7 +333,7 @@ TEST_F(BarnCliDataset, ImportOfAFolderWithoutGridsIsAnInputError) {
 
 TEST_F(BarnCliDataset, ImportWithVerifyReproducesEveryPathOfTheDataset) {
   const std::size_t worlds = fileNames(kDatasetDir / "grid_files").size();
-  ASSERT_EQ(worlds, 150u) << "the shared dataset holds worlds 0-149";
+  ASSERT_EQ(worlds, 150u) << "the dataset copy given holds worlds 0-149";
   const fs::path out = dir_ / "imported";
   const RunResult r = run("import-barn " + quote(kDatasetDir) + " --out " + quote(out) + " --verify");
   EXPECT_EQ(r.exit_code, 0) << r.output;

@@ -1,6 +1,6 @@
 // `barn import-out`, `barn export-out` and `barn compare` end to end: run the real executable
-// on small harness files over the repository's worlds (and, if present, the Gazebo reference
-// run in ../shared/gazebo_reference over the official worlds from ../shared/barn_dataset).
+// on small harness files over the repository's worlds (and, if given, the official harness's
+// Gazebo DWA results over the official worlds: tests/external_data.hpp).
 //
 // Exit codes (src/cli/main.cpp): 0 ok, 2 bad usage or input.
 
@@ -14,6 +14,7 @@
 #include "barn/core/protocol.hpp"
 #include "barn/core/world_file.hpp"
 #include "cli_runner.hpp"
+#include "tests/external_data.hpp"
 
 namespace {
 
@@ -23,7 +24,6 @@ using testing::Not;
 
 const fs::path kRepo = BARN_SOURCE_DIR;
 const fs::path kWorlds = kRepo / "worlds";
-const fs::path kShared = kRepo / ".." / "shared";
 
 std::string fixed4(double value) {
   char buffer[64];
@@ -195,12 +195,12 @@ TEST_F(BarnCompare, CompareOfBadInputExitsTwo) {
 }
 
 // The Gazebo reference run: the official harness's DWA on the 25 official test worlds below
-// 150, 10 trials each (../shared/gazebo_reference/README.md gives 0.960 / 0.020 / 0.020).
+// 150, 10 trials each: success 0.960, collision 0.020, timeout 0.020 on them.
 TEST_F(BarnCompare, GazeboReferenceDwaImportsWithItsPublishedRates) {
-  const fs::path file = kShared / "gazebo_reference" / "dwa_out_0-149.txt";
-  const fs::path dataset = kShared / "barn_dataset";
-  if (!fs::exists(file) || !fs::is_directory(dataset / "grid_files"))
-    GTEST_SKIP() << "Gazebo reference results or BARN dataset not found under " << kShared << "; skipped";
+  const fs::path file = externalData("BARN_GAZEBO_DWA_OUT");
+  const fs::path dataset = externalData("BARN_DATASET_DIR");
+  if (file.empty() || !fs::exists(file) || !fs::is_directory(dataset / "grid_files"))
+    GTEST_SKIP() << "set BARN_GAZEBO_DWA_OUT (the official DWA results of worlds 0-149) and BARN_DATASET_DIR to run this test";
   const fs::path worlds = dir_ / "official";
   const RunResult imported_worlds = run("import-barn " + quote(dataset) + " --out " + quote(worlds));
   ASSERT_EQ(imported_worlds.exit_code, 0) << imported_worlds.output;

@@ -1,4 +1,4 @@
-// Fidelity against the original BARN dataset (worlds 0-149 in ../shared/barn_dataset).
+// Fidelity against the original BARN dataset (BARN_DATASET_DIR, see tests/external_data.hpp).
 // These tests skip, saying why, where the dataset is absent; everything else runs anywhere.
 
 #include "generator/dataset_import.hpp"
@@ -9,17 +9,18 @@
 
 #include "barn/core/protocol.hpp"
 #include "barn/core/world_file.hpp"
+#include "tests/external_data.hpp"
 
 namespace barn::generator {
 namespace {
 
-const std::filesystem::path kDatasetDir = std::filesystem::path(BARN_SOURCE_DIR) / ".." / "shared" / "barn_dataset";
+const std::filesystem::path kDatasetDir = barn::test::externalData("BARN_DATASET_DIR");
 
 class BarnDataset : public ::testing::Test {
  protected:
   void SetUp() override {
     if (!std::filesystem::is_directory(kDatasetDir / "grid_files"))
-      GTEST_SKIP() << "BARN dataset not found at " << kDatasetDir << " (only available beside the repo)";
+      GTEST_SKIP() << "set BARN_DATASET_DIR to a copy of the original BARN dataset to run this test";
     dataset_ = readDataset(kDatasetDir);
   }
   std::vector<DatasetWorld> dataset_;
