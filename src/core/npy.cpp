@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <fstream>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -15,10 +16,10 @@
 namespace barn::core {
 namespace {
 
-// The data block is read straight into the value vectors, which is only correct when the host
-// byte order matches the '<' (little-endian) dtypes we accept.
+// The data block is read straight into the value vectors (and written straight from them),
+// which is only correct when the host byte order matches the '<' (little-endian) dtypes.
 static_assert(std::endian::native == std::endian::little,
-              "readNpy* reads '<i8'/'<f8' data in place and needs a little-endian host");
+              "readNpy*/formatNpy* move '<i8'/'<f8' data in place and need a little-endian host");
 
 constexpr std::string_view kMagic = "\x93NUMPY";
 
@@ -297,6 +298,47 @@ Array readNpy(const std::filesystem::path& path, std::string_view expected_descr
   return array;
 }
 
+// ---------------------------------------------------------------------------------------------
+// Writer
+// ---------------------------------------------------------------------------------------------
+
+// numpy's repr of a shape tuple: "()", "(5,)", "(30, 30)".
+std::string shapeRepr(const std::vector<std::size_t>& shape) {
+  std::string text = "(";
+  for (std::size_t i = 0; i < shape.size(); ++i) text += (i ? ", " : "") + std::to_string(shape[i]);
+  return text + (shape.size() == 1 ? ",)" : ")");
+}
+
+template <typename Array>
+std::string formatNpy(const Array& array, std::string_view descr) {
+  using Value = typename decltype(Array::values)::value_type;
+  std::size_t count = 1;
+  for (const std::size_t dim : array.shape) count *= dim;
+  if (count != array.values.size()) {
+    throw std::invalid_argument("formatNpy: shape " + shapeRepr(array.shape) + " holds " + std::to_string(count) +
+                                " values, the array has " + std::to_string(array.values.size()));
+  }
+  // Format 1.0 as np.save writes it: the dict, spaces, and a newline ending the header at a
+  // multiple of 64 bytes, so the data block starts aligned.
+  constexpr std::size_t kPreambleSize = 10;  // magic, version, 2-byte header length
+  std::string header = "{'descr': '" + std::string(descr) + "', 'fortran_order': False, 'shape': " +
+                       shapeRepr(array.shape) + ", }";
+  header.append(63 - (kPreambleSize + header.size()) % 64, ' ');
+  header += '\n';
+  if (header.size() > std::numeric_limits<std::uint16_t>::max()) {
+    throw std::invalid_argument("formatNpy: shape " + shapeRepr(array.shape) + " needs a header longer than format 1.0 allows");
+  }
+
+  std::string out(kMagic);
+  out += '\x01';  // major version
+  out += '\x00';  // minor version
+  out += static_cast<char>(header.size() & 0xff);
+  out += static_cast<char>(header.size() >> 8);
+  out += header;
+  out.append(reinterpret_cast<const char*>(array.values.data()), array.values.size() * sizeof(Value));
+  return out;
+}
+
 }  // namespace
 
 NpyInt64Array readNpyInt64(const std::filesystem::path& path) {
@@ -306,5 +348,9 @@ NpyInt64Array readNpyInt64(const std::filesystem::path& path) {
 NpyFloat64Array readNpyFloat64(const std::filesystem::path& path) {
   return readNpy<NpyFloat64Array>(path, "<f8");
 }
+
+std::string formatNpyInt64(const NpyInt64Array& array) { return formatNpy(array, "<i8"); }
+
+std::string formatNpyFloat64(const NpyFloat64Array& array) { return formatNpy(array, "<f8"); }
 
 }  // namespace barn::core

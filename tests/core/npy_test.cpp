@@ -11,6 +11,7 @@
 #include <fstream>
 #include <limits>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -278,6 +279,55 @@ TEST_F(NpyTest, MalformedHeaderDictThrows) {
 
 TEST_F(NpyTest, MissingFileThrows) {
   expectInputError(readNpyInt64, dir_ / "does_not_exist.npy", "cannot read (missing or not readable)");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Writer
+// ---------------------------------------------------------------------------------------------
+
+TEST_F(NpyTest, WriterMakesNumpysFormat10Layout) {
+  // Byte for byte the file npyFile() builds: the layout np.save writes for these arrays.
+  const auto values = gridValues();
+  EXPECT_EQ(formatNpyInt64({{30, 30}, values}), npyFile(dictFor("<i8", "(30, 30)"), int64Data(values)));
+  const std::vector<double> metrics = {2.5, 4.75, 3.0, 5.0, 1.125};
+  EXPECT_EQ(formatNpyFloat64({{5}, metrics}), npyFile(dictFor("<f8", "(5,)"), float64Data(metrics)));
+  EXPECT_EQ(formatNpyInt64({{}, {42}}), npyFile(dictFor("<i8", "()"), int64Data({42})));
+}
+
+TEST_F(NpyTest, WrittenInt64ArraysOfEveryShapeReadBack) {
+  const std::vector<std::vector<std::size_t>> shapes = {{}, {0}, {1}, {5}, {30, 30}, {43, 2}, {0, 2}, {2, 3, 4}, {1, 1, 1, 7}};
+  for (const auto& shape : shapes) {
+    std::size_t count = 1;
+    for (const std::size_t dim : shape) count *= dim;
+    std::vector<std::int64_t> values(count);
+    for (std::size_t i = 0; i < count; ++i) values[i] = static_cast<std::int64_t>(i * 0x9E3779B97F4A7C15ull);
+    const std::string bytes = formatNpyInt64({shape, values});
+    const std::size_t header_end = bytes.size() - 8 * count;
+    EXPECT_EQ(header_end % 64, 0u) << "data block starts 64-byte aligned, as numpy writes it";
+    const NpyInt64Array back = readNpyInt64(write("a.npy", bytes));
+    EXPECT_EQ(back.shape, shape);
+    EXPECT_EQ(back.values, values);
+  }
+}
+
+TEST_F(NpyTest, WrittenFloat64ArraysReadBackBitForBit) {
+  const std::vector<double> special = {0.1, -1.0 / 3.0, 5e-324, -0.0, std::numeric_limits<double>::infinity(),
+                                       std::numeric_limits<double>::quiet_NaN()};
+  const std::vector<std::vector<std::size_t>> shapes = {{6}, {2, 3}, {3, 2}, {1, 6}, {6, 1, 1}};
+  for (const auto& shape : shapes) {
+    const NpyFloat64Array back = readNpyFloat64(write("f.npy", formatNpyFloat64({shape, special})));
+    EXPECT_EQ(back.shape, shape);
+    ASSERT_EQ(back.values.size(), special.size());
+    for (std::size_t i = 0; i < special.size(); ++i) {
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(back.values[i]), std::bit_cast<std::uint64_t>(special[i])) << "value " << i;
+    }
+  }
+}
+
+TEST_F(NpyTest, WriterRefusesAShapeThatDoesNotMatchTheValues) {
+  // (2, 3) holds 6 values, not 5.
+  EXPECT_THROW(formatNpyInt64({{2, 3}, {1, 2, 3, 4, 5}}), std::invalid_argument);
+  EXPECT_THROW(formatNpyFloat64({{}, {}}), std::invalid_argument);
 }
 
 }  // namespace
