@@ -1,11 +1,14 @@
 #include "barn/core/text_io.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cstring>
 #include <fcntl.h>
 #include <fstream>
+#include <set>
 #include <sstream>
+#include <stdexcept>
 #include <system_error>
 #include <unistd.h>
 
@@ -89,30 +92,49 @@ void writeFileAtomic(const std::filesystem::path& path, std::string_view content
 }
 
 void writeFilesAtomic(const std::filesystem::path& dir, const std::vector<FileContent>& files) {
+  namespace fs = std::filesystem;
+  for (const auto& file : files) {
+    const fs::path name(file.name);
+    const bool escapes = std::any_of(name.begin(), name.end(), [](const fs::path& part) { return part == ".."; });
+    if (name.empty() || name.is_absolute() || escapes)
+      throw std::invalid_argument("writeFilesAtomic: '" + file.name + "' is not a path inside the folder");
+  }
+  const auto create_folder = [](const fs::path& folder) {
+    std::error_code ec;
+    fs::create_directories(folder, ec);
+    if (ec) throw IoError(folder.string() + ": cannot create folder: " + ec.message());
+  };
+  create_folder(dir);
   std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) throw IoError(dir.string() + ": cannot create folder: " + ec.message());
-  const std::filesystem::path staging = dir / (".staging" + uniqueSuffix());
-  std::filesystem::remove_all(staging, ec);
-  std::filesystem::create_directories(staging, ec);
-  if (ec) throw IoError(staging.string() + ": cannot create folder: " + ec.message());
+  const fs::path staging = dir / (".staging" + uniqueSuffix());
+  fs::remove_all(staging, ec);
+  std::set<fs::path> folders;  // dir and the subfolders the names hold
   try {
-    for (const auto& file : files) writeOrThrow(staging / file.name, file.content);
+    create_folder(staging);
+    for (const auto& file : files) {
+      create_folder((staging / file.name).parent_path());
+      writeOrThrow(staging / file.name, file.content);
+    }
+    // Every target folder exists before the first rename, so a folder that cannot be made
+    // fails the write before anything is in place.
+    for (const auto& file : files) folders.insert((dir / file.name).parent_path());
+    for (const auto& folder : folders) create_folder(folder);
   } catch (...) {
-    std::filesystem::remove_all(staging, ec);
+    fs::remove_all(staging, ec);
     throw;
   }
   // Renames within one file system do not fail for lack of space, so the set lands whole.
   for (const auto& file : files) {
-    std::filesystem::rename(staging / file.name, dir / file.name, ec);
+    fs::rename(staging / file.name, dir / file.name, ec);
     if (ec) {
       const std::string reason = ec.message();
-      std::filesystem::remove_all(staging, ec);
+      fs::remove_all(staging, ec);
       throw IoError((dir / file.name).string() + ": cannot write (rename failed: " + reason + ")");
     }
   }
-  std::filesystem::remove_all(staging, ec);
-  syncFolder(dir);
+  fs::remove_all(staging, ec);
+  folders.insert(dir);
+  for (const auto& folder : folders) syncFolder(folder);
 }
 
 std::string formatDouble(double value) {

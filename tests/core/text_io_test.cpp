@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <stdexcept>
 #include <unistd.h>
 
 #include "barn/core/errors.hpp"
@@ -42,6 +43,34 @@ TEST(TextIo, AtomicWritesLandWholeAndLeaveNoStagingBehind) {
   int entries = 0;
   for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir / "set")) ++entries;
   EXPECT_EQ(entries, 2);  // x and y, no staging folder
+  fs::remove_all(dir);
+}
+
+TEST(TextIo, AtomicSetsMayHoldSubfolders) {
+  const fs::path dir = scratch("barn_text_io_subfolders");
+  writeFilesAtomic(dir, {{"top.txt", "t"}, {"a/one.txt", "1"}, {"a/b/two.txt", "2"}});
+  EXPECT_EQ(readTextFile(dir / "top.txt"), "t");
+  EXPECT_EQ(readTextFile(dir / "a" / "one.txt"), "1");
+  EXPECT_EQ(readTextFile(dir / "a" / "b" / "two.txt"), "2");
+  int entries = 0;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir)) ++entries;
+  EXPECT_EQ(entries, 2);  // top.txt and a/, no staging folder
+  // Names that leave the folder are a programming error, refused before anything is written.
+  EXPECT_THROW(writeFilesAtomic(dir, {{"ok.txt", "x"}, {"../out.txt", "x"}}), std::invalid_argument);
+  EXPECT_THROW(writeFilesAtomic(dir, {{"/tmp/abs.txt", "x"}}), std::invalid_argument);
+  EXPECT_FALSE(fs::exists(dir / "ok.txt"));
+  fs::remove_all(dir);
+}
+
+TEST(TextIo, AnAtomicSetWhoseSubfolderCannotBeMadeWritesNothing) {
+  // "a" is a file, so "a/x.txt" cannot land: the error comes before "first.txt" is in place.
+  const fs::path dir = scratch("barn_text_io_subfolder_fail");
+  writeFileAtomic(dir / "a", "file");
+  EXPECT_THROW(writeFilesAtomic(dir, {{"first.txt", "1"}, {"a/x.txt", "2"}}), IoError);
+  EXPECT_FALSE(fs::exists(dir / "first.txt"));
+  int entries = 0;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir)) ++entries;
+  EXPECT_EQ(entries, 1);  // just "a"
   fs::remove_all(dir);
 }
 

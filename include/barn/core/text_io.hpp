@@ -25,9 +25,11 @@ void writeFileAtomic(const std::filesystem::path& path, std::string_view content
 
 /// Writes several files into `dir` (created if missing) all or nothing: every file is first
 /// written into a staging folder inside `dir` (and flushed to the disk), and only moved into
-/// place once all succeeded. IoError on failure, as writeFileAtomic.
+/// place once all succeeded. A name may hold subfolders ("grid_files/grid_0.npy"), which are
+/// created. IoError on failure, as writeFileAtomic; std::invalid_argument for an absolute name
+/// or one with "..".
 struct FileContent {
-  std::string name;     // file name inside the folder
+  std::string name;     // path relative to the folder, e.g. "index.csv" or "grid_files/grid_0.npy"
   std::string content;
 };
 void writeFilesAtomic(const std::filesystem::path& dir, const std::vector<FileContent>& files);
