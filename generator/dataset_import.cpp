@@ -7,6 +7,7 @@
 #include "barn/core/errors.hpp"
 #include "barn/core/npy.hpp"
 #include "generator/cspace.hpp"
+#include "generator/dataset_files.hpp"
 #include "generator/difficulty_metrics.hpp"
 #include "generator/world_generator.hpp"
 
@@ -17,10 +18,6 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr int kDatasetSize = 300;
-
-fs::path datasetFile(const fs::path& dir, const char* folder, const char* stem, int id) {
-  return dir / folder / (std::string(stem) + "_" + std::to_string(id) + ".npy");
-}
 
 core::Grid readGridNpy(const fs::path& path) {
   const core::NpyInt64Array array = core::readNpyInt64(path);
@@ -69,7 +66,7 @@ std::string cellsText(const std::vector<core::Cell>& cells) {
 }  // namespace
 
 std::vector<DatasetWorld> readDataset(const fs::path& dataset_dir) {
-  const fs::path grid_dir = dataset_dir / "grid_files";
+  const fs::path grid_dir = dataset_dir / kGridFiles.folder;
   std::error_code ec;
   if (!fs::is_directory(grid_dir, ec))
     throw core::InputError(dataset_dir.string() + ": not a BARN dataset folder (no grid_files/)");
@@ -79,7 +76,7 @@ std::vector<DatasetWorld> readDataset(const fs::path& dataset_dir) {
     int id = -1;
     char tail = 0;
     if (std::sscanf(name.c_str(), "grid_%d.np%c", &id, &tail) == 2 && tail == 'y' && id >= 0 &&
-        name == "grid_" + std::to_string(id) + ".npy")
+        name == datasetFile(kGridFiles, id).filename().string())
       ids.push_back(id);
   }
   if (ids.empty()) throw core::InputError(grid_dir.string() + ": no grid_N.npy files");
@@ -89,23 +86,23 @@ std::vector<DatasetWorld> readDataset(const fs::path& dataset_dir) {
   for (int id : ids) {
     DatasetWorld w;
     w.id = id;
-    w.grid = readGridNpy(datasetFile(dataset_dir, "grid_files", "grid", id));
-    const fs::path path_file = datasetFile(dataset_dir, "path_files", "path", id);
+    w.grid = readGridNpy(dataset_dir / datasetFile(kGridFiles, id));
+    const fs::path path_file = dataset_dir / datasetFile(kPathFiles, id);
     if (!fs::exists(path_file)) throw core::InputError(path_file.string() + ": missing (every grid needs its path)");
     w.path = readPathNpy(path_file);
-    if (const fs::path f = datasetFile(dataset_dir, "metrics_files", "metrics", id); fs::exists(f)) {
+    if (const fs::path f = dataset_dir / datasetFile(kMetricsFiles, id); fs::exists(f)) {
       w.metrics = readMetricsNpy(f);
       w.has_metrics = true;
     }
-    if (const fs::path f = datasetFile(dataset_dir, "cspace_files", "cspace", id); fs::exists(f)) {
+    if (const fs::path f = dataset_dir / datasetFile(kCspaceFiles, id); fs::exists(f)) {
       w.cspace = readGridNpy(f);
       w.has_cspace = true;
     }
-    if (const fs::path f = datasetFile(dataset_dir, "norm_metrics_files", "norm_metrics", id); fs::exists(f)) {
+    if (const fs::path f = dataset_dir / datasetFile(kNormMetricsFiles, id); fs::exists(f)) {
       w.norm_metrics = readMetricsNpy(f);
       w.has_norm_metrics = true;
     }
-    const std::string name = datasetFile(dataset_dir, "path_files", "path", id).string();
+    const std::string name = path_file.string();
     if (w.grid.at(w.path.front()))
       throw core::InputError(name + ": start cell lies inside an obstacle of grid_" + std::to_string(id) + ".npy");
     if (w.grid.at(w.path.back()))

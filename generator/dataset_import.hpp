@@ -1,5 +1,5 @@
 #pragma once
-/// Import of the original BARN dataset (Perille et al. 2020): grid_files/grid_N.npy,
+/// Import of the original BARN dataset (Perille et al. 2020; layout in dataset_files.hpp): grid_files/grid_N.npy,
 /// path_files/path_N.npy, metrics_files/metrics_N.npy and, for --verify, cspace_files/ and
 /// norm_metrics_files/.
 
