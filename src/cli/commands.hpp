@@ -52,6 +52,7 @@ void addSweepCommand(CLI::App& app, CommandContext& context);
 void addPlotCommand(CLI::App& app, CommandContext& context);
 void addHarnessOutCommands(CLI::App& app, CommandContext& context);  // import-out, export-out
 void addCompareCommand(CLI::App& app, CommandContext& context);
+void addExportWorldsCommand(CLI::App& app, CommandContext& context);
 
 /// How a run session executes.
 struct SessionOptions {

@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   barn::cli::addHarnessOutCommands(app, context);
   barn::cli::addCompareCommand(app, context);
   barn::cli::addLflhCommand(app, context);
+  barn::cli::addExportWorldsCommand(app, context);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
