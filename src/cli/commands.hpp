@@ -53,6 +53,7 @@ void addPlotCommand(CLI::App& app, CommandContext& context);
 void addHarnessOutCommands(CLI::App& app, CommandContext& context);  // import-out, export-out
 void addCompareCommand(CLI::App& app, CommandContext& context);
 void addExportWorldsCommand(CLI::App& app, CommandContext& context);
+void addConfigCommand(CLI::App& app, CommandContext& context);
 
 /// How a run session executes.
 struct SessionOptions {

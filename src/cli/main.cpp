@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
   barn::cli::addCompareCommand(app, context);
   barn::cli::addLflhCommand(app, context);
   barn::cli::addExportWorldsCommand(app, context);
+  barn::cli::addConfigCommand(app, context);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
