@@ -2,7 +2,6 @@
 // side by side over their common worlds. It reports; it does not judge (exit 0).
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -15,6 +14,7 @@
 #include "barn/core/errors.hpp"
 #include "barn/core/protocol.hpp"
 #include "barn/core/world_file.hpp"
+#include "barn/viz/image_format.hpp"
 #include "barn/viz/plots.hpp"
 #include "commands.hpp"
 #include "json_writer.hpp"
@@ -214,12 +214,7 @@ void addCompareCommand(CLI::App& app, CommandContext& /*context*/) {
   cmd->add_flag("--json", options->json, "Print the numbers as JSON instead of the table");
   cmd->callback([options] {
     // An unknown plot extension is bad input: refuse it before any work.
-    if (!options->output.empty()) {
-      std::string ext = fs::path(options->output).extension().string();
-      for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-      if (ext != ".png" && ext != ".pdf" && ext != ".svg")
-        throw core::InputError(options->output + ": unknown image type '" + ext + "' (expected .png, .pdf or .svg)");
-    }
+    if (!options->output.empty()) viz::imageFormatFor(options->output);
     compare(*options);
   });
 }

@@ -117,7 +117,7 @@ void runTrain(const LflhOptions& options) {
   plot.series = {validation_series, train_series};
   plot.references = {{"predicting the mean command", mean_predictor}};
   const fs::path png = besidePolicy(out, ".loss.png");
-  viz::renderLinePlotPng(plot, png);
+  viz::renderLinePlot(plot, png);
 
   std::printf("trained %d epochs in %.1f s: train %.5f, validation %.5f, mean predictor %.5f (validation / mean %.3f)\n",
               config.train.epochs, train_seconds, info.train_loss, info.validation_loss, mean_predictor,

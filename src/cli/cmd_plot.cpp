@@ -13,6 +13,7 @@
 #include "barn/controllers/registry.hpp"
 #include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
+#include "barn/viz/image_format.hpp"
 #include "barn/viz/plots.hpp"
 #include "commands.hpp"
 #include "run_session.hpp"
@@ -51,6 +52,13 @@ double orderKey(const core::WorldSpec& w, const std::string& by) {
   throw core::InputError("--by '" + by + "': expected difficulty, id or a metric name");
 }
 
+// traj.pdf -> traj_world_<id>.pdf beside it: one figure per world of a several-world request.
+fs::path perWorldFile(const fs::path& output, int world_id) {
+  fs::path file = output;
+  file.replace_filename(output.stem().string() + "_world_" + std::to_string(world_id) + output.extension().string());
+  return file;
+}
+
 }  // namespace
 
 void addPlotCommand(CLI::App& app, CommandContext& /*context*/) {
@@ -60,10 +68,12 @@ void addPlotCommand(CLI::App& app, CommandContext& /*context*/) {
 
   CLI::App* scores = plot->add_subcommand("scores", "Per-world score bars, easiest to hardest");
   scores->add_option("record", options->record, "Run record folder")->required();
-  scores->add_option("-o,--output", options->output, "PNG file")->required();
+  scores->add_option("-o,--output", options->output, "Image to write; .png, .pdf or .svg (the extension chooses)")
+      ->required();
   scores->add_option("--by", options->by, "Order: difficulty (signed sum of the z-scored metrics), id, or a metric")
       ->capture_default_str();
   scores->callback([options] {
+    viz::imageFormatFor(options->output);  // a bad extension is refused before any reading
     const bench::RunManifest manifest = bench::readManifest(fs::path(options->record) / bench::kManifestFile);
     const auto worlds = bench::loadManifestWorlds(manifest);
     const auto results = bench::readEpisodesCsv(fs::path(options->record) / bench::kEpisodesFile);
@@ -90,7 +100,7 @@ void addPlotCommand(CLI::App& app, CommandContext& /*context*/) {
     const core::Protocol preset = core::protocolPreset(protocol);
     bars.y_max = 1.0 / preset.clip_low;
     bars.reference_lines = {1.0 / preset.clip_low, 1.0 / preset.clip_high};
-    viz::renderWorldBarsPng(bars, options->output);
+    viz::renderWorldBars(bars, options->output);
     std::printf("wrote %s\n", options->output.c_str());
   });
 
@@ -98,8 +108,13 @@ void addPlotCommand(CLI::App& app, CommandContext& /*context*/) {
   trajectory->add_option("record", options->record, "Run record folder")->required();
   trajectory->add_option("--world", options->worlds, "World id(s)")->required()->delimiter(',');
   trajectory->add_option("--trial", options->trials, "Trial(s) (default: every trial of the record)")->delimiter(',');
-  trajectory->add_option("-o,--output", options->output, "PNG file (one world) or prefix (several)")->required();
+  trajectory
+      ->add_option("-o,--output", options->output,
+                   "Image to write; .png, .pdf or .svg (the extension chooses). With several worlds, one file per "
+                   "world: traj.pdf -> traj_world_3.pdf, ...")
+      ->required();
   trajectory->callback([options] {
+    viz::imageFormatFor(options->output);  // a bad extension is refused before any simulation
     const bench::RunManifest manifest = bench::readManifest(fs::path(options->record) / bench::kManifestFile);
     if (!manifest.source.empty())
       throw core::InputError(options->record + ": imported from " + manifest.source +
@@ -133,10 +148,9 @@ void addPlotCommand(CLI::App& app, CommandContext& /*context*/) {
         }
         overlays.push_back(std::move(overlay));
       }
-      const std::string png = options->worlds.size() == 1 ? options->output
-                                                          : options->output + "_world_" + std::to_string(id) + ".png";
-      viz::renderTrajectoriesPng(*it, protocol, overlays, png);
-      std::printf("wrote %s\n", png.c_str());
+      const fs::path file = options->worlds.size() == 1 ? fs::path(options->output) : perWorldFile(options->output, id);
+      viz::renderTrajectories(*it, protocol, overlays, file);
+      std::printf("wrote %s\n", file.c_str());
     }
   });
 }

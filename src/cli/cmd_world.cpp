@@ -15,7 +15,7 @@ namespace {
 struct WorldOptions {
   std::string file;
   bool json = false;
-  std::string png;
+  std::string output;
   std::string protocol = "barn2023";
   double pixels_per_metre = viz::RenderOptions{}.pixels_per_metre;
 };
@@ -97,12 +97,14 @@ void addWorldCommand(CLI::App& app, CommandContext& /*context*/) {
     else printWorldText(w, protocol);
   });
 
-  CLI::App* render = world->add_subcommand("render", "Draw a world (grid, cylinders, start, goal, A* path) to PNG");
+  CLI::App* render =
+      world->add_subcommand("render", "Draw a world (grid, cylinders, start, goal, A* path) as PNG, PDF or SVG");
   render->add_option("file", options->file, "World file (.yaml)")->required();
-  render->add_option("-o,--output", options->png, "PNG file to write")->required();
+  render->add_option("-o,--output", options->output, "Image to write; .png, .pdf or .svg (the extension chooses)")
+      ->required();
   render->add_option("--protocol", options->protocol, "Protocol for start and goal (barn2023, barn2024)")
       ->capture_default_str();
-  render->add_option("--scale", options->pixels_per_metre, "Pixels per metre")
+  render->add_option("--scale", options->pixels_per_metre, "Pixels (PNG) or points (PDF, SVG) per metre")
       ->check(CLI::Range(10.0, 1000.0))
       ->capture_default_str();
   render->callback([options] {
@@ -110,8 +112,8 @@ void addWorldCommand(CLI::App& app, CommandContext& /*context*/) {
     const core::WorldSpec w = core::readWorldFile(options->file);
     viz::RenderOptions render_options;
     render_options.pixels_per_metre = options->pixels_per_metre;
-    viz::renderWorldPng(w, protocol, options->png, render_options);
-    std::printf("wrote %s\n", options->png.c_str());
+    viz::renderWorld(w, protocol, options->output, render_options);
+    std::printf("wrote %s\n", options->output.c_str());
   });
 }
 

@@ -94,7 +94,7 @@ std::vector<std::filesystem::path> writeSweepPlots(const SweepTable& table, cons
       map.values[r][k] = c.summary.*metric.field;
     }
     map.higher_is_better = metric.higher_is_better;
-    viz::renderHeatMapPng(map, dir / metric.file);
+    viz::renderHeatMap(map, dir / metric.file);
     written.push_back(dir / metric.file);
   }
   return written;

@@ -25,6 +25,17 @@ constexpr double kOutlineWidth = 0.025;  // [m]
 constexpr double kTitleHeight = 0.2;     // [m] font size of the title
 constexpr double kLabelHeight = 0.16;    // [m] font size of the scale-bar label
 
+Canvas imageCanvas(int width, int height, const std::string& where) {
+  Canvas canvas;
+  canvas.surface.reset(cairo_image_surface_create(CAIRO_FORMAT_ARGB32, width, height));
+  canvas.context.reset(cairo_create(canvas.surface.get()));
+  if (cairo_status(canvas.cr()) != CAIRO_STATUS_SUCCESS) {
+    throw std::runtime_error(where + ": cannot create a Cairo image: " +
+                             cairo_status_to_string(cairo_status(canvas.cr())));
+  }
+  return canvas;
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------
@@ -32,63 +43,39 @@ constexpr double kLabelHeight = 0.16;    // [m] font size of the scale-bar label
 
 void setColour(cairo_t* cr, const Rgb& c) { cairo_set_source_rgb(cr, c.r, c.g, c.b); }
 
-Canvas createCanvas(int width, int height, const std::string& where) {
-  Canvas canvas;
-  canvas.surface.reset(cairo_image_surface_create(CAIRO_FORMAT_ARGB32, width, height));
-  canvas.context.reset(cairo_create(canvas.surface.get()));
-  cairo_t* cr = canvas.cr();
-  if (cairo_status(cr) != CAIRO_STATUS_SUCCESS) {
-    throw std::runtime_error(where + ": cannot create a Cairo image: " +
-                             cairo_status_to_string(cairo_status(cr)));
-  }
-  cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
-  cairo_paint(cr);
-  return canvas;
-}
-
-void writePng(const Canvas& canvas, const std::string& where) {
-  cairo_t* cr = canvas.cr();
-  if (cairo_status(cr) != CAIRO_STATUS_SUCCESS) {
-    throw std::runtime_error(where + ": drawing failed: " +
-                             cairo_status_to_string(cairo_status(cr)));
-  }
-  cairo_surface_flush(canvas.surface.get());
-  const cairo_status_t status = cairo_surface_write_to_png(canvas.surface.get(), where.c_str());
-  if (status != CAIRO_STATUS_SUCCESS) {
-    throw core::InputError(where + ": cannot write PNG: " + cairo_status_to_string(status));
-  }
-}
-
-ImageFormat imageFormatFor(const std::filesystem::path& path) {
-  std::string extension = path.extension().string();
-  for (char& ch : extension) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-  if (extension == ".png") return ImageFormat::Png;
-  if (extension == ".pdf") return ImageFormat::Pdf;
-  if (extension == ".svg") return ImageFormat::Svg;
-  throw core::InputError(path.string() + ": unknown image type '" + extension + "' (expected .png, .pdf or .svg)");
+void RemoveUnfinished::operator()(std::filesystem::path* path) const {
+  std::error_code ignored;
+  std::filesystem::remove(*path, ignored);
+  delete path;
 }
 
 OutputCanvas createOutputCanvas(int width, int height, const std::filesystem::path& path) {
+  const std::string where = path.string();
   OutputCanvas output;
   output.format = imageFormatFor(path);
+  if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide) {
+    throw core::InputError(where + ": image of " + std::to_string(width) + " x " + std::to_string(height) +
+                           " px is out of range (1 ... " + std::to_string(kMaxImageSide) + " px a side)");
+  }
   output.path = path;
   output.temporary = path;
   output.temporary += ".partial";
-  const std::string where = path.string();
   if (output.format == ImageFormat::Png) {
-    output.canvas = createCanvas(width, height, where);
-    return output;
+    output.canvas = imageCanvas(width, height, where);
+  } else {
+    // A vector surface writes its file as it goes, so the temporary exists from here on.
+    output.unfinished.reset(new std::filesystem::path(output.temporary));
+    const std::string file = output.temporary.string();
+    cairo_surface_t* surface = output.format == ImageFormat::Pdf
+                                   ? cairo_pdf_surface_create(file.c_str(), width, height)
+                                   : cairo_svg_surface_create(file.c_str(), width, height);
+    output.canvas.surface.reset(surface);
+    if (cairo_surface_status(surface) != CAIRO_STATUS_SUCCESS) {
+      throw core::InputError(where + ": cannot write: " + cairo_status_to_string(cairo_surface_status(surface)));
+    }
+    output.canvas.context.reset(cairo_create(surface));
   }
-  const std::string file = output.temporary.string();
-  cairo_surface_t* surface = output.format == ImageFormat::Pdf
-                                 ? cairo_pdf_surface_create(file.c_str(), width, height)
-                                 : cairo_svg_surface_create(file.c_str(), width, height);
-  output.canvas.surface.reset(surface);
-  if (cairo_surface_status(surface) != CAIRO_STATUS_SUCCESS) {
-    throw core::InputError(where + ": cannot write: " + cairo_status_to_string(cairo_surface_status(surface)));
-  }
-  output.canvas.context.reset(cairo_create(surface));
-  cairo_t* cr = output.canvas.cr();
+  cairo_t* cr = output.cr();
   cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
   cairo_paint(cr);
   return output;
@@ -102,6 +89,7 @@ void finishImage(OutputCanvas& output) {
   cairo_surface_t* surface = output.canvas.surface.get();
   cairo_status_t status = CAIRO_STATUS_SUCCESS;
   if (output.format == ImageFormat::Png) {
+    output.unfinished.reset(new std::filesystem::path(output.temporary));
     cairo_surface_flush(surface);
     status = cairo_surface_write_to_png(surface, output.temporary.string().c_str());
   } else {
@@ -109,17 +97,11 @@ void finishImage(OutputCanvas& output) {
     cairo_surface_finish(surface);
     status = cairo_surface_status(surface);
   }
+  if (status != CAIRO_STATUS_SUCCESS) throw core::InputError(where + ": cannot write: " + cairo_status_to_string(status));
   std::error_code ec;
-  if (status != CAIRO_STATUS_SUCCESS) {
-    std::filesystem::remove(output.temporary, ec);
-    throw core::InputError(where + ": cannot write: " + cairo_status_to_string(status));
-  }
   std::filesystem::rename(output.temporary, output.path, ec);
-  if (ec) {
-    const std::string why = ec.message();
-    std::filesystem::remove(output.temporary, ec);
-    throw core::InputError(where + ": cannot write: " + why);
-  }
+  if (ec) throw core::InputError(where + ": cannot write: " + ec.message());
+  delete output.unfinished.release();  // renamed: no temporary left to remove
 }
 
 std::string formatNumber(double value, std::chars_format format, int precision) {
@@ -324,3 +306,16 @@ void drawScaleBar(cairo_t* cr, double left_px, double baseline_px, double pixels
 }
 
 }  // namespace barn::viz::detail
+
+namespace barn::viz {
+
+ImageFormat imageFormatFor(const std::filesystem::path& path) {
+  std::string extension = path.extension().string();
+  for (char& ch : extension) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  if (extension == ".png") return ImageFormat::Png;
+  if (extension == ".pdf") return ImageFormat::Pdf;
+  if (extension == ".svg") return ImageFormat::Svg;
+  throw core::InputError(path.string() + ": unknown image type '" + extension + "' (expected .png, .pdf or .svg)");
+}
+
+}  // namespace barn::viz

@@ -1,7 +1,7 @@
 #pragma once
-// Drawing helpers shared by the PNG renderers (world pictures, trajectory overlays, plots):
-// Cairo ownership, colours, number formatting, PNG output, and the layers of a BARN world
-// picture in the world frame. Private to barn_viz; the layout rules are documented in
+// Drawing helpers shared by the renderers (world pictures, trajectory overlays, plots):
+// Cairo ownership, colours, number formatting, the one output path (PNG, PDF or SVG by
+// extension), and the layers of a BARN world picture in the world frame. Private to barn_viz; the layout rules are documented in
 // barn/viz/world_render.hpp and barn/viz/plots.hpp.
 
 #include <cairo.h>
@@ -17,6 +17,7 @@
 #include "barn/core/grid.hpp"
 #include "barn/core/protocol.hpp"
 #include "barn/core/world.hpp"
+#include "barn/viz/image_format.hpp"
 
 namespace barn::viz::detail {
 
@@ -49,36 +50,33 @@ struct ContextDeleter {
 using SurfacePtr = std::unique_ptr<cairo_surface_t, SurfaceDeleter>;
 using ContextPtr = std::unique_ptr<cairo_t, ContextDeleter>;
 
-/// An ARGB32 image surface and its context; every object is released on all paths.
+/// A Cairo surface and its context; every object is released on all paths.
 struct Canvas {
   SurfacePtr surface;
   ContextPtr context;
   cairo_t* cr() const { return context.get(); }
 };
 
-/// A white (width x height) px canvas. Throws std::runtime_error naming `where` if Cairo
-/// cannot create it.
-Canvas createCanvas(int width, int height, const std::string& where);
+/// Removes a file that was not finished (an exception between creating and finishing an image).
+struct RemoveUnfinished {
+  void operator()(std::filesystem::path* path) const;
+};
 
-/// Checks the context for drawing errors (std::runtime_error) and writes the PNG; throws
-/// core::InputError "<where>: cannot write PNG: ..." if the file cannot be written.
-void writePng(const Canvas& canvas, const std::string& where);
-
-/// Output file formats, chosen by the file's extension (.png, .pdf, .svg, any case).
-enum class ImageFormat { Png, Pdf, Svg };
-/// The format of `path`; core::InputError "<path>: ..." for any other extension.
-ImageFormat imageFormatFor(const std::filesystem::path& path);
-
-/// A canvas writing to `path` in the format of its extension: an ARGB32 image for PNG, a
-/// vector surface (1 unit = 1 pt) for PDF and SVG; white. The file appears only when
-/// finishImage succeeds (drawn into a temporary beside it, then renamed).
+/// A canvas writing to `path` in the format of its extension (imageFormatFor): an ARGB32 image
+/// for PNG, a vector surface (1 unit = 1 pt) for PDF and SVG; white. Every figure is drawn
+/// through one. The file appears only when finishImage succeeds: it is drawn into
+/// "<path>.partial" and renamed, and a canvas dropped unfinished removes that temporary.
 struct OutputCanvas {
+  // Declared first, so it is released last: after the surface has closed the temporary.
+  std::unique_ptr<std::filesystem::path, RemoveUnfinished> unfinished;
   Canvas canvas;
   ImageFormat format = ImageFormat::Png;
   std::filesystem::path path;
   std::filesystem::path temporary;
   cairo_t* cr() const { return canvas.cr(); }
 };
+/// Throws core::InputError "<path>: ..." for an unknown extension, an image side outside
+/// 1 ... kMaxImageSide px, or a file that cannot be created.
 OutputCanvas createOutputCanvas(int width, int height, const std::filesystem::path& path);
 /// Checks for drawing errors (std::runtime_error), writes or finishes the file and moves it
 /// into place; core::InputError "<path>: cannot write ..." if it cannot be written.

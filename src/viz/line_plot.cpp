@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "barn/core/errors.hpp"
+#include "drawing.hpp"
 #include "stroke_font.hpp"
 
 namespace barn::viz {
@@ -50,8 +51,9 @@ std::string tickText(double value, double step) {
 
 }  // namespace
 
-void renderLinePlotPng(const LinePlot& plot, const std::filesystem::path& png_path) {
-  const std::string where = png_path.string();
+void renderLinePlot(const LinePlot& plot, const std::filesystem::path& output) {
+  const std::string where = output.string();
+  imageFormatFor(output);  // an unknown extension fails before any drawing
   if (plot.width < 200 || plot.width > 8000 || plot.height < 150 || plot.height > 8000)
     throw core::InputError(where + ": plot size " + std::to_string(plot.width) + " x " + std::to_string(plot.height) +
                            " px is outside 200..8000 x 150..8000");
@@ -78,12 +80,8 @@ void renderLinePlotPng(const LinePlot& plot, const std::filesystem::path& png_pa
   y_max += 0.05 * (y_max - y_min);
   if (y_max <= y_min) y_max = y_min + 1.0;
 
-  std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)> surface(
-      cairo_image_surface_create(CAIRO_FORMAT_RGB24, plot.width, plot.height), &cairo_surface_destroy);
-  std::unique_ptr<cairo_t, decltype(&cairo_destroy)> context(cairo_create(surface.get()), &cairo_destroy);
-  cairo_t* cr = context.get();
-  cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
-  cairo_paint(cr);
+  detail::OutputCanvas image = detail::createOutputCanvas(plot.width, plot.height, output);
+  cairo_t* cr = image.cr();
 
   const double left = kLeft, right = plot.width - kRight, top = kTop, bottom = plot.height - kBottom;
   const auto px = [&](double x) { return left + (x - x_min) / (x_max - x_min) * (right - left); };
@@ -183,11 +181,7 @@ void renderLinePlotPng(const LinePlot& plot, const std::filesystem::path& png_pa
   for (std::size_t k = 0; k < plot.series.size(); ++k) legendEntry(plot.series[k].label, kPalette[k % std::size(kPalette)], false);
   for (const ReferenceLine& r : plot.references) legendEntry(r.label, kReferenceColour, true);
 
-  if (cairo_status(cr) != CAIRO_STATUS_SUCCESS)
-    throw core::InputError(where + ": cannot draw the plot: " + cairo_status_to_string(cairo_status(cr)));
-  cairo_surface_flush(surface.get());
-  const cairo_status_t status = cairo_surface_write_to_png(surface.get(), where.c_str());
-  if (status != CAIRO_STATUS_SUCCESS) throw core::InputError(where + ": cannot write PNG: " + cairo_status_to_string(status));
+  detail::finishImage(image);
 }
 
 }  // namespace barn::viz

@@ -375,8 +375,9 @@ void drawCollisionMark(cairo_t* cr, double x, double y, double half, double widt
 // ---------------------------------------------------------------------------
 // Heat map
 
-void renderHeatMapPng(const HeatMap& map, const std::filesystem::path& png) {
-  const std::string where = png.string();
+void renderHeatMap(const HeatMap& map, const std::filesystem::path& output) {
+  const std::string where = output.string();
+  imageFormatFor(output);  // an unknown extension fails before any drawing
   const std::size_t rows = map.values.size();
   const std::size_t cols = map.x_ticks.size();
   if (rows == 0) throw core::InputError(where + ": heat map has no rows (values is empty)");
@@ -443,8 +444,8 @@ void renderHeatMapPng(const HeatMap& map, const std::filesystem::path& png) {
                 "heat map width", where);
   const int height = imageSide(kHeatTop + grid_h + kHeatBottom, "heat map height", where);
 
-  const detail::Canvas canvas = detail::createCanvas(width, height, where);
-  cairo_t* cr = canvas.cr();
+  detail::OutputCanvas image = detail::createOutputCanvas(width, height, output);
+  cairo_t* cr = image.cr();
   const double gx = left_band, gy = kHeatTop;  // top-left corner of the grid
 
   // Cells, value texts, then thin white separators.
@@ -561,14 +562,15 @@ void renderHeatMapPng(const HeatMap& map, const std::filesystem::path& png) {
     drawText(cr, "missing", bx + 20.0, centredBaseline(gy + grid_h + 40.0, kSmallSize), kSmallSize);
   }
 
-  detail::writePng(canvas, where);
+  detail::finishImage(image);
 }
 
 // ---------------------------------------------------------------------------
 // Bar chart
 
-void renderWorldBarsPng(const WorldBars& bars, const std::filesystem::path& png) {
-  const std::string where = png.string();
+void renderWorldBars(const WorldBars& bars, const std::filesystem::path& output) {
+  const std::string where = output.string();
+  imageFormatFor(output);  // an unknown extension fails before any drawing
   const std::size_t n = bars.values.size();
   if (bars.labels.size() != n) {
     throw core::InputError(where + ": bar chart has " + std::to_string(bars.labels.size()) +
@@ -589,8 +591,8 @@ void renderWorldBarsPng(const WorldBars& bars, const std::filesystem::path& png)
       imageSide(std::max(plot_w + kBarsLeft + kBarsRight, textWidth(bars.title, kTitleSize) + 48.0),
                 "bar chart width", where);
   const int height = static_cast<int>(kBarsTop + kBarsPlotHeight + kBarsBottom);
-  const detail::Canvas canvas = detail::createCanvas(width, height, where);
-  cairo_t* cr = canvas.cr();
+  detail::OutputCanvas image = detail::createOutputCanvas(width, height, output);
+  cairo_t* cr = image.cr();
 
   const double left = kBarsLeft, right = kBarsLeft + plot_w;
   const double plot_top = kBarsTop, plot_bottom = kBarsTop + kBarsPlotHeight;
@@ -669,7 +671,7 @@ void renderWorldBarsPng(const WorldBars& bars, const std::filesystem::path& png)
   drawVertical(cr, bars.y_label, 22.0, 0.5 * (plot_top + plot_bottom), kLabelSize);
   drawTitle(cr, bars.title, left, right, width, 34.0);
 
-  detail::writePng(canvas, where);
+  detail::finishImage(image);
 }
 
 // ---------------------------------------------------------------------------
@@ -688,7 +690,7 @@ void renderPairedWorlds(const PairedWorlds& pairs, const std::filesystem::path& 
     throw core::InputError(where + ": y_max must be 0 (automatic) or positive (got " +
                            detail::formatNumber(pairs.y_max, std::chars_format::general, 6) + ")");
   }
-  detail::imageFormatFor(output);  // an unknown extension fails before any drawing
+  imageFormatFor(output);  // an unknown extension fails before any drawing
 
   constexpr double kLeft = 72.0, kRight = 56.0, kTop = 80.0, kBottom = 72.0;
   constexpr double kPlotHeight = 320.0;
@@ -830,10 +832,11 @@ void renderPairedWorlds(const PairedWorlds& pairs, const std::filesystem::path& 
 // ---------------------------------------------------------------------------
 // Trajectories on a world
 
-void renderTrajectoriesPng(const core::WorldSpec& world, const core::Protocol& protocol,
-                           const std::vector<TrajectoryOverlay>& trajectories,
-                           const std::filesystem::path& png, double pixels_per_metre) {
-  const std::string where = png.string();
+void renderTrajectories(const core::WorldSpec& world, const core::Protocol& protocol,
+                        const std::vector<TrajectoryOverlay>& trajectories, const std::filesystem::path& output,
+                        double pixels_per_metre) {
+  const std::string where = output.string();
+  imageFormatFor(output);  // an unknown extension fails before any drawing
   const double ppm = pixels_per_metre;
   const detail::ViewBox view = detail::viewBox(protocol);
   const detail::ImageSize size = detail::worldImageSize(view, ppm, kLegendBand, where);
@@ -858,10 +861,10 @@ void renderTrajectoriesPng(const core::WorldSpec& world, const core::Protocol& p
     return kStatePalette[static_cast<std::size_t>(it - states.begin()) % kStatePalette.size()];
   };
 
-  const detail::Canvas canvas = detail::createCanvas(size.width, size.height, where);
-  cairo_t* cr = canvas.cr();
+  detail::OutputCanvas image = detail::createOutputCanvas(size.width, size.height, output);
+  cairo_t* cr = image.cr();
 
-  // The world as renderWorldPng draws it, with the A* path thin and light (a reference, not
+  // The world as renderWorld draws it, with the A* path thin and light (a reference, not
   // the subject).
   const cairo_matrix_t world_to_px = detail::worldToPixels(view, ppm);
   cairo_save(cr);
@@ -999,7 +1002,7 @@ void renderTrajectoriesPng(const core::WorldSpec& world, const core::Protocol& p
     entryText("collision", kInk);
   }
 
-  detail::writePng(canvas, where);
+  detail::finishImage(image);
 }
 
 }  // namespace barn::viz

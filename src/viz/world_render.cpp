@@ -11,14 +11,15 @@ namespace barn::viz {
 // The layers, the view box and the title live in drawing.cpp, shared with the trajectory
 // overlay of plots.cpp, so both pictures of a world look the same.
 
-void renderWorldPng(const core::WorldSpec& world, const core::Protocol& protocol,
-                    const std::filesystem::path& png_path, const RenderOptions& options) {
-  const std::string where = png_path.string();
+void renderWorld(const core::WorldSpec& world, const core::Protocol& protocol, const std::filesystem::path& output,
+                 const RenderOptions& options) {
+  const std::string where = output.string();
+  imageFormatFor(output);  // an unknown extension fails before anything else
   const double ppm = options.pixels_per_metre;
   const detail::ViewBox view = detail::viewBox(protocol);
   const detail::ImageSize size = detail::worldImageSize(view, ppm, 0.0, where);
-  const detail::Canvas canvas = detail::createCanvas(size.width, size.height, where);
-  cairo_t* cr = canvas.cr();
+  detail::OutputCanvas image = detail::createOutputCanvas(size.width, size.height, output);
+  cairo_t* cr = image.cr();
 
   const cairo_matrix_t world_to_px = detail::worldToPixels(view, ppm);
   cairo_save(cr);
@@ -34,7 +35,7 @@ void renderWorldPng(const core::WorldSpec& world, const core::Protocol& protocol
   // The scale bar sits in the bottom margin, left-aligned with the view box.
   detail::drawScaleBar(cr, detail::kWorldMargin * ppm,
                        (view.max_y - view.min_y + 1.5 * detail::kWorldMargin) * ppm, ppm);
-  detail::writePng(canvas, where);
+  detail::finishImage(image);
 }
 
 }  // namespace barn::viz

@@ -29,7 +29,7 @@ TEST(LinePlot, WritesAPngOfTheRequestedSize) {
   LinePlot plot = lossPlot();
   plot.width = 640;
   plot.height = 400;
-  renderLinePlotPng(plot, png);
+  renderLinePlot(plot, png);
   const std::string bytes = core::readTextFile(png);
   ASSERT_GT(bytes.size(), 24u);
   EXPECT_EQ(bytes.substr(1, 3), "PNG");
@@ -44,14 +44,14 @@ TEST(LinePlot, BadInputIsAnInputErrorNamingTheFile) {
   const fs::path png = fs::temp_directory_path() / "barn_line_plot_bad.png";
   LinePlot uneven = lossPlot();
   uneven.series[0].y.pop_back();
-  EXPECT_THAT([&] { renderLinePlotPng(uneven, png); },
+  EXPECT_THAT([&] { renderLinePlot(uneven, png); },
               ::testing::ThrowsMessage<core::InputError>(::testing::HasSubstr("different lengths")));
   LinePlot empty;
-  EXPECT_THROW(renderLinePlotPng(empty, png), core::InputError);
+  EXPECT_THROW(renderLinePlot(empty, png), core::InputError);
   LinePlot tiny = lossPlot();
   tiny.width = 10;
-  EXPECT_THROW(renderLinePlotPng(tiny, png), core::InputError);
-  EXPECT_THROW(renderLinePlotPng(lossPlot(), "/nonexistent/dir/plot.png"), core::InputError);
+  EXPECT_THROW(renderLinePlot(tiny, png), core::InputError);
+  EXPECT_THROW(renderLinePlot(lossPlot(), "/nonexistent/dir/plot.png"), core::InputError);
 }
 
 }  // namespace

@@ -1,7 +1,5 @@
 #include "barn/viz/plots.hpp"
 
-#include <cairo/cairo.h>  // only to read pixels back; barn_viz links Cairo
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -25,6 +23,7 @@
 #include "barn/core/world.hpp"
 #include "barn/core/world_file.hpp"
 #include "barn/viz/world_render.hpp"
+#include "image_check.hpp"
 
 namespace barn::viz {
 namespace {
@@ -34,78 +33,12 @@ using ::testing::HasSubstr;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// ---------------------------------------------------------------------------
-// Reading the PNG back
-
-std::vector<unsigned char> readBytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-std::uint32_t bigEndian32(const std::vector<unsigned char>& bytes, std::size_t offset) {
-  return (std::uint32_t{bytes[offset]} << 24) | (std::uint32_t{bytes[offset + 1]} << 16) |
-         (std::uint32_t{bytes[offset + 2]} << 8) | std::uint32_t{bytes[offset + 3]};
-}
-
-struct Size {
-  long width;   // [px]
-  long height;  // [px]
-};
-
-/// Checks the PNG signature and returns the IHDR size.
-Size pngSize(const fs::path& png) {
-  const std::vector<unsigned char> bytes = readBytes(png);
-  const std::array<unsigned char, 8> signature = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
-  EXPECT_GE(bytes.size(), 24u);
-  if (bytes.size() < 24) return {0, 0};
-  EXPECT_TRUE(std::equal(signature.begin(), signature.end(), bytes.begin())) << png;
-  EXPECT_EQ(std::string(bytes.begin() + 12, bytes.begin() + 16), "IHDR");
-  return {static_cast<long>(bigEndian32(bytes, 16)), static_cast<long>(bigEndian32(bytes, 20))};
-}
-
-struct Pixel {
-  int r, g, b;  // [0, 255]
-};
-
-/// The decoded image, for pixel checks.
-class Image {
- public:
-  explicit Image(const fs::path& png)
-      : surface_(cairo_image_surface_create_from_png(png.string().c_str()),
-                 &cairo_surface_destroy) {}
-  bool ok() const { return cairo_surface_status(surface_.get()) == CAIRO_STATUS_SUCCESS; }
-  int width() const { return cairo_image_surface_get_width(surface_.get()); }
-  int height() const { return cairo_image_surface_get_height(surface_.get()); }
-  Pixel at(int x, int y) const {
-    const unsigned char* row = cairo_image_surface_get_data(surface_.get()) +
-                               y * cairo_image_surface_get_stride(surface_.get());
-    std::uint32_t argb = 0;
-    std::memcpy(&argb, row + 4 * x, 4);  // native-endian 0xAARRGGBB, opaque here
-    return {static_cast<int>((argb >> 16) & 0xff), static_cast<int>((argb >> 8) & 0xff),
-            static_cast<int>(argb & 0xff)};
-  }
-  /// True if some pixel of the rectangle satisfies `test`.
-  bool any(int x0, int y0, int x1, int y1, const std::function<bool(Pixel)>& test) const {
-    for (int y = y0; y < y1; ++y) {
-      for (int x = x0; x < x1; ++x) {
-        if (test(at(x, y))) return true;
-      }
-    }
-    return false;
-  }
-
- private:
-  std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)> surface_;
-};
-
-/// Matches an 8-bit colour against one given in [0, 1], within rounding.
-::testing::AssertionResult near(Pixel p, double r, double g, double b) {
-  const auto close = [](int v, double want) { return std::abs(v - want * 255.0) <= 2.0; };
-  if (close(p.r, r) && close(p.g, g) && close(p.b, b)) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure()
-         << "pixel (" << p.r << ", " << p.g << ", " << p.b << ") is not (" << r * 255 << ", "
-         << g * 255 << ", " << b * 255 << ")";
-}
+using test::Image;
+using test::near;
+using test::pngSize;
+using test::Pixel;
+using test::readBytes;
+using test::Size;
 
 class PlotsTest : public ::testing::Test {
  protected:
@@ -162,7 +95,7 @@ HeatMap sweep() {
 constexpr int kGridLeft = 88, kGridTop = 60, kCellW = 80, kCellH = 48;
 
 TEST_F(PlotsTest, HeatMapHasTheDocumentedSizeAndDrawsAMissingCell) {
-  renderHeatMapPng(sweep(), png_);
+  renderHeatMap(sweep(), png_);
   const Size size = pngSize(png_);
   EXPECT_EQ(size.width, 88 + 6 * 80 + 120);  // 688
   EXPECT_EQ(size.height, 60 + 5 * 48 + 76);  // 376
@@ -178,7 +111,7 @@ TEST_F(PlotsTest, HeatMapHasTheDocumentedSizeAndDrawsAMissingCell) {
 }
 
 TEST_F(PlotsTest, HeatMapColoursRunFromDarkViridisToYellowWithReadableText) {
-  renderHeatMapPng(sweep(), png_);
+  renderHeatMap(sweep(), png_);
   const Image image(png_);
   ASSERT_TRUE(image.ok());
   // Away from the text (and inside the best cell's outline): the smallest value takes
@@ -205,13 +138,13 @@ TEST_F(PlotsTest, HeatMapOutlinesTheBestCellByItsDirection) {
                 0.1);
   };
   HeatMap map = sweep();
-  renderHeatMapPng(map, png_);
+  renderHeatMap(map, png_);
   EXPECT_TRUE(outlined(4, 4));
   EXPECT_FALSE(outlined(0, 0));
   EXPECT_FALSE(outlined(4, 3));
 
   map.higher_is_better = false;
-  renderHeatMapPng(map, png_);
+  renderHeatMap(map, png_);
   EXPECT_TRUE(outlined(0, 0));
   EXPECT_FALSE(outlined(4, 4));
 }
@@ -219,7 +152,7 @@ TEST_F(PlotsTest, HeatMapOutlinesTheBestCellByItsDirection) {
 TEST_F(PlotsTest, HeatMapCellsWidenForLongValueTexts) {
   HeatMap map = sweep();
   map.value_format = "%.6f";
-  renderHeatMapPng(map, png_);
+  renderHeatMap(map, png_);
   // Stroke-font width of "28.000000": 8 digits of 4 units, a '.' of 0.6 and 8 gaps of 1.3, at
   // 8 units per font size; cells use 14 px text, the colour bar's labels 13 px.
   const auto text_width = [](double size) { return (8 * 4.0 + 0.6 + 8 * 1.3) * size / 8.0; };
@@ -233,27 +166,27 @@ TEST_F(PlotsTest, HeatMapRejectsEmptyAndRaggedInput) {
   HeatMap map = sweep();
   map.values.clear();
   map.y_ticks.clear();
-  expectInputError([&] { renderHeatMapPng(map, png_); }, {png_.string(), "no rows"});
+  expectInputError([&] { renderHeatMap(map, png_); }, {png_.string(), "no rows"});
 
   map = sweep();
   map.x_ticks.clear();
-  expectInputError([&] { renderHeatMapPng(map, png_); }, {"no columns"});
+  expectInputError([&] { renderHeatMap(map, png_); }, {"no columns"});
 
   map = sweep();
   map.y_ticks.pop_back();
-  expectInputError([&] { renderHeatMapPng(map, png_); }, {"5 rows", "4 y_ticks"});
+  expectInputError([&] { renderHeatMap(map, png_); }, {"5 rows", "4 y_ticks"});
 
   map = sweep();
   map.values[2].pop_back();
-  expectInputError([&] { renderHeatMapPng(map, png_); }, {"row 2 has 5 values", "6 x_ticks"});
+  expectInputError([&] { renderHeatMap(map, png_); }, {"row 2 has 5 values", "6 x_ticks"});
 
   map = sweep();
   map.value_format = "%d";
-  expectInputError([&] { renderHeatMapPng(map, png_); }, {"value_format '%d'"});
+  expectInputError([&] { renderHeatMap(map, png_); }, {"value_format '%d'"});
   map.value_format = "%s";
-  expectInputError([&] { renderHeatMapPng(map, png_); }, {"value_format"});
+  expectInputError([&] { renderHeatMap(map, png_); }, {"value_format"});
   map.value_format = "no conversion";
-  expectInputError([&] { renderHeatMapPng(map, png_); }, {"value_format"});
+  expectInputError([&] { renderHeatMap(map, png_); }, {"value_format"});
   EXPECT_FALSE(fs::exists(png_));
 }
 
@@ -262,14 +195,14 @@ TEST_F(PlotsTest, HeatMapAcceptsPrintfStyleFormats) {
   for (const std::string format :
        {"%.3f", "%+.1f", "%.2e", "%g", "%.0f%%", "s = %.2f", "%.f", "%E"}) {
     map.value_format = format;
-    EXPECT_NO_THROW(renderHeatMapPng(map, png_)) << format;
+    EXPECT_NO_THROW(renderHeatMap(map, png_)) << format;
   }
 }
 
 TEST_F(PlotsTest, HeatMapWithEveryValueMissingStillRenders) {
   HeatMap map = sweep();
   for (std::vector<double>& row : map.values) std::fill(row.begin(), row.end(), kNaN);
-  renderHeatMapPng(map, png_);
+  renderHeatMap(map, png_);
   EXPECT_EQ(pngSize(png_).height, 376);
 }
 
@@ -290,7 +223,7 @@ WorldBars threeHundredWorlds() {
 }
 
 TEST_F(PlotsTest, BarChartHasTheDocumentedSize) {
-  renderWorldBarsPng(threeHundredWorlds(), png_);
+  renderWorldBars(threeHundredWorlds(), png_);
   Size size = pngSize(png_);
   EXPECT_EQ(size.width, 4 * 300 + 128);  // 1328
   EXPECT_EQ(size.height, 448);
@@ -298,7 +231,7 @@ TEST_F(PlotsTest, BarChartHasTheDocumentedSize) {
   WorldBars few = threeHundredWorlds();
   few.labels.resize(12);
   few.values.resize(12);
-  renderWorldBarsPng(few, png_);
+  renderWorldBars(few, png_);
   size = pngSize(png_);
   EXPECT_EQ(size.width, 720 + 128);  // the minimum plot width
   EXPECT_EQ(size.height, 448);
@@ -310,7 +243,7 @@ TEST_F(PlotsTest, BarHeightsFollowTheYAxis) {
   bars.labels = {"0", "1", "2"};
   bars.values = {0.5, kNaN, 1.0};
   bars.y_max = 1.0;
-  renderWorldBarsPng(bars, png_);
+  renderWorldBars(bars, png_);
   const Image image(png_);
   ASSERT_TRUE(image.ok());
   const int pitch = 240;  // 720 px / 3 bars
@@ -330,21 +263,21 @@ TEST_F(PlotsTest, BarHeightsFollowTheYAxis) {
 TEST_F(PlotsTest, BarChartRejectsEmptyOrMismatchedInput) {
   WorldBars bars = threeHundredWorlds();
   bars.labels.pop_back();
-  expectInputError([&] { renderWorldBarsPng(bars, png_); },
+  expectInputError([&] { renderWorldBars(bars, png_); },
                    {png_.string(), "299 labels but 300 values"});
 
   bars.labels.clear();
   bars.values.clear();
-  expectInputError([&] { renderWorldBarsPng(bars, png_); }, {"no bars"});
+  expectInputError([&] { renderWorldBars(bars, png_); }, {"no bars"});
 
   bars = threeHundredWorlds();
   bars.y_max = -1.0;
-  expectInputError([&] { renderWorldBarsPng(bars, png_); }, {"y_max"});
+  expectInputError([&] { renderWorldBars(bars, png_); }, {"y_max"});
 
   bars = threeHundredWorlds();
   bars.labels.assign(9000, "1");
   bars.values.assign(9000, 0.1);
-  expectInputError([&] { renderWorldBarsPng(bars, png_); }, {"out of range"});
+  expectInputError([&] { renderWorldBars(bars, png_); }, {"out of range"});
   EXPECT_FALSE(fs::exists(png_));
 }
 
@@ -373,15 +306,15 @@ int pxY(double y) { return static_cast<int>(std::lround((14.6 - y) * 120.0)); }
 
 TEST_F(PlotsTest, TrajectoryOverlayIsTheWorldPictureWithALegendBand) {
   const core::Protocol protocol = core::protocolPreset("barn2023");
-  renderTrajectoriesPng(emptyWorld(), protocol, {}, png_);
+  renderTrajectories(emptyWorld(), protocol, {}, png_);
   const Size size = pngSize(png_);
   EXPECT_EQ(size.width, std::lround((4.5 + 1.2 + 2.0) * 120.0));  // 924
   EXPECT_EQ(size.height, std::lround((14.0 + 1.2) * 120.0));      // 1824
 
-  // Same height as renderWorldPng, 2 m wider.
-  renderWorldPng(emptyWorld(), protocol, png_, RenderOptions{60.0, true, true});
+  // Same height as renderWorld, 2 m wider.
+  renderWorld(emptyWorld(), protocol, png_, RenderOptions{60.0, true, true});
   const Size world_size = pngSize(png_);
-  renderTrajectoriesPng(emptyWorld(), protocol, {}, png_, 60.0);
+  renderTrajectories(emptyWorld(), protocol, {}, png_, 60.0);
   EXPECT_EQ(pngSize(png_).width, world_size.width + 120);
   EXPECT_EQ(pngSize(png_).height, world_size.height);
 }
@@ -401,7 +334,7 @@ TEST_F(PlotsTest, TrajectorySegmentsTakeTheirStateColourAndCollisionsAreMarked) 
   second.collided = true;
   second.collision_x = -2.5;
   second.collision_y = 1.5;
-  renderTrajectoriesPng(emptyWorld(), core::protocolPreset("barn2023"), {first, second}, png_);
+  renderTrajectories(emptyWorld(), core::protocolPreset("barn2023"), {first, second}, png_);
 
   const Image image(png_);
   ASSERT_TRUE(image.ok());
@@ -428,16 +361,16 @@ TEST_F(PlotsTest, TrajectoryOverlayRendersARealWorld) {
                   {kNaN, 4.5, ""},
                   {-1.9, 5.0, "forward"},
                   {-1.8, 6.0, "forward"}};
-  renderTrajectoriesPng(world, core::protocolPreset("barn2024"), {trial}, png_, 50.0);
+  renderTrajectories(world, core::protocolPreset("barn2024"), {trial}, png_, 50.0);
   EXPECT_GT(pngSize(png_).width, 0);
 }
 
 TEST_F(PlotsTest, TrajectoryOverlayRejectsABadScale) {
   expectInputError(
-      [&] { renderTrajectoriesPng(emptyWorld(), core::protocolPreset("barn2023"), {}, png_, 0.0); },
+      [&] { renderTrajectories(emptyWorld(), core::protocolPreset("barn2023"), {}, png_, 0.0); },
       {png_.string(), "pixels_per_metre"});
   expectInputError(
-      [&] { renderTrajectoriesPng(emptyWorld(), core::protocolPreset("barn2023"), {}, png_, 1e4); },
+      [&] { renderTrajectories(emptyWorld(), core::protocolPreset("barn2023"), {}, png_, 1e4); },
       {"out of range"});
 }
 
@@ -524,12 +457,12 @@ TEST_F(PlotsTest, PairedChartRejectsBadInputAndUnknownExtensions) {
 // Output errors
 
 TEST_F(PlotsTest, UnwritablePathThrowsInputErrorNamingThePath) {
-  const std::vector<std::string> parts = {unwritable_.string(), "cannot write PNG"};
-  expectInputError([&] { renderHeatMapPng(sweep(), unwritable_); }, parts);
-  expectInputError([&] { renderWorldBarsPng(threeHundredWorlds(), unwritable_); }, parts);
+  const std::vector<std::string> parts = {unwritable_.string(), "cannot write"};
+  expectInputError([&] { renderHeatMap(sweep(), unwritable_); }, parts);
+  expectInputError([&] { renderWorldBars(threeHundredWorlds(), unwritable_); }, parts);
   expectInputError(
       [&] {
-        renderTrajectoriesPng(emptyWorld(), core::protocolPreset("barn2023"), {}, unwritable_,
+        renderTrajectories(emptyWorld(), core::protocolPreset("barn2023"), {}, unwritable_,
                               20.0);
       },
       parts);

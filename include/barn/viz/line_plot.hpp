@@ -1,5 +1,5 @@
 #pragma once
-/// A small line plot as a PNG: a few series of (x, y) points and dashed horizontal reference
+/// A small line plot (PNG, PDF or SVG by the output's extension; image_format.hpp): a few series of (x, y) points and dashed horizontal reference
 /// lines, with axes, ticks and a legend (e.g. training loss curves).
 ///
 /// The y axis runs from 0 (or the smallest value, if negative) to 5 % above the largest value of
@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <string>
 #include <vector>
+
+#include "barn/viz/image_format.hpp"
 
 namespace barn::viz {
 
@@ -33,8 +35,9 @@ struct LinePlot {
   int height = 560;  // [px] 150..8000
 };
 
-/// Draws the plot to a PNG file. InputError if the size is out of range, a series has x and y of
+/// Draws the plot to `output`; the file appears complete or not at all. InputError naming the
+/// file if the extension is unknown, the size is out of range, a series has x and y of
 /// different lengths, there is nothing finite to draw, or the file cannot be written.
-void renderLinePlotPng(const LinePlot& plot, const std::filesystem::path& png_path);
+void renderLinePlot(const LinePlot& plot, const std::filesystem::path& output);
 
 }  // namespace barn::viz

@@ -1,11 +1,15 @@
 #pragma once
-/// Figures for papers and reports, as PNG files: a heat map of a 2-parameter sweep, a per-world
-/// bar chart, and trajectories overlaid on a world picture. White background, labelled axes, a
-/// title; text uses the built-in stroke font (printable ASCII but "$ & @ \ ^ ` { } ~").
+/// Figures for papers and reports: a heat map of a 2-parameter sweep, a per-world bar chart, a
+/// paired per-world comparison, and trajectories overlaid on a world picture. White background,
+/// labelled axes, a title; text uses the built-in stroke font (printable ASCII but
+/// "$ & @ \ ^ ` { } ~").
 ///
-/// Every function throws core::InputError "<png>: ..." naming the problem if the input cannot
-/// be drawn (see each function) and "<png>: cannot write PNG: ..." if the file cannot be
-/// written. Text widths below are those of the stroke font (textWidth in stroke_font.hpp).
+/// Every function writes the format of the output's extension (.png, .pdf or .svg; see
+/// image_format.hpp), and the file appears complete or not at all. Each throws
+/// core::InputError "<file>: ..." naming the problem for an unknown extension, for input that
+/// cannot be drawn (see each function), and "<file>: cannot write: ..." if the file cannot be
+/// written. Sizes below are in px (pt in a PDF or SVG); text widths are those of the stroke
+/// font (textWidth in stroke_font.hpp).
 
 #include <filesystem>
 #include <string>
@@ -13,6 +17,7 @@
 
 #include "barn/core/protocol.hpp"
 #include "barn/core/world.hpp"
+#include "barn/viz/image_format.hpp"
 
 namespace barn::viz {
 
@@ -47,7 +52,7 @@ struct HeatMap {
 /// Throws InputError if there are no rows or no columns, the number of y ticks is not the number
 /// of rows, a row's length is not the number of x ticks, value_format is not as above, or an image
 /// side exceeds 32767 px.
-void renderHeatMapPng(const HeatMap& map, const std::filesystem::path& png);
+void renderHeatMap(const HeatMap& map, const std::filesystem::path& output);
 
 // ---------------------------------------------------------------------------
 // Per-world bar chart
@@ -74,7 +79,7 @@ struct WorldBars {
 /// e.g. 1328 x 448 px for 300 worlds.
 /// Throws InputError if there are no bars, labels and values differ in length, y_max is negative
 /// or not finite, or the image is wider than 32767 px.
-void renderWorldBarsPng(const WorldBars& bars, const std::filesystem::path& png);
+void renderWorldBars(const WorldBars& bars, const std::filesystem::path& output);
 
 // ---------------------------------------------------------------------------
 // Paired per-world comparison
@@ -95,9 +100,7 @@ struct PairedWorlds {
 
 /// Draws `pairs` as a dumbbell chart: per world a grey line joining A's value (blue dot) and
 /// B's (orange diamond), a legend naming A and B above the plot, y ticks from 0 (or the
-/// smallest value, if negative), x tick labels thinned as for the bar chart. The file type
-/// follows the extension: .png (ARGB image), .pdf or .svg (vector, 1 pt per px); any other is an
-/// InputError. The file appears complete or not at all.
+/// smallest value, if negative), x tick labels thinned as for the bar chart.
 ///
 /// Layout [px]: the plot area is plot_w = max(720, 10 * n) wide and 320 tall, with margins 72
 /// left, 56 right, 80 top (title and legend) and 72 bottom, so
@@ -126,7 +129,7 @@ struct TrajectoryOverlay {
   double collision_y = 0.0;             // [m] world frame, if collided
 };
 
-/// Draws the world as renderWorldPng does (cells, cylinders, start pose, goal; the A* path thin
+/// Draws the world as renderWorld does (cells, cylinders, start pose, goal; the A* path thin
 /// and light), then each trajectory as a polyline whose segments take the colour of their start
 /// point's state, a red X at each collision, and a legend on the right: the states, the
 /// trajectories (one dash pattern each, when there is more than one or a label is set), the A*
@@ -134,13 +137,13 @@ struct TrajectoryOverlay {
 /// (Okabe-Ito), assigned to state names in order of first appearance across all trajectories
 /// (cycling after 7); points without a state are dark grey.
 ///
-/// Layout: the world picture of renderWorldPng at the same scale plus a 2.0 m legend band:
+/// Layout: the world picture of renderWorld at the same scale plus a 2.0 m legend band:
 ///   width  = lround((x_max - x_min + 2 * 0.6 + 2.0) * pixels_per_metre)  [px]
 ///   height = lround((y_max - y_min + 2 * 0.6) * pixels_per_metre)        [px]
 /// e.g. 924 x 1824 px for either preset at 120 px/m.
 /// Throws InputError if pixels_per_metre is not positive or an image side exceeds 32767 px.
-void renderTrajectoriesPng(const core::WorldSpec& world, const core::Protocol& protocol,
-                           const std::vector<TrajectoryOverlay>& trajectories,
-                           const std::filesystem::path& png, double pixels_per_metre = 120.0);
+void renderTrajectories(const core::WorldSpec& world, const core::Protocol& protocol,
+                        const std::vector<TrajectoryOverlay>& trajectories, const std::filesystem::path& output,
+                        double pixels_per_metre = 120.0);
 
 }  // namespace barn::viz
