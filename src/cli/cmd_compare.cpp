@@ -158,8 +158,8 @@ void plotComparison(const bench::Comparison& c, const Record& a, const Record& b
   }
   if (score) {
     const core::Protocol pa = core::protocolPreset(a.protocol), pb = core::protocolPreset(b.protocol);
-    pairs.y_max = std::max(1.0 / pa.clip_low, 1.0 / pb.clip_low);
-    pairs.reference_lines = {1.0 / pa.clip_low, 1.0 / pa.clip_high};
+    pairs.y_max = std::max(pa.maxScore(), pb.maxScore());
+    pairs.reference_lines = {pa.maxScore(), pa.minSuccessScore()};
   } else {
     pairs.y_max = 1.0;
   }

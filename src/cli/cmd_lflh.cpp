@@ -102,12 +102,12 @@ void runTrain(const LflhOptions& options) {
   core::writeFileAtomic(csv, learning::lossCsv(result));
 
   viz::LinePlot plot;
-  std::string title = config.name + " validation loss";
-  for (char& c : title) c = c == '_' ? ' ' : c;  // the plot font has no underscore
-  plot.title = title;
+  plot.title = config.name + " validation loss";
   plot.x_label = "epoch";
   plot.y_label = "loss  mean squared v and w error";
-  viz::LineSeries train_series{"train", {}, {}}, validation_series{"validation", {}, {}};
+  viz::LineSeries train_series, validation_series;
+  train_series.label = "train";
+  validation_series.label = "validation";
   for (const learning::EpochLoss& e : result.history) {
     train_series.x.push_back(e.epoch);
     train_series.y.push_back(e.train);

@@ -98,8 +98,8 @@ void addPlotCommand(CLI::App& app, CommandContext& /*context*/) {
     const std::string protocol =
         core::readConfig<bench::EpisodeConfig>(core::ConfigNode::parseString(manifest.episode_config, "manifest")).protocol;
     const core::Protocol preset = core::protocolPreset(protocol);
-    bars.y_max = 1.0 / preset.clip_low;
-    bars.reference_lines = {1.0 / preset.clip_low, 1.0 / preset.clip_high};
+    bars.y_max = preset.maxScore();
+    bars.reference_lines = {preset.maxScore(), preset.minSuccessScore()};
     viz::renderWorldBars(bars, options->output);
     std::printf("wrote %s\n", options->output.c_str());
   });

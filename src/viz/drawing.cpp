@@ -112,6 +112,36 @@ std::string formatNumber(double value, std::chars_format format, int precision) 
   return std::string(buffer, result.ptr);
 }
 
+void drawCentred(cairo_t* cr, const std::string& text, double centre_x, double baseline, double size) {
+  drawText(cr, text, centre_x - 0.5 * textWidth(text, size), baseline, size);
+}
+
+void drawRightAligned(cairo_t* cr, const std::string& text, double right_x, double baseline, double size) {
+  drawText(cr, text, right_x - textWidth(text, size), baseline, size);
+}
+
+void drawVertical(cairo_t* cr, const std::string& text, double baseline_x, double centre_y, double size) {
+  cairo_save(cr);
+  cairo_translate(cr, baseline_x, centre_y + 0.5 * textWidth(text, size));
+  cairo_rotate(cr, -0.5 * std::numbers::pi);
+  drawText(cr, text, 0.0, 0.0, size);
+  cairo_restore(cr);
+}
+
+double niceStep(double span, int target) {
+  const double raw = span / target;
+  const double power = std::pow(10.0, std::floor(std::log10(raw)));
+  for (double m : {1.0, 2.0, 5.0}) {
+    if (m * power >= raw * (1.0 - 1e-9)) return m * power;
+  }
+  return 10.0 * power;
+}
+
+std::string tickText(double value, double step) {
+  const int decimals = std::max(0, static_cast<int>(-std::floor(std::log10(step) + 1e-9)));
+  return formatNumber(std::abs(value) < 1e-9 * step ? 0.0 : value, std::chars_format::fixed, decimals);
+}
+
 void addCircle(cairo_t* cr, const Eigen::Vector2d& centre, double radius) {
   cairo_new_sub_path(cr);
   cairo_arc(cr, centre.x(), centre.y(), radius, 0.0, 2.0 * std::numbers::pi);

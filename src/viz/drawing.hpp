@@ -86,6 +86,24 @@ void finishImage(OutputCanvas& output);
 /// decimal point into a comma.
 std::string formatNumber(double value, std::chars_format format, int precision);
 
+// ---------------------------------------------------------------------------
+// Text placement and ticks (device pixels)
+
+/// The baseline that centres digits and capitals (6/8 of the font size tall) on `y`.
+inline double centredBaseline(double y, double size) { return y + 0.375 * size; }
+
+void drawCentred(cairo_t* cr, const std::string& text, double centre_x, double baseline, double size);
+void drawRightAligned(cairo_t* cr, const std::string& text, double right_x, double baseline, double size);
+/// Text reading bottom to top, centred on (x, centre_y), with its baseline at x (the glyphs
+/// reach 6/8 of the size left of it and 2/8 right).
+void drawVertical(cairo_t* cr, const std::string& text, double baseline_x, double centre_y, double size);
+
+/// Tick spacing of 1, 2 or 5 x 10^k giving at most about `target` intervals over `span` (> 0).
+double niceStep(double span, int target);
+
+/// A tick value with the decimals its step needs, "-0" written as "0".
+std::string tickText(double value, double step);
+
 /// Adds a closed circle to the current path without joining it to the previous point.
 void addCircle(cairo_t* cr, const Eigen::Vector2d& centre, double radius);
 

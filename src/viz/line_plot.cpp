@@ -5,8 +5,9 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <iterator>
 #include <limits>
-#include <memory>
+#include <numbers>
 
 #include "barn/core/errors.hpp"
 #include "drawing.hpp"
@@ -15,39 +16,63 @@
 namespace barn::viz {
 namespace {
 
-struct Rgb {
-  double r, g, b;  // [0, 1]
-};
+using detail::Rgb;
+using detail::setColour;
+
 // Series colours (blue, orange, green, purple), then the reference lines' grey.
 constexpr Rgb kPalette[] = {{0.12, 0.47, 0.71}, {0.95, 0.50, 0.10}, {0.17, 0.63, 0.17}, {0.58, 0.40, 0.74}};
 constexpr Rgb kReferenceColour{0.45, 0.45, 0.45};
 constexpr Rgb kInk{0.10, 0.10, 0.10};
 constexpr Rgb kGrid{0.90, 0.90, 0.90};
 
-// Margins around the plot area and text sizes, in pixels.
-constexpr double kLeft = 80.0, kRight = 24.0, kTop = 44.0, kBottom = 58.0;
+// Margins around the plot area, legend rows and text sizes, in pixels.
+constexpr double kLeft = 80.0, kRight = 24.0, kTitleBand = 44.0, kBottom = 58.0;
+constexpr double kLegendRow = 20.0, kLegendSwatch = 28.0, kLegendGap = 22.0;
 constexpr double kTitleSize = 18.0, kLabelSize = 14.0, kTickSize = 12.0;
+constexpr double kMarkerRadius = 4.0;
+constexpr double kCapHalfWidth = 5.0;  // of an interval bar's caps
 
-void setColour(cairo_t* cr, const Rgb& c) { cairo_set_source_rgb(cr, c.r, c.g, c.b); }
+const Rgb& seriesColour(std::size_t k) { return kPalette[k % std::size(kPalette)]; }
 
-// Tick spacing of 1, 2 or 5 x 10^k giving about `target` intervals over `span`.
-double niceStep(double span, int target) {
-  const double raw = span / target;
-  const double power = std::pow(10.0, std::floor(std::log10(raw)));
-  for (double m : {1.0, 2.0, 5.0, 10.0}) {
-    if (m * power >= raw) return m * power;
-  }
-  return 10.0 * power;
+std::string lengthsText(const LineSeries& s) {
+  return std::to_string(s.x.size()) + " x, " + std::to_string(s.y.size()) + " y, " + std::to_string(s.low.size()) +
+         " low, " + std::to_string(s.high.size()) + " high";
 }
 
-// Shortest text of a tick value (rounded to the step's precision).
-std::string tickText(double value, double step) {
-  const int decimals = std::max(0, static_cast<int>(-std::floor(std::log10(step) + 1e-9)));
-  char buffer[64];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, std::abs(value) < 1e-12 * step ? 0.0 : value,
-                                    std::chars_format::fixed, decimals);
-  return std::string(buffer, result.ptr);
+/// A dot with a white rim, so overlapping markers stay apart.
+void drawMarker(cairo_t* cr, double x, double y, const Rgb& colour) {
+  cairo_new_sub_path(cr);
+  cairo_arc(cr, x, y, kMarkerRadius, 0.0, 2.0 * std::numbers::pi);
+  setColour(cr, colour);
+  cairo_fill_preserve(cr);
+  cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
+  cairo_set_line_width(cr, 1.0);
+  cairo_stroke(cr);
 }
+
+/// A vertical bar from y0 to y1 at x with short caps; on a pixel centre, so it is crisp.
+void drawIntervalBar(cairo_t* cr, double x, double y0, double y1, const Rgb& colour) {
+  x = std::floor(x) + 0.5;
+  cairo_move_to(cr, x, y0);
+  cairo_line_to(cr, x, y1);
+  cairo_move_to(cr, x - kCapHalfWidth, y0);
+  cairo_line_to(cr, x + kCapHalfWidth, y0);
+  cairo_move_to(cr, x - kCapHalfWidth, y1);
+  cairo_line_to(cr, x + kCapHalfWidth, y1);
+  setColour(cr, colour);
+  cairo_set_line_width(cr, 1.5);
+  cairo_stroke(cr);
+}
+
+/// One legend entry: what it shows and how wide it is.
+struct LegendEntry {
+  std::string label;
+  Rgb colour;
+  bool dashed = false;
+  bool marker = false;
+  bool interval = false;
+  double width() const { return kLegendSwatch + 6.0 + detail::textWidth(label, kLabelSize); }
+};
 
 }  // namespace
 
@@ -57,68 +82,136 @@ void renderLinePlot(const LinePlot& plot, const std::filesystem::path& output) {
   if (plot.width < 200 || plot.width > 8000 || plot.height < 150 || plot.height > 8000)
     throw core::InputError(where + ": plot size " + std::to_string(plot.width) + " x " + std::to_string(plot.height) +
                            " px is outside 200..8000 x 150..8000");
+  if (std::isinf(plot.y_min) || std::isinf(plot.y_max) || plot.y_max <= plot.y_min)
+    throw core::InputError(where + ": the fixed y range " + detail::formatNumber(plot.y_min, std::chars_format::general, 6) +
+                           " ... " + detail::formatNumber(plot.y_max, std::chars_format::general, 6) +
+                           " must have finite ends (NaN = automatic) and a top above its bottom");
+
+  // Data ranges over every finite point, interval end and reference line.
   double x_min = std::numeric_limits<double>::infinity(), x_max = -x_min;
-  double y_min = 0.0, y_max = -std::numeric_limits<double>::infinity();
+  double y_lo = 0.0, y_hi = -std::numeric_limits<double>::infinity();
+  bool any_marker = false;
+  const auto takeY = [&](double y) {
+    if (!std::isfinite(y)) return;
+    y_lo = std::min(y_lo, y);
+    y_hi = std::max(y_hi, y);
+  };
   for (const LineSeries& s : plot.series) {
-    if (s.x.size() != s.y.size()) throw core::InputError(where + ": series '" + s.label + "' has x and y of different lengths");
+    const bool intervals = !s.low.empty() || !s.high.empty();
+    if (s.x.size() != s.y.size() || (intervals && (s.low.size() != s.y.size() || s.high.size() != s.y.size())))
+      throw core::InputError(where + ": series '" + s.label + "' has x, y, low and high of different lengths (" +
+                             lengthsText(s) + "; low and high are both empty or as long as y)");
+    any_marker = any_marker || s.markers || intervals;
     for (std::size_t i = 0; i < s.x.size(); ++i) {
       if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) continue;
       x_min = std::min(x_min, s.x[i]);
       x_max = std::max(x_max, s.x[i]);
-      y_min = std::min(y_min, s.y[i]);
-      y_max = std::max(y_max, s.y[i]);
+      takeY(s.y[i]);
+      if (intervals) {
+        takeY(s.low[i]);
+        takeY(s.high[i]);
+      }
     }
   }
-  for (const ReferenceLine& r : plot.references) {
-    if (std::isfinite(r.y)) {
-      y_min = std::min(y_min, r.y);
-      y_max = std::max(y_max, r.y);
-    }
+  for (const ReferenceLine& r : plot.references) takeY(r.y);
+  if (!std::isfinite(x_min) || !std::isfinite(y_hi)) throw core::InputError(where + ": nothing finite to plot");
+  for (const AxisTick& tick : plot.x_ticks) {
+    if (!std::isfinite(tick.x)) continue;
+    x_min = std::min(x_min, tick.x);
+    x_max = std::max(x_max, tick.x);
   }
-  if (!std::isfinite(x_min) || !std::isfinite(y_max)) throw core::InputError(where + ": nothing finite to plot");
+  // Room beside the outermost points: half a tick spacing on a ticked axis (as a category axis
+  // has), 5 % with markers, none for a plain curve (a loss curve starts at the first epoch).
+  double x_pad = 0.0;
+  if (!plot.x_ticks.empty())
+    x_pad = x_max > x_min ? 0.5 * (x_max - x_min) / std::max<double>(1.0, static_cast<double>(plot.x_ticks.size()) - 1.0) : 0.5;
+  else if (any_marker)
+    x_pad = x_max > x_min ? 0.05 * (x_max - x_min) : 0.5;
+  x_min -= x_pad;
+  x_max += x_pad;
   if (x_max <= x_min) x_max = x_min + 1.0;
-  y_max += 0.05 * (y_max - y_min);
+  double y_min = std::isnan(plot.y_min) ? y_lo : plot.y_min;
+  double y_max = std::isnan(plot.y_max) ? y_hi + 0.05 * (y_hi - y_lo) : plot.y_max;
+  if (std::isnan(plot.y_min) && y_min >= y_max) y_min = y_max - 1.0;
   if (y_max <= y_min) y_max = y_min + 1.0;
+
+  // Legend entries in rows between the title and the plot, wrapped at the plot's width.
+  std::vector<LegendEntry> entries;
+  for (std::size_t k = 0; k < plot.series.size(); ++k) {
+    const LineSeries& s = plot.series[k];
+    entries.push_back({s.label, seriesColour(k), false, s.markers, !s.low.empty()});
+  }
+  for (const ReferenceLine& r : plot.references) entries.push_back({r.label, kReferenceColour, true, false, false});
+  const double left = kLeft, right = plot.width - kRight;
+  std::vector<std::vector<const LegendEntry*>> rows(1);
+  double row_width = 0.0;
+  for (const LegendEntry& entry : entries) {
+    const double w = entry.width() + (rows.back().empty() ? 0.0 : kLegendGap);
+    if (!rows.back().empty() && row_width + w > right - left) {
+      rows.emplace_back();
+      row_width = 0.0;
+    }
+    row_width += rows.back().empty() ? entry.width() : w;
+    rows.back().push_back(&entry);
+  }
+  const double legend_height = entries.empty() ? 0.0 : kLegendRow * static_cast<double>(rows.size()) + 6.0;
+  const double top = kTitleBand + legend_height, bottom = plot.height - kBottom;
+  if (bottom - top < 40.0)
+    throw core::InputError(where + ": a " + std::to_string(plot.height) + " px tall plot leaves no room below its " +
+                           std::to_string(rows.size()) + " legend rows");
 
   detail::OutputCanvas image = detail::createOutputCanvas(plot.width, plot.height, output);
   cairo_t* cr = image.cr();
-
-  const double left = kLeft, right = plot.width - kRight, top = kTop, bottom = plot.height - kBottom;
   const auto px = [&](double x) { return left + (x - x_min) / (x_max - x_min) * (right - left); };
   const auto py = [&](double y) { return bottom - (y - y_min) / (y_max - y_min) * (bottom - top); };
 
   // Grid and ticks.
-  const double x_step = niceStep(x_max - x_min, 8), y_step = niceStep(y_max - y_min, 6);
-  cairo_set_line_width(cr, 1.0);
-  for (double x = std::ceil(x_min / x_step) * x_step; x <= x_max + 1e-9 * x_step; x += x_step) {
-    setColour(cr, kGrid);
-    cairo_move_to(cr, std::round(px(x)) + 0.5, top);
-    cairo_line_to(cr, std::round(px(x)) + 0.5, bottom);
-    cairo_stroke(cr);
-    setColour(cr, kInk);
-    const std::string text = tickText(x, x_step);
-    detail::drawText(cr, text, px(x) - 0.5 * detail::textWidth(text, kTickSize), bottom + 18.0, kTickSize);
+  std::vector<AxisTick> x_ticks = plot.x_ticks;
+  if (x_ticks.empty()) {
+    const double x_step = detail::niceStep(x_max - x_min, 8);
+    for (double x = std::ceil(x_min / x_step - 1e-9) * x_step; x <= x_max + 1e-9 * x_step; x += x_step)
+      x_ticks.push_back({x, detail::tickText(x, x_step)});
   }
-  for (double y = std::ceil(y_min / y_step) * y_step; y <= y_max + 1e-9 * y_step; y += y_step) {
+  cairo_set_line_width(cr, 1.0);
+  double last_label_right = -std::numeric_limits<double>::infinity();
+  for (const AxisTick& tick : x_ticks) {
+    if (!std::isfinite(tick.x)) continue;
+    const double x = std::round(px(tick.x)) + 0.5;
+    setColour(cr, kGrid);
+    cairo_move_to(cr, x, top);
+    cairo_line_to(cr, x, bottom);
+    cairo_stroke(cr);
+    // A label that would overlap the previous one is left out; its grid line stays.
+    const double w = detail::textWidth(tick.text, kTickSize);
+    if (x - 0.5 * w < last_label_right + 6.0) continue;
+    setColour(cr, kInk);
+    detail::drawCentred(cr, tick.text, x, bottom + 18.0, kTickSize);
+    last_label_right = x + 0.5 * w;
+  }
+  const double y_step = detail::niceStep(y_max - y_min, 6);
+  for (double y = std::ceil(y_min / y_step - 1e-9) * y_step; y <= y_max + 1e-9 * y_step; y += y_step) {
     setColour(cr, kGrid);
     cairo_move_to(cr, left, std::round(py(y)) + 0.5);
     cairo_line_to(cr, right, std::round(py(y)) + 0.5);
     cairo_stroke(cr);
     setColour(cr, kInk);
-    const std::string text = tickText(y, y_step);
-    detail::drawText(cr, text, left - 8.0 - detail::textWidth(text, kTickSize), py(y) + 0.5 * 0.5 * kTickSize, kTickSize);
+    detail::drawRightAligned(cr, detail::tickText(y, y_step), left - 8.0, detail::centredBaseline(py(y), kTickSize),
+                             kTickSize);
   }
   setColour(cr, kInk);
   cairo_rectangle(cr, left + 0.5, top + 0.5, right - left, bottom - top);
   cairo_stroke(cr);
 
-  // Reference lines (dashed), then the series, clipped to the plot area.
+  // Reference lines (dashed), then the series: intervals, line, markers; clipped to the plot,
+  // with room above and below for a marker or cap on the axis's end (a rate of 0 or 1).
   cairo_save(cr);
-  cairo_rectangle(cr, left, top, right - left, bottom - top);
+  const double overhang = kMarkerRadius + 2.0;
+  cairo_rectangle(cr, left, top - overhang, right - left, bottom - top + 2.0 * overhang);
   cairo_clip(cr);
   const double dashes[] = {8.0, 5.0};
   cairo_set_line_width(cr, 2.0);
   for (const ReferenceLine& r : plot.references) {
+    if (!std::isfinite(r.y)) continue;
     setColour(cr, kReferenceColour);
     cairo_set_dash(cr, dashes, 2, 0.0);
     cairo_move_to(cr, left, py(r.y));
@@ -129,10 +222,16 @@ void renderLinePlot(const LinePlot& plot, const std::filesystem::path& output) {
   cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
   for (std::size_t k = 0; k < plot.series.size(); ++k) {
     const LineSeries& s = plot.series[k];
-    setColour(cr, kPalette[k % std::size(kPalette)]);
+    const auto finite = [&](std::size_t i) { return std::isfinite(s.x[i]) && std::isfinite(s.y[i]); };
+    for (std::size_t i = 0; i < s.low.size(); ++i) {
+      if (finite(i) && std::isfinite(s.low[i]) && std::isfinite(s.high[i]))
+        drawIntervalBar(cr, px(s.x[i]), py(s.low[i]), py(s.high[i]), seriesColour(k));
+    }
+    setColour(cr, seriesColour(k));
+    cairo_set_line_width(cr, 2.0);
     bool pen_down = false;
     for (std::size_t i = 0; i < s.x.size(); ++i) {
-      if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) {
+      if (!finite(i)) {
         pen_down = false;
         continue;
       }
@@ -141,45 +240,38 @@ void renderLinePlot(const LinePlot& plot, const std::filesystem::path& output) {
       pen_down = true;
     }
     cairo_stroke(cr);
+    if (!s.markers) continue;
+    for (std::size_t i = 0; i < s.x.size(); ++i)
+      if (finite(i)) drawMarker(cr, px(s.x[i]), py(s.y[i]), seriesColour(k));
   }
   cairo_restore(cr);
 
-  // Title, axis labels, legend (top right, inside the plot area).
+  // Title, axis labels, legend.
   setColour(cr, kInk);
-  detail::drawText(cr, plot.title, left, 0.6 * kTop, kTitleSize);
-  detail::drawText(cr, plot.x_label, 0.5 * (left + right) - 0.5 * detail::textWidth(plot.x_label, kLabelSize),
-                   plot.height - 12.0, kLabelSize);
-  cairo_save(cr);
-  cairo_translate(cr, 22.0, 0.5 * (top + bottom) + 0.5 * detail::textWidth(plot.y_label, kLabelSize));
-  cairo_rotate(cr, -0.5 * 3.14159265358979323846);
-  detail::drawText(cr, plot.y_label, 0.0, 0.0, kLabelSize);
-  cairo_restore(cr);
-  double legend_width = 0.0;
-  for (const LineSeries& s : plot.series) legend_width = std::max(legend_width, detail::textWidth(s.label, kLabelSize));
-  for (const ReferenceLine& r : plot.references) legend_width = std::max(legend_width, detail::textWidth(r.label, kLabelSize));
-  const double entries = static_cast<double>(plot.series.size() + plot.references.size());
-  const double box_x = right - legend_width - 60.0, box_y = top + 10.0;
-  cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
-  cairo_rectangle(cr, box_x, box_y, legend_width + 50.0, 22.0 * entries + 8.0);
-  cairo_fill_preserve(cr);
-  setColour(cr, kGrid);
-  cairo_set_line_width(cr, 1.0);
-  cairo_stroke(cr);
-  double row = box_y + 20.0;
-  const auto legendEntry = [&](const std::string& label, const Rgb& colour, bool dashed) {
-    setColour(cr, colour);
-    cairo_set_line_width(cr, 2.0);
-    if (dashed) cairo_set_dash(cr, dashes, 2, 0.0);
-    cairo_move_to(cr, box_x + 8.0, row - 5.0);
-    cairo_line_to(cr, box_x + 36.0, row - 5.0);
-    cairo_stroke(cr);
-    cairo_set_dash(cr, nullptr, 0, 0.0);
-    setColour(cr, kInk);
-    detail::drawText(cr, label, box_x + 42.0, row, kLabelSize);
-    row += 22.0;
-  };
-  for (std::size_t k = 0; k < plot.series.size(); ++k) legendEntry(plot.series[k].label, kPalette[k % std::size(kPalette)], false);
-  for (const ReferenceLine& r : plot.references) legendEntry(r.label, kReferenceColour, true);
+  detail::drawText(cr, plot.title, left, 0.6 * kTitleBand, kTitleSize);
+  detail::drawCentred(cr, plot.x_label, 0.5 * (left + right), plot.height - 12.0, kLabelSize);
+  detail::drawVertical(cr, plot.y_label, 22.0, 0.5 * (top + bottom), kLabelSize);
+  double row_y = kTitleBand + 0.5 * kLegendRow;
+  for (const std::vector<const LegendEntry*>& row : rows) {
+    double x = left;
+    for (const LegendEntry* entry : row) {
+      const double mid = x + 0.5 * kLegendSwatch;
+      if (entry->interval) drawIntervalBar(cr, mid, row_y - 7.0, row_y + 7.0, entry->colour);
+      setColour(cr, entry->colour);
+      cairo_set_line_width(cr, 2.0);
+      if (entry->dashed) cairo_set_dash(cr, dashes, 2, 0.0);
+      cairo_move_to(cr, x, row_y);
+      cairo_line_to(cr, x + kLegendSwatch, row_y);
+      cairo_stroke(cr);
+      cairo_set_dash(cr, nullptr, 0, 0.0);
+      if (entry->marker) drawMarker(cr, mid, row_y, entry->colour);
+      setColour(cr, kInk);
+      detail::drawText(cr, entry->label, x + kLegendSwatch + 6.0, detail::centredBaseline(row_y, kLabelSize) - 0.125 * kLabelSize,
+                       kLabelSize);
+      x += entry->width() + kLegendGap;
+    }
+    row_y += kLegendRow;
+  }
 
   detail::finishImage(image);
 }

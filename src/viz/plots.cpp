@@ -40,7 +40,13 @@ std::pair<double, double> valueAxisRange(std::initializer_list<const std::vector
   return {lo, hi};
 }
 
+using detail::centredBaseline;
+using detail::drawCentred;
+using detail::drawRightAligned;
 using detail::drawText;
+using detail::drawVertical;
+using detail::niceStep;
+using detail::tickText;
 using detail::Rgb;
 using detail::setColour;
 using detail::textWidth;
@@ -60,30 +66,6 @@ constexpr double kLabelSize = 16.0;  // [px] axis labels
 constexpr double kTickSize = 14.0;   // [px] heat-map ticks and cell values
 constexpr double kSmallSize = 13.0;  // [px] colour bar, bar-chart ticks, legends
 
-// Glyphs sit on the baseline; digits and capitals are 6/8 of the font size tall, so this
-// baseline offset centres such text on a given y.
-double centredBaseline(double y, double size) { return y + 0.375 * size; }
-
-void drawCentred(cairo_t* cr, const std::string& text, double centre_x, double baseline,
-                 double size) {
-  drawText(cr, text, centre_x - 0.5 * textWidth(text, size), baseline, size);
-}
-
-void drawRightAligned(cairo_t* cr, const std::string& text, double right_x, double baseline,
-                      double size) {
-  drawText(cr, text, right_x - textWidth(text, size), baseline, size);
-}
-
-/// Text reading bottom to top, centred on (x, centre_y), with its baseline at x.
-void drawVertical(cairo_t* cr, const std::string& text, double baseline_x, double centre_y,
-                  double size) {
-  cairo_save(cr);
-  cairo_translate(cr, baseline_x, centre_y + 0.5 * textWidth(text, size));
-  cairo_rotate(cr, -0.5 * std::numbers::pi);
-  drawText(cr, text, 0.0, 0.0, size);
-  cairo_restore(cr);
-}
-
 /// A title centred over [left, right], kept inside the image's side margins when it is wider.
 void drawTitle(cairo_t* cr, const std::string& title, double left, double right, double image_width,
                double baseline) {
@@ -102,6 +84,35 @@ int imageSide(double side, const std::string& what, const std::string& where) {
         " px is out of range (1 ... " + std::to_string(detail::kMaxImageSide) + " px)");
   }
   return static_cast<int>(std::ceil(side));
+}
+
+// ---------------------------------------------------------------------------
+// Ticks (all charts)
+
+/// A labelled value on a colour scale.
+struct ScaleTick {
+  double value;
+  std::string text;
+};
+
+/// Labels of a colour scale [lo, hi]: multiples of a nice step (1, 2 or 5 x 10^k, about 5
+/// intervals) and both ends, so the reader sees where the scale stops. An end that is not a
+/// multiple is written with `endText` and pushes out a multiple closer than 0.4 steps to it.
+template <class EndText>
+std::vector<ScaleTick> scaleTicks(double lo, double hi, const EndText& endText) {
+  if (!(hi > lo)) return {{lo, endText(lo)}};
+  const double step = niceStep(hi - lo, 5);
+  const auto onStep = [&](double v) { return std::abs(v / step - std::round(v / step)) < 1e-6; };
+  std::vector<ScaleTick> ticks;
+  if (!onStep(lo)) ticks.push_back({lo, endText(lo)});
+  for (double k = std::ceil(lo / step - 1e-6); k * step <= hi + 1e-6 * step; k += 1.0) {
+    const double v = k * step;
+    const bool crowds_lo = !onStep(lo) && v - lo < 0.4 * step;
+    const bool crowds_hi = !onStep(hi) && hi - v < 0.4 * step;
+    if (!crowds_lo && !crowds_hi) ticks.push_back({v, tickText(v, step)});
+  }
+  if (!onStep(hi)) ticks.push_back({hi, endText(hi)});
+  return ticks;
 }
 
 // ---------------------------------------------------------------------------
@@ -139,12 +150,15 @@ double luminance(const Rgb& c) {
 
 // Heat-map layout [px]; plots.hpp documents the resulting image size.
 constexpr double kCellMinWidth = 80.0;
-constexpr double kCellHeight = 48.0;
+constexpr double kCellMinHeight = 48.0;
+constexpr double kGridMinWidth = 400.0;   // cells grow until the grid is this wide ...
+constexpr double kGridMinHeight = 240.0;  // ... and this tall, so a 2 x 2 sweep is not a stamp
 constexpr double kCellPadding = 16.0;  // widest text + this = cell width, if over the min
 constexpr double kYLabelBand = 40.0;   // left of the y ticks
 constexpr double kYTickMinBand = 48.0;
 constexpr double kBarBandFixed = 64.0;  // gap 24 + bar 18 + gap 8 + pad 14
 constexpr double kBarLabelMinWidth = 56.0;
+constexpr double kScaleLabelBand = 26.0;  // gap 8 + the scale label's 13 px glyphs, rotated, + pad
 constexpr double kHeatTop = 60.0;
 constexpr double kHeatBottom = 76.0;
 
@@ -267,23 +281,6 @@ constexpr double kBarsPitch = 4.0;  // [px] per bar before the plot grows past t
 constexpr double kBarsPlotHeight = 320.0;
 constexpr double kBarsLeft = 72.0, kBarsRight = 56.0, kBarsTop = 56.0, kBarsBottom = 72.0;
 
-/// Tick spacing of 1, 2 or 5 x 10^k giving at most about `target` intervals over `span`.
-double niceStep(double span, int target) {
-  const double raw = span / target;
-  const double power = std::pow(10.0, std::floor(std::log10(raw)));
-  for (double m : {1.0, 2.0, 5.0}) {
-    if (m * power >= raw * (1.0 - 1e-9)) return m * power;
-  }
-  return 10.0 * power;
-}
-
-/// Tick value rounded to the step's precision, "-0" shown as "0".
-std::string tickText(double value, double step) {
-  const int decimals = std::max(0, static_cast<int>(-std::floor(std::log10(step) + 1e-9)));
-  return detail::formatNumber(std::abs(value) < 1e-9 * step ? 0.0 : value, std::chars_format::fixed,
-                              decimals);
-}
-
 /// Smallest label stride in 1, 2, 5, 10, 20, 25, 50, 100, 200, 250, 500, ... that leaves `gap`
 /// px between neighbouring labels up to `label_width` px wide, with bars `pitch` px apart.
 // Horizontal grid lines and labelled y ticks at a nice step over [lo, hi], between the plot's
@@ -399,19 +396,30 @@ void renderHeatMap(const HeatMap& map, const std::filesystem::path& output) {
     throw core::InputError(where + ": value_format '" + map.value_format +
                            "' must hold one %f, %e or %g conversion (optionally %+.Nf)");
   }
+  if (std::isinf(map.scale_min) || std::isinf(map.scale_max) || map.scale_max <= map.scale_min) {
+    throw core::InputError(where + ": the colour scale " +
+                           detail::formatNumber(map.scale_min, std::chars_format::general, 6) + " ... " +
+                           detail::formatNumber(map.scale_max, std::chars_format::general, 6) +
+                           " must have finite ends (or NaN for the data's) and a top above its bottom");
+  }
 
-  // Range and best value over the finite cells.
-  double lo = std::numeric_limits<double>::infinity();
-  double hi = -lo;
+  // Range and best value over the finite cells; the colour scale is fixed where the map says.
+  double data_lo = std::numeric_limits<double>::infinity();
+  double data_hi = -data_lo;
   for (const std::vector<double>& row : map.values) {
     for (double v : row) {
       if (!std::isfinite(v)) continue;
-      lo = std::min(lo, v);
-      hi = std::max(hi, v);
+      data_lo = std::min(data_lo, v);
+      data_hi = std::max(data_hi, v);
     }
   }
-  const bool any_finite = std::isfinite(lo);
-  const double best = map.higher_is_better ? hi : lo;
+  const bool any_finite = std::isfinite(data_lo);
+  const double best = map.higher_is_better ? data_hi : data_lo;
+  const double lo = std::isnan(map.scale_min) ? data_lo : map.scale_min;
+  const double hi = std::isnan(map.scale_max) ? data_hi : map.scale_max;
+  const bool any_scale = std::isfinite(lo) && std::isfinite(hi);
+  const std::vector<ScaleTick> scale_ticks =
+      any_scale ? scaleTicks(lo, hi, [&](double v) { return formatValue(*format, v); }) : std::vector<ScaleTick>{};
   bool any_missing = false;
 
   // Layout: widths of the texts decide the cell width and the side bands.
@@ -429,16 +437,17 @@ void renderHeatMap(const HeatMap& map, const std::filesystem::path& output) {
   double widest_y_tick = 0.0;
   for (const std::string& tick : map.y_ticks)
     widest_y_tick = std::max(widest_y_tick, textWidth(tick, kTickSize));
-  const std::string lo_text = any_finite ? formatValue(*format, lo) : "";
-  const std::string hi_text = any_finite ? formatValue(*format, hi) : "";
-  const double bar_label_width =
-      std::max(textWidth(lo_text, kSmallSize), textWidth(hi_text, kSmallSize));
+  double bar_label_width = 0.0;
+  for (const ScaleTick& tick : scale_ticks) bar_label_width = std::max(bar_label_width, textWidth(tick.text, kSmallSize));
 
-  const double cell_w = std::max(kCellMinWidth, widest_cell + kCellPadding);
+  const double cell_w =
+      std::max({kCellMinWidth, widest_cell + kCellPadding, kGridMinWidth / static_cast<double>(cols)});
+  const double cell_h = std::max(kCellMinHeight, kGridMinHeight / static_cast<double>(rows));
   const double left_band = kYLabelBand + std::max(kYTickMinBand, widest_y_tick + 16.0);
-  const double right_band = kBarBandFixed + std::max(kBarLabelMinWidth, bar_label_width);
+  const double right_band = kBarBandFixed + std::max(kBarLabelMinWidth, bar_label_width) +
+                            (map.scale_label.empty() ? 0.0 : kScaleLabelBand);
   const double grid_w = static_cast<double>(cols) * cell_w;
-  const double grid_h = static_cast<double>(rows) * kCellHeight;
+  const double grid_h = static_cast<double>(rows) * cell_h;
   const int width =
       imageSide(std::max(left_band + grid_w + right_band, textWidth(map.title, kTitleSize) + 48.0),
                 "heat map width", where);
@@ -447,20 +456,21 @@ void renderHeatMap(const HeatMap& map, const std::filesystem::path& output) {
   detail::OutputCanvas image = detail::createOutputCanvas(width, height, output);
   cairo_t* cr = image.cr();
   const double gx = left_band, gy = kHeatTop;  // top-left corner of the grid
+  const auto scaleColour = [&](double v) { return viridis(hi > lo ? (v - lo) / (hi - lo) : 0.5); };
 
   // Cells, value texts, then thin white separators.
   for (std::size_t r = 0; r < rows; ++r) {
     for (std::size_t c = 0; c < cols; ++c) {
       const double x = gx + static_cast<double>(c) * cell_w;
-      const double y = gy + static_cast<double>(r) * kCellHeight;
+      const double y = gy + static_cast<double>(r) * cell_h;
       const double v = map.values[r][c];
       if (!std::isfinite(v)) {
-        drawMissing(cr, x, y, cell_w, kCellHeight);
+        drawMissing(cr, x, y, cell_w, cell_h);
         continue;
       }
-      const Rgb colour = viridis(hi > lo ? (v - lo) / (hi - lo) : 0.5);
+      const Rgb colour = scaleColour(v);
       setColour(cr, colour);
-      cairo_rectangle(cr, x, y, cell_w, kCellHeight);
+      cairo_rectangle(cr, x, y, cell_w, cell_h);
       cairo_fill(cr);
       // Black on light cells, white on dark ones: 0.18 is where both contrast ratios match.
       if (luminance(colour) > 0.18)
@@ -468,7 +478,7 @@ void renderHeatMap(const HeatMap& map, const std::filesystem::path& output) {
       else
         cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
       drawCentred(cr, formatValue(*format, v), x + 0.5 * cell_w,
-                  centredBaseline(y + 0.5 * kCellHeight, kTickSize), kTickSize);
+                  centredBaseline(y + 0.5 * cell_h, kTickSize), kTickSize);
     }
   }
   cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
@@ -478,8 +488,8 @@ void renderHeatMap(const HeatMap& map, const std::filesystem::path& output) {
     cairo_line_to(cr, gx + static_cast<double>(c) * cell_w, gy + grid_h);
   }
   for (std::size_t r = 1; r < rows; ++r) {
-    cairo_move_to(cr, gx, gy + static_cast<double>(r) * kCellHeight);
-    cairo_line_to(cr, gx + grid_w, gy + static_cast<double>(r) * kCellHeight);
+    cairo_move_to(cr, gx, gy + static_cast<double>(r) * cell_h);
+    cairo_line_to(cr, gx + grid_w, gy + static_cast<double>(r) * cell_h);
   }
   cairo_stroke(cr);
 
@@ -490,13 +500,13 @@ void renderHeatMap(const HeatMap& map, const std::filesystem::path& output) {
       for (std::size_t c = 0; c < cols; ++c) {
         if (map.values[r][c] != best) continue;
         const double x = gx + static_cast<double>(c) * cell_w;
-        const double y = gy + static_cast<double>(r) * kCellHeight;
+        const double y = gy + static_cast<double>(r) * cell_h;
         cairo_set_line_join(cr, CAIRO_LINE_JOIN_MITER);
-        cairo_rectangle(cr, x + 4.5, y + 4.5, cell_w - 9.0, kCellHeight - 9.0);
+        cairo_rectangle(cr, x + 4.5, y + 4.5, cell_w - 9.0, cell_h - 9.0);
         cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
         cairo_set_line_width(cr, 1.5);
         cairo_stroke(cr);
-        cairo_rectangle(cr, x + 2.0, y + 2.0, cell_w - 4.0, kCellHeight - 4.0);
+        cairo_rectangle(cr, x + 2.0, y + 2.0, cell_w - 4.0, cell_h - 4.0);
         setColour(cr, kInk);
         cairo_set_line_width(cr, 4.0);
         cairo_stroke(cr);
@@ -513,7 +523,7 @@ void renderHeatMap(const HeatMap& map, const std::filesystem::path& output) {
   }
   for (std::size_t r = 0; r < rows; ++r) {
     drawRightAligned(cr, map.y_ticks[r], gx - 10.0,
-                     centredBaseline(gy + (static_cast<double>(r) + 0.5) * kCellHeight, kTickSize),
+                     centredBaseline(gy + (static_cast<double>(r) + 0.5) * cell_h, kTickSize),
                      kTickSize);
   }
   const double x_label_width = textWidth(map.x_label, kLabelSize);
@@ -524,7 +534,8 @@ void renderHeatMap(const HeatMap& map, const std::filesystem::path& output) {
   drawVertical(cr, map.y_label, 28.0, gy + 0.5 * grid_h, kLabelSize);
   drawTitle(cr, map.title, gx, gx + grid_w, width, 36.0);
 
-  // Colour bar: the same anchors as a Cairo gradient (also linear in sRGB), max at the top.
+  // Colour bar: the same anchors as a Cairo gradient (also linear in sRGB), the scale's top at
+  // the top, so a fixed scale shows where the data sit within it.
   const double bx = gx + grid_w + 24.0, bw = 18.0;
   cairo_pattern_t* gradient = cairo_pattern_create_linear(0.0, gy + grid_h, 0.0, gy);
   for (std::size_t i = 0; i < kViridis.size(); ++i) {
@@ -539,15 +550,21 @@ void renderHeatMap(const HeatMap& map, const std::filesystem::path& output) {
   cairo_set_line_width(cr, 1.0);
   cairo_rectangle(cr, bx + 0.5, gy + 0.5, bw - 1.0, grid_h - 1.0);
   cairo_stroke(cr);
-  if (any_finite) {
-    cairo_move_to(cr, bx + bw, gy + 0.5);
-    cairo_line_to(cr, bx + bw + 4.0, gy + 0.5);
-    cairo_move_to(cr, bx + bw, gy + grid_h - 0.5);
-    cairo_line_to(cr, bx + bw + 4.0, gy + grid_h - 0.5);
+  for (const ScaleTick& tick : scale_ticks) {
+    // On pixel centres, so the 1 px marks are crisp; the ends half a pixel inside the bar.
+    const double t = hi > lo ? (tick.value - lo) / (hi - lo) : (tick.value >= hi ? 1.0 : 0.0);
+    const double y = std::clamp(std::floor(gy + grid_h - t * grid_h) + 0.5, gy + 0.5, gy + grid_h - 0.5);
+    cairo_move_to(cr, bx + bw, y);
+    cairo_line_to(cr, bx + bw + 4.0, y);
     cairo_stroke(cr);
-    drawText(cr, hi_text, bx + bw + 8.0, centredBaseline(gy + 0.5, kSmallSize), kSmallSize);
-    drawText(cr, lo_text, bx + bw + 8.0, centredBaseline(gy + grid_h - 0.5, kSmallSize),
-             kSmallSize);
+    drawText(cr, tick.text, bx + bw + 8.0, centredBaseline(y, kSmallSize), kSmallSize);
+  }
+  if (!map.scale_label.empty()) {
+    // Along the bar, right of its tick labels; shrunk to the bar's length if it is longer.
+    const double room = grid_h;
+    const double size = std::min(kSmallSize, kSmallSize * room / std::max(1.0, textWidth(map.scale_label, kSmallSize)));
+    setColour(cr, kInk);
+    drawVertical(cr, map.scale_label, bx + bw + 8.0 + bar_label_width + 10.0 + 0.75 * size, gy + 0.5 * grid_h, size);
   }
 
   // Key below the colour bar: the best-cell star, and the missing-value look if there is one.

@@ -93,7 +93,11 @@ LinePlot linePlot() {
   plot.title = "validation loss";
   plot.x_label = "epoch";
   plot.y_label = "loss";
-  plot.series = {{"validation", {1, 2, 3, 4}, {0.4, 0.3, 0.25, 0.22}}};
+  LineSeries validation;
+  validation.label = "validation";
+  validation.x = {1, 2, 3, 4};
+  validation.y = {0.4, 0.3, 0.25, 0.22};
+  plot.series = {validation};
   return plot;
 }
 

@@ -206,6 +206,89 @@ TEST_F(PlotsTest, HeatMapWithEveryValueMissingStillRenders) {
   EXPECT_EQ(pngSize(png_).height, 376);
 }
 
+// A 2 x 3 score map whose best value, 0.2, is below the barn2023 maximum 0.25.
+HeatMap scoreMap() {
+  HeatMap map;
+  map.title = "BARN score";
+  map.x_label = "lookahead [m]";
+  map.y_label = "speed [m/s]";
+  map.x_ticks = {"0.3", "0.6", "0.9"};
+  map.y_ticks = {"0.5", "1.0"};
+  map.values = {{0.05, 0.10, 0.15}, {0.12, 0.20, 0.18}};
+  return map;
+}
+
+// Layout of scoreMap (plots.hpp): 3 columns x 2 rows grow to the 400 x 240 px minimum grid, so
+// cells are 133.3 x 120 px from (88, 60); the colour bar is 18 px wide, 24 px right of the
+// grid (x 512 ... 530), and spans the grid's height (y 60 ... 300).
+constexpr int kScoreBarX = 88 + 400 + 24, kScoreGridTop = 60, kScoreGridHeight = 240;
+
+TEST_F(PlotsTest, HeatMapGrowsASmallGridToAReadableSize) {
+  renderHeatMap(scoreMap(), png_);
+  const Size size = pngSize(png_);
+  EXPECT_EQ(size.width, 88 + 400 + 120);  // 608: the minimum grid and bands
+  EXPECT_EQ(size.height, 60 + 240 + 76);  // 376
+  HeatMap labelled = scoreMap();
+  labelled.scale_label = "score (barn2023 maximum 0.25)";
+  renderHeatMap(labelled, png_);
+  EXPECT_EQ(pngSize(png_).width, 608 + 26);  // the scale label's band
+}
+
+TEST_F(PlotsTest, HeatMapOnAFixedScaleColoursItsTopAsTheScaleMaxWhateverTheData) {
+  HeatMap map = scoreMap();
+  map.scale_min = 0.0;
+  map.scale_max = 0.25;
+  map.scale_label = "score (barn2023 maximum 0.25)";
+  renderHeatMap(map, png_);
+  const Image image(png_);
+  ASSERT_TRUE(image.ok());
+  const auto yellow = [](Pixel p) { return p.r > 235 && p.g > 215 && p.b < 60; };
+  // The bar's top pixel row inside its 1 px border is viridis(1), the colour of 0.25 ...
+  EXPECT_TRUE(yellow(image.at(kScoreBarX + 9, kScoreGridTop + 2)));
+  // ... and its bottom viridis(0), the colour of 0.
+  EXPECT_TRUE(near(image.at(kScoreBarX + 9, kScoreGridTop + kScoreGridHeight - 2), 0.267, 0.005, 0.329) ||
+              image.any(kScoreBarX + 7, kScoreGridTop + kScoreGridHeight - 3, kScoreBarX + 11, kScoreGridTop + kScoreGridHeight - 1,
+                        [](Pixel p) { return p.r < 80 && p.g < 20 && p.b > 70; }));
+  // The best cell, 0.2 = 0.8 of the scale, is viridis(0.8): 6.4 of the 8 intervals, 0.4 of the
+  // way from (0.369, 0.789, 0.383) to (0.678, 0.864, 0.190). Sampled inside its outline, off
+  // the text: cell (1, 1) spans x 221 ... 355, y 180 ... 300.
+  EXPECT_TRUE(near(image.at(221 + 14, 300 - 14), 0.369 + 0.4 * 0.309, 0.789 + 0.4 * 0.075, 0.383 - 0.4 * 0.193));
+  EXPECT_FALSE(yellow(image.at(221 + 14, 300 - 14)));
+  // The colour bar at 0.2's height (60 + 240 - 0.8 * 240 = 108) has the cell's colour.
+  EXPECT_TRUE(image.any(kScoreBarX + 7, 106, kScoreBarX + 11, 110,
+                        test::isColour(0.369 + 0.4 * 0.309, 0.789 + 0.4 * 0.075, 0.383 - 0.4 * 0.193)));
+
+  // Without a fixed scale the same data stretch to the data's range: 0.2 becomes yellow.
+  renderHeatMap(scoreMap(), png_);
+  EXPECT_TRUE(yellow(Image(png_).at(221 + 14, 300 - 14)));
+}
+
+TEST_F(PlotsTest, HeatMapScaleTicksRunInNiceStepsBetweenItsEnds) {
+  // Tick marks 4 px long right of the bar at 0, 0.05, ..., 0.25: six marks, 48 px apart
+  // (0.05 / 0.25 x 240), the ends held half a pixel inside the bar.
+  HeatMap map = scoreMap();
+  map.scale_min = 0.0;
+  map.scale_max = 0.25;
+  renderHeatMap(map, png_);
+  const Image image(png_);
+  ASSERT_TRUE(image.ok());
+  int marks = 0;
+  for (int y = kScoreGridTop; y < kScoreGridTop + kScoreGridHeight; ++y)
+    if (image.at(kScoreBarX + 18 + 2, y).r < 100 && image.at(kScoreBarX + 18 + 2, y - 1).r >= 100) ++marks;
+  EXPECT_EQ(marks, 6);
+}
+
+TEST_F(PlotsTest, HeatMapRejectsABadFixedScale) {
+  HeatMap map = scoreMap();
+  map.scale_min = 0.3;
+  map.scale_max = 0.25;
+  expectInputError([&] { renderHeatMap(map, png_); }, {png_.string(), "colour scale"});
+  map.scale_min = 0.0;
+  map.scale_max = std::numeric_limits<double>::infinity();
+  expectInputError([&] { renderHeatMap(map, png_); }, {"colour scale"});
+  EXPECT_FALSE(fs::exists(png_));
+}
+
 // ---------------------------------------------------------------------------
 // Bar chart
 

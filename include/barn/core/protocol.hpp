@@ -29,6 +29,11 @@ struct Protocol {
 
   Eigen::Vector2d start() const { return {start_x, start_y}; }
   Eigen::Vector2d goal() const { return {start_x + goal_dx, start_y + goal_dy}; }
+  /// The best score a trial can get (barnScore clips AT from below at clip_low * OT): 0.25
+  /// for barn2023, 0.5 for barn2024.
+  double maxScore() const { return 1.0 / clip_low; }
+  /// The score of a success at or beyond the upper clip, the least a success scores.
+  double minSuccessScore() const { return 1.0 / clip_high; }
 };
 
 /// Names of the presets, default first.

@@ -12,6 +12,7 @@
 /// font (textWidth in stroke_font.hpp).
 
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -26,7 +27,7 @@ namespace barn::viz {
 
 /// A table of values over two swept parameters, one cell per (row, column).
 struct HeatMap {
-  std::string title;                        // e.g. "BARN score (barn2023)"
+  std::string title;                        // e.g. "pure_pursuit: BARN score, 50 worlds x 2 trials"
   std::string x_label;                      // column parameter, e.g. "safety.fi_offset [m]"
   std::string y_label;                      // row parameter, e.g. "max_speed [m/s]"
   std::vector<std::string> x_ticks;         // (n_cols) column values as text
@@ -34,24 +35,32 @@ struct HeatMap {
   std::vector<std::vector<double>> values;  // (n_rows x n_cols) [row][column]; NaN, inf = missing
   bool higher_is_better = true;             // best cell = the max (true) or the min (false)
   std::string value_format = "%.3f";        // cell text: one %[+][.N]f/e/g/% conversion, plus text
+  // The colour scale. Fixed ends keep maps comparable (a score map from 0 to the protocol's
+  // maximum, a rate from 0 to 1); NaN takes the end from the finite values.
+  double scale_min = std::numeric_limits<double>::quiet_NaN();  // value coloured dark violet
+  double scale_max = std::numeric_limits<double>::quiet_NaN();  // value coloured yellow
+  std::string scale_label;  // written along the colour bar, e.g. "score (barn2023, max 0.25)"; "" = none
 };
 
-/// Draws `map` as coloured cells (viridis, from the smallest finite value, dark, to the largest,
-/// yellow) with each value printed in the cell, a colour bar with its min and max labels, missing
-/// cells grey and hatched, and the best cell (every cell, if several tie) outlined with a star in
-/// its corner. value_format is parsed, not passed to printf: "%.3f", "%+.1f", "%.2e", "%g",
+/// Draws `map` as coloured cells (viridis, from scale_min, dark, to scale_max, yellow; values
+/// beyond a fixed end take the end's colour) with each value printed in the cell, a colour bar
+/// labelled at both ends and at nice steps between (multiples of 1, 2 or 5 x 10^k, about 5
+/// intervals; an end off that step written with value_format), scale_label along it, missing
+/// cells grey and hatched, and the best cell (every cell, if several tie) outlined with a star
+/// in its corner. value_format is parsed, not passed to printf: "%.3f", "%+.1f", "%.2e", "%g",
 /// "%.0f%%" and text around them work in any locale; precision at most 99.
 ///
-/// Layout [px]: cells are cell_w x 48 with cell_w = max(80, widest cell or x tick text at 14 px
-/// + 16); left of them a band of 40 + max(48, widest y tick at 14 px + 16) for the y label and
-/// ticks; right of them a band of 64 + max(56, widest colour-bar label at 13 px) for the colour
-/// bar; 60 above (title), 76 below (x ticks and label). So
+/// Layout [px]: cells are cell_w x cell_h with cell_w = max(80, widest cell or x tick text at
+/// 14 px + 16, 400 / n_cols) and cell_h = max(48, 240 / n_rows), so the grid is at least
+/// 400 x 240; left of them a band of 40 + max(48, widest y tick at 14 px + 16) for the y label
+/// and ticks; right of them a band of 64 + max(56, widest colour-bar label at 13 px), + 26 with
+/// a scale_label, for the colour bar; 60 above (title), 76 below (x ticks and label). So
 ///   width  = max(left band + n_cols * cell_w + right band, title width at 20 px + 48)
-///   height = 136 + 48 * n_rows
-/// e.g. 688 x 376 px for 6 columns, 5 rows and short texts ("0.123", "1.5").
+///   height = 136 + n_rows * cell_h
+/// e.g. 688 x 376 px for 6 columns, 5 rows, short texts ("0.123", "1.5") and no scale_label.
 /// Throws InputError if there are no rows or no columns, the number of y ticks is not the number
-/// of rows, a row's length is not the number of x ticks, value_format is not as above, or an image
-/// side exceeds 32767 px.
+/// of rows, a row's length is not the number of x ticks, value_format is not as above, a scale
+/// end is infinite or scale_max <= scale_min, or an image side exceeds 32767 px.
 void renderHeatMap(const HeatMap& map, const std::filesystem::path& output);
 
 // ---------------------------------------------------------------------------
