@@ -74,9 +74,8 @@ std::vector<std::string> controllerNames() {
 // The controller config: --config FILE, else configs/controllers/NAME.yaml, else the type NAME
 // with its defaults; an unknown NAME lists the known ones.
 core::ConfigNode controllerConfig(const RunOptions& options) {
-  if (!options.config.empty()) return core::ConfigNode::parseFile(options.config);
-  const auto file = repoPath("configs") / "controllers" / (options.controller + ".yaml");
-  if (fs::exists(file)) return core::ConfigNode::parseFile(file);
+  const fs::path file = controllerConfigFile(options.controller, options.config);
+  if (!file.empty()) return core::ConfigNode::parseFile(file);
   const std::vector<std::string> types = controllers::controllerTypes();
   if (std::find(types.begin(), types.end(), options.controller) == types.end()) {
     const std::vector<std::string> names = controllerNames();
@@ -142,6 +141,12 @@ void parseShard(const std::string& text, int& index, int& count) {
     fail();
   }
   if (count < 1 || index < 1 || index > count) fail();
+}
+
+fs::path controllerConfigFile(const std::string& controller, const std::string& config_file) {
+  if (!config_file.empty()) return config_file;
+  const fs::path file = repoPath("configs") / "controllers" / (controller + ".yaml");
+  return fs::exists(file) ? file : fs::path();
 }
 
 core::ConfigNode controllerConfigFor(const std::string& controller, const std::string& config_file) {

@@ -1,5 +1,5 @@
 // barn sweep: a controller over the Cartesian grid of config overrides, every cell a full run
-// record, all episodes of all cells in one parallel pool; sweep.csv and heat maps.
+// record, all episodes of all cells in one parallel pool; sweep.csv and its figures.
 
 #include <algorithm>
 #include <cmath>
@@ -15,6 +15,7 @@
 #include "barn/core/errors.hpp"
 #include "barn/core/text_io.hpp"
 #include "commands.hpp"
+#include "config_units.hpp"
 #include "repo_paths.hpp"
 #include "run_session.hpp"
 #include "sweep_plots.hpp"
@@ -41,6 +42,7 @@ struct SweepOptions {
   std::string shard;
   std::vector<std::string> merge;
   std::size_t stop_after = 0;
+  std::string figures = "png";
 };
 
 // InputError naming the --param whose key is not in the controller's effective config.
@@ -84,6 +86,11 @@ void addSweepCommand(CLI::App& app, CommandContext& context) {
   cmd->add_option("--stop-after", options->stop_after, "Stop after this many episodes, as Ctrl-C would");
   cmd->add_option("--shard", options->shard, "Run shard K of N of every cell (combine with --merge)");
   cmd->add_option("--merge", options->merge, "Combine these shard sweep folders into --out");
+  cmd->add_option("--figures", options->figures,
+                  "Format of the figures: heat maps (two keys: score from 0 to the protocol's maximum, success and "
+                  "collision rate from 0 to 1) or line plots with 95 % bootstrap intervals over worlds (one key)")
+      ->check(CLI::IsMember({"png", "pdf", "svg"}))
+      ->capture_default_str();
   cmd->callback([options, &context] {
     bench::SweepGrid grid;
     fs::path dir;
@@ -148,20 +155,32 @@ void addSweepCommand(CLI::App& app, CommandContext& context) {
                   m.shard_index, m.shard_count);
       return;
     }
-    // sweep.csv and the heat maps.
+    // sweep.csv and the figures. Units come from the controller's config file (a resumed or
+    // merged sweep reads the default one, configs/controllers/NAME.yaml).
     SweepTable table;
     table.controller = grid.controller;
-    for (const auto& p : grid.parameters) table.keys.push_back(p.key);
+    const fs::path config_file = controllerConfigFile(grid.controller, options->config);
+    for (const auto& p : grid.parameters) {
+      table.keys.push_back(p.key);
+      table.units.push_back(config_file.empty() ? std::string() : configKeyUnit(config_file, p.key));
+    }
+    if (!sessions.empty()) {
+      table.protocol = sessions.front().spec.episode.protocol;
+      table.trials = sessions.front().record.manifest.trials;
+    }
     for (std::size_t c = 0; c < sessions.size(); ++c) {
       SweepCell cell;
       cell.name = grid.cells[c];
       cell.values = bench::cellValues(grid, c);
-      cell.summary = bench::summarise(bench::readEpisodesCsv(sessions[c].record.dir / bench::kEpisodesFile));
+      const auto episodes = bench::readEpisodesCsv(sessions[c].record.dir / bench::kEpisodesFile);
+      cell.summary = bench::summarise(episodes);
+      cell.worlds = bench::perWorldStats(episodes);
       table.cells.push_back(cell);
     }
     core::writeFileAtomic(dir / "sweep.csv", sweepCsv(table));
     std::printf("%s", sweepSummary(table).c_str());
-    for (const auto& png : writeSweepPlots(table, dir)) std::printf("wrote %s\n", png.c_str());
+    for (const auto& figure : writeSweepPlots(table, dir, "." + options->figures))
+      std::printf("wrote %s\n", figure.c_str());
     std::printf("wrote %s\n", (dir / "sweep.csv").c_str());
     if (status != 0) context.exit_code = 1;
   });

@@ -69,6 +69,8 @@ int runRecordFolder(const std::filesystem::path& dir, const SessionOptions& opti
 /// The controller config `barn run` would use: --config FILE, else
 /// configs/controllers/NAME.yaml, else the type NAME with its defaults.
 core::ConfigNode controllerConfigFor(const std::string& controller, const std::string& config_file);
+/// The file controllerConfigFor reads; empty for a bare type (no file).
+std::filesystem::path controllerConfigFile(const std::string& controller, const std::string& config_file);
 /// The validated simulation config (default configs/sim/barn.yaml), protocol overridden if given.
 bench::EpisodeConfig episodeConfigFor(const std::string& sim_config, const std::string& protocol);
 

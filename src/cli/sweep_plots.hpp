@@ -1,32 +1,45 @@
 #pragma once
-/// The results of a sweep: sweep.csv, the printed table and the heat maps.
+/// The results of a sweep: sweep.csv, the printed table and the figures.
 
 #include <filesystem>
 #include <string>
 #include <vector>
 
+#include "barn/bench/compare.hpp"
 #include "barn/bench/report.hpp"
 
 namespace barn::cli {
 
 struct SweepCell {
-  std::string name;                 // record folder
-  std::vector<std::string> values;  // one per swept key
+  std::string name;                       // record folder
+  std::vector<std::string> values;        // one per swept key
   bench::RunSummary summary;
+  std::vector<bench::WorldStats> worlds;  // per world (bench::perWorldStats), for intervals over worlds
 };
 
 struct SweepTable {
   std::string controller;
-  std::vector<std::string> keys;  // swept keys
-  std::vector<SweepCell> cells;   // odometer order, last key fastest
+  std::vector<std::string> keys;   // swept keys
+  std::vector<std::string> units;  // per key, as the controller's config file states it; "" = unknown
+  std::string protocol;            // the cells' protocol preset: fixes the score scale
+  int trials = 0;                  // per world, in every cell
+  std::vector<SweepCell> cells;    // odometer order, last key fastest
 };
 
 /// One row per cell: the parameter values, score, success/collision/timeout rates, avg time.
 std::string sweepCsv(const SweepTable& table);
 /// The same as a printed table, best score marked.
 std::string sweepSummary(const SweepTable& table);
-/// Heat maps of score, success and collision rate (two swept keys) or line plots (one key).
+
+/// The sweep's figures in `dir`, in the format of `extension` (".png", ".pdf" or ".svg"):
+/// - two keys: heat maps of score (colour scale 0 to the protocol's maximum score), success
+///   and collision rate (0 to 1): heatmap_score, heatmap_success, heatmap_collision;
+/// - one key: line plots of the same three against the key's values, each point the mean over
+///   worlds of the per-world means with a 95 % percentile bootstrap interval (worlds
+///   resampled, fixed seed): line_score, line_success, line_collision;
+/// - three or more keys: none.
 /// Returns the files written.
-std::vector<std::filesystem::path> writeSweepPlots(const SweepTable& table, const std::filesystem::path& dir);
+std::vector<std::filesystem::path> writeSweepPlots(const SweepTable& table, const std::filesystem::path& dir,
+                                                   const std::string& extension = ".png");
 
 }  // namespace barn::cli

@@ -87,6 +87,29 @@ TEST(Sweep, RunsTheGridAndWritesTheTableAndHeatMaps) {
   fs::remove_all(out);
 }
 
+TEST(Sweep, OneKeyDrawsLinePlotsInTheChosenFormat) {
+  const fs::path out = tempPath("barn_sweep_line");
+  const RunResult r = run("sweep --controller pure_pursuit --param speed=0.3,0.5 --worlds 0:300:100 --trials 2 --figures svg "
+                          "--out '" + out.string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* figure : {"line_score.svg", "line_success.svg", "line_collision.svg"}) {
+    const std::string text = barn::test::readFile(out / figure);
+    EXPECT_THAT(text.substr(0, 200), HasSubstr("<svg")) << figure;
+    EXPECT_GT(text.size(), 3000u) << figure;
+  }
+  EXPECT_FALSE(fs::exists(out / "heatmap_score.svg")) << "one key: no one-row heat map";
+  EXPECT_FALSE(fs::exists(out / "line_score.png"));
+  fs::remove_all(out);
+}
+
+TEST(Sweep, RefusesAnUnknownFigureFormat) {
+  const fs::path out = tempPath("barn_sweep_bad_figures");
+  const RunResult r = run("sweep --controller pure_pursuit --param speed=0.3 --figures jpg --out '" + out.string() + "'");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("jpg"));
+  EXPECT_FALSE(fs::exists(out));
+}
+
 TEST(Sweep, ResumesAnInterruptedSweepToTheSameTable) {
   const fs::path whole = tempPath("barn_sweep_whole");
   const fs::path parts = tempPath("barn_sweep_parts");
