@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <map>
 
+#include "barn/bench/compare.hpp"
 #include "barn/bench/episode.hpp"
 #include "barn/bench/report.hpp"
 #include "barn/bench/results_io.hpp"
@@ -52,6 +53,21 @@ double orderKey(const core::WorldSpec& w, const std::string& by) {
   throw core::InputError("--by '" + by + "': expected difficulty, id or a metric name");
 }
 
+// "300 worlds of worlds/ (barnbench-generated)": how many of the record's worlds are shown,
+// which folder they are in and where they came from (core::WorldSource), so a figure of the
+// official BARN worlds is not mistaken for one of barnbench's own.
+std::string worldSetText(const bench::RunManifest& manifest, const std::vector<core::WorldSpec>& worlds,
+                         std::size_t shown) {
+  std::size_t imported = 0;
+  for (const auto& w : worlds) imported += w.source == core::WorldSource::BarnDataset ? 1 : 0;
+  const char* source = imported == 0 ? "barnbench-generated"
+                       : imported == worlds.size() ? "the official BARN dataset, imported"
+                                                   : "barnbench-generated and imported BARN worlds";
+  const std::string folder = fs::path(manifest.worlds_folder).lexically_normal().filename().string();
+  return std::to_string(shown) + (shown == 1 ? " world of " : " worlds of ") + (folder.empty() ? "?" : folder) +
+         "/ (" + source + ")";
+}
+
 // traj.pdf -> traj_world_<id>.pdf beside it: one figure per world of a several-world request.
 fs::path perWorldFile(const fs::path& output, int world_id) {
   fs::path file = output;
@@ -66,7 +82,11 @@ void addPlotCommand(CLI::App& app, CommandContext& /*context*/) {
   CLI::App* plot = app.add_subcommand("plot", "Plots of a run record");
   plot->require_subcommand(1);
 
-  CLI::App* scores = plot->add_subcommand("scores", "Per-world score bars, easiest to hardest");
+  CLI::App* scores = plot->add_subcommand(
+      "scores",
+      "Per-world score bars, easiest to hardest: the bar is the world's mean score over its trials, the whisker the "
+      "min to max of its trials' scores, the strip under it the trials' outcomes (success, collision, timeout, "
+      "error); the title names the world set and the protocol");
   scores->add_option("record", options->record, "Run record folder")->required();
   scores->add_option("-o,--output", options->output, "Image to write; .png, .pdf or .svg (the extension chooses)")
       ->required();
@@ -77,27 +97,45 @@ void addPlotCommand(CLI::App& app, CommandContext& /*context*/) {
     const bench::RunManifest manifest = bench::readManifest(fs::path(options->record) / bench::kManifestFile);
     const auto worlds = bench::loadManifestWorlds(manifest);
     const auto results = bench::readEpisodesCsv(fs::path(options->record) / bench::kEpisodesFile);
-    std::map<int, std::pair<double, int>> per_world;
+    std::map<int, bench::WorldStats> stats;
+    for (const bench::WorldStats& w : bench::perWorldStats(results)) stats[w.world_id] = w;
+    std::map<int, std::pair<double, double>> range;  // world -> (worst, best) trial score
     for (const auto& r : results) {
-      per_world[r.world_id].first += r.score;
-      ++per_world[r.world_id].second;
+      const auto [it, fresh] = range.try_emplace(r.world_id, r.score, r.score);
+      if (!fresh) it->second = {std::min(it->second.first, r.score), std::max(it->second.second, r.score)};
     }
     std::vector<const core::WorldSpec*> order;
     for (const auto& w : worlds)
-      if (per_world.count(w.id)) order.push_back(&w);
+      if (stats.count(w.id)) order.push_back(&w);
     std::stable_sort(order.begin(), order.end(),
                      [&](const auto* a, const auto* b) { return orderKey(*a, options->by) < orderKey(*b, options->by); });
-    viz::WorldBars bars;
-    bars.title = manifest.controller + ": mean score per world (" + std::to_string(manifest.trials) + " trials)";
-    bars.y_label = "score";
-    bars.x_label = "worlds, easiest to hardest (by " + options->by + ")";
-    for (const auto* w : order) {
-      bars.labels.push_back(std::to_string(w->id));
-      bars.values.push_back(per_world[w->id].first / per_world[w->id].second);
-    }
     const std::string protocol =
         core::readConfig<bench::EpisodeConfig>(core::ConfigNode::parseString(manifest.episode_config, "manifest")).protocol;
     const core::Protocol preset = core::protocolPreset(protocol);
+
+    viz::WorldBars bars;
+    bars.title = manifest.controller + ": mean score per world";
+    char max_score[32];
+    std::snprintf(max_score, sizeof max_score, "%g", preset.maxScore());
+    bars.subtitle = worldSetText(manifest, worlds, order.size()) + " x " + std::to_string(manifest.trials) +
+                    (manifest.trials == 1 ? " trial, " : " trials, ") + protocol + " (max score " + max_score + ")";
+    if (!manifest.source.empty())
+      bars.subtitle += "; results imported from " + fs::path(manifest.source).filename().string();
+    bars.y_label = "mean score";
+    bars.x_label = "worlds, easiest to hardest (by " + options->by + ")";
+    // Whiskers only when there is a spread to show: one trial is its own minimum and maximum.
+    const bool whiskers = manifest.trials > 1;
+    if (whiskers) bars.whisker_label = "min to max of its " + std::to_string(manifest.trials) + " trials";
+    for (const auto* w : order) {
+      const bench::WorldStats& s = stats[w->id];
+      bars.labels.push_back(std::to_string(w->id));
+      bars.values.push_back(s.mean_score);
+      bars.outcomes.push_back({s.successes, s.collisions, s.timeouts, s.errors});
+      if (whiskers) {
+        bars.low.push_back(range[w->id].first);
+        bars.high.push_back(range[w->id].second);
+      }
+    }
     bars.y_max = preset.maxScore();
     bars.reference_lines = {preset.maxScore(), preset.minSuccessScore()};
     viz::renderWorldBars(bars, options->output);

@@ -280,6 +280,80 @@ constexpr double kBarsMinPlotWidth = 720.0;
 constexpr double kBarsPitch = 4.0;  // [px] per bar before the plot grows past the minimum
 constexpr double kBarsPlotHeight = 320.0;
 constexpr double kBarsLeft = 72.0, kBarsRight = 56.0, kBarsTop = 56.0, kBarsBottom = 72.0;
+constexpr double kSubtitleBand = 22.0;    // added above the plot by a subtitle
+constexpr double kSubtitleSize = 14.0;
+constexpr double kLegendRowHeight = 24.0;  // added above the plot per legend row
+constexpr double kStripGap = 6.0;          // between the zero line and the outcome strip
+constexpr double kStripHeight = 28.0;
+
+/// An outcome as the strip and legend show it. Okabe and Ito's colour-blind-safe colours: green
+/// for success, vermillion for collision (the red of the trajectory plots' collision marks),
+/// orange for timeout, reddish purple for error.
+struct OutcomeKind {
+  const char* name;
+  Rgb colour;
+  int OutcomeCounts::*member;
+  int count(const OutcomeCounts& counts) const { return counts.*member; }
+};
+constexpr std::array<OutcomeKind, 4> kOutcomeKinds{{{"success", {0.000, 0.620, 0.451}, &OutcomeCounts::success},
+                                                    {"collision", {0.835, 0.369, 0.000}, &OutcomeCounts::collision},
+                                                    {"timeout", {0.902, 0.624, 0.000}, &OutcomeCounts::timeout},
+                                                    {"error", {0.800, 0.475, 0.655}, &OutcomeCounts::error}}};
+
+// A legend of small marks and texts in rows above a chart.
+enum class LegendMark { Box, Whisker, Header };
+struct LegendItem {
+  LegendMark mark;
+  Rgb colour;
+  std::string text;
+  double width() const { return (mark == LegendMark::Header ? 0.0 : 18.0) + textWidth(text, kSmallSize); }
+};
+constexpr double kLegendItemGap = 18.0;
+
+/// The items in rows no wider than `room`.
+std::vector<std::vector<const LegendItem*>> legendRows(const std::vector<LegendItem>& items, double room) {
+  std::vector<std::vector<const LegendItem*>> rows;
+  double used = 0.0;
+  for (const LegendItem& item : items) {
+    if (rows.empty() || (!rows.back().empty() && used + kLegendItemGap + item.width() > room)) {
+      rows.emplace_back();
+      used = -kLegendItemGap;
+    }
+    rows.back().push_back(&item);
+    used += kLegendItemGap + item.width();
+  }
+  return rows;
+}
+
+/// Draws legend rows from `left`, the first row's top at `top`.
+void drawLegendRows(cairo_t* cr, const std::vector<std::vector<const LegendItem*>>& rows, double left, double top) {
+  double y = top + 0.5 * kLegendRowHeight;
+  for (const std::vector<const LegendItem*>& row : rows) {
+    double x = left;
+    for (const LegendItem* item : row) {
+      if (item->mark == LegendMark::Box) {
+        cairo_rectangle(cr, x, y - 6.0, 12.0, 12.0);
+        setColour(cr, item->colour);
+        cairo_fill(cr);
+      } else if (item->mark == LegendMark::Whisker) {
+        cairo_move_to(cr, x + 6.5, y - 6.0);
+        cairo_line_to(cr, x + 6.5, y + 6.0);
+        cairo_move_to(cr, x + 2.5, y - 5.5);
+        cairo_line_to(cr, x + 10.5, y - 5.5);
+        cairo_move_to(cr, x + 2.5, y + 5.5);
+        cairo_line_to(cr, x + 10.5, y + 5.5);
+        setColour(cr, item->colour);
+        cairo_set_line_width(cr, 1.0);
+        cairo_stroke(cr);
+      }
+      const double text_x = item->mark == LegendMark::Header ? x : x + 18.0;
+      setColour(cr, item->mark == LegendMark::Header ? kMutedInk : kInk);
+      drawText(cr, item->text, text_x, centredBaseline(y, kSmallSize), kSmallSize);
+      x += item->width() + kLegendItemGap;
+    }
+    y += kLegendRowHeight;
+  }
+}
 
 /// Smallest label stride in 1, 2, 5, 10, 20, 25, 50, 100, 200, 250, 500, ... that leaves `gap`
 /// px between neighbouring labels up to `label_width` px wide, with bars `pitch` px apart.
@@ -599,44 +673,101 @@ void renderWorldBars(const WorldBars& bars, const std::filesystem::path& output)
     throw core::InputError(where + ": y_max must be 0 (automatic) or positive (got " +
                            detail::formatNumber(bars.y_max, std::chars_format::general, 6) + ")");
   }
+  const bool whiskers = !bars.low.empty() || !bars.high.empty();
+  if (whiskers && (bars.low.size() != n || bars.high.size() != n)) {
+    throw core::InputError(where + ": bar chart has " + std::to_string(n) + " values but " +
+                           std::to_string(bars.low.size()) + " low and " + std::to_string(bars.high.size()) +
+                           " high whisker ends (both empty or one per bar)");
+  }
+  const bool strip = !bars.outcomes.empty();
+  if (strip && bars.outcomes.size() != n) {
+    throw core::InputError(where + ": bar chart has " + std::to_string(n) + " values but " +
+                           std::to_string(bars.outcomes.size()) + " outcome counts (empty or one per bar)");
+  }
 
   // y range: from 0 (or below, for negative values) to y_max or 5 % above the data.
-  const auto [lo, hi] = valueAxisRange({&bars.values, &bars.reference_lines}, bars.y_max);
+  const auto [lo, hi] = valueAxisRange({&bars.values, &bars.high, &bars.reference_lines}, bars.y_max);
+
+  // The legend: the bar, the whiskers, then the outcomes that occur (success always).
+  std::vector<LegendItem> legend;
+  if (whiskers || strip) legend.push_back({LegendMark::Box, kBarColour, bars.y_label});
+  if (whiskers) legend.push_back({LegendMark::Whisker, kInk, bars.whisker_label});
+  if (strip) {
+    OutcomeCounts all;
+    for (const OutcomeCounts& o : bars.outcomes) {
+      all.success += o.success;
+      all.collision += o.collision;
+      all.timeout += o.timeout;
+      all.error += o.error;
+    }
+    legend.push_back({LegendMark::Header, kMutedInk, "trials:"});
+    for (std::size_t k = 0; k < kOutcomeKinds.size(); ++k) {
+      if (k == 0 || kOutcomeKinds[k].count(all) > 0)
+        legend.push_back({LegendMark::Box, kOutcomeKinds[k].colour, kOutcomeKinds[k].name});
+    }
+  }
 
   const double plot_w = std::max(kBarsMinPlotWidth, kBarsPitch * static_cast<double>(n));
-  const int width =
-      imageSide(std::max(plot_w + kBarsLeft + kBarsRight, textWidth(bars.title, kTitleSize) + 48.0),
-                "bar chart width", where);
-  const int height = static_cast<int>(kBarsTop + kBarsPlotHeight + kBarsBottom);
+  const std::vector<std::vector<const LegendItem*>> legend_rows = legendRows(legend, plot_w);
+  const double plot_top = kBarsTop + (bars.subtitle.empty() ? 0.0 : kSubtitleBand) +
+                          kLegendRowHeight * static_cast<double>(legend_rows.size());
+  const double plot_bottom = plot_top + kBarsPlotHeight;
+  const double strip_top = plot_bottom + kStripGap, strip_bottom = strip_top + kStripHeight;
+  const double ticks_top = strip ? strip_bottom : plot_bottom;  // x tick labels hang from here
+  const int width = imageSide(std::max({plot_w + kBarsLeft + kBarsRight, textWidth(bars.title, kTitleSize) + 48.0,
+                                        textWidth(bars.subtitle, kSubtitleSize) + 48.0}),
+                              "bar chart width", where);
+  const int height = static_cast<int>(ticks_top + kBarsBottom);
   detail::OutputCanvas image = detail::createOutputCanvas(width, height, output);
   cairo_t* cr = image.cr();
 
   const double left = kBarsLeft, right = kBarsLeft + plot_w;
-  const double plot_top = kBarsTop, plot_bottom = kBarsTop + kBarsPlotHeight;
   const auto py = [&](double y) { return plot_bottom - (y - lo) / (hi - lo) * kBarsPlotHeight; };
   const double pitch = plot_w / static_cast<double>(n);
+  // Edges on whole pixels keep 300 narrow bars crisp; a 20 % gap separates them once they are
+  // 4 px apart. The outcome strip uses the same columns.
+  const double gap = pitch >= 4.0 ? std::max(1.0, 0.2 * pitch) : 0.0;
+  const auto barX0 = [&](std::size_t i) { return std::round(left + static_cast<double>(i) * pitch + 0.5 * gap); };
+  const auto barX1 = [&](std::size_t i) {
+    return std::max(barX0(i) + 1.0, std::round(left + static_cast<double>(i + 1) * pitch - 0.5 * gap));
+  };
 
   // Horizontal grid and y ticks.
   drawValueGrid(cr, lo, hi, left, right, py);
 
-  // Bars, clipped to the plot area (a fixed y_max may cut the tallest). Edges on whole pixels
-  // keep 300 narrow bars crisp; a 20 % gap separates them once they are 4 px apart.
+  // Bars and whiskers, clipped to the plot area (a fixed y_max may cut the tallest).
   cairo_save(cr);
   cairo_rectangle(cr, left, plot_top, plot_w, kBarsPlotHeight);
   cairo_clip(cr);
-  const double gap = pitch >= 4.0 ? std::max(1.0, 0.2 * pitch) : 0.0;
   const double base = py(std::clamp(0.0, lo, hi));
   for (std::size_t i = 0; i < n; ++i) {
     const double v = bars.values[i];
     if (!std::isfinite(v)) continue;
-    const double x0 = std::round(left + static_cast<double>(i) * pitch + 0.5 * gap);
-    const double x1 = std::round(left + static_cast<double>(i + 1) * pitch - 0.5 * gap);
     const double y0 = std::round(std::clamp(py(v), plot_top - 1.0, plot_bottom + 1.0));
-    cairo_rectangle(cr, x0, std::min(y0, std::round(base)), std::max(1.0, x1 - x0),
-                    std::abs(std::round(base) - y0));
+    cairo_rectangle(cr, barX0(i), std::min(y0, std::round(base)), barX1(i) - barX0(i), std::abs(std::round(base) - y0));
   }
   setColour(cr, kBarColour);
   cairo_fill(cr);
+  if (whiskers) {
+    // A 1 px line on the bar's centre, capped 0.6 of the bar wide once bars are 4 px apart.
+    const double cap = pitch >= 4.0 ? std::min(4.0, 0.3 * pitch) : 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!std::isfinite(bars.low[i]) || !std::isfinite(bars.high[i])) continue;
+      const double x = std::floor(0.5 * (barX0(i) + barX1(i))) + 0.5;
+      const double y_low = std::round(py(bars.low[i])) + 0.5, y_high = std::round(py(bars.high[i])) + 0.5;
+      cairo_move_to(cr, x, y_low);
+      cairo_line_to(cr, x, y_high);
+      if (cap > 0.0) {
+        cairo_move_to(cr, x - cap, y_low);
+        cairo_line_to(cr, x + cap, y_low);
+        cairo_move_to(cr, x - cap, y_high);
+        cairo_line_to(cr, x + cap, y_high);
+      }
+    }
+    setColour(cr, kInk);
+    cairo_set_line_width(cr, 1.0);
+    cairo_stroke(cr);
+  }
 
   // Reference lines over the bars, labelled with their value right of the plot.
   const double dashes[] = {6.0, 4.0};
@@ -658,6 +789,28 @@ void renderWorldBars(const WorldBars& bars, const std::filesystem::path& output)
              centredBaseline(py(y), kSmallSize), kSmallSize);
   }
 
+  // Outcome strip: per world the shares of its trials stacked from the bottom in the legend's
+  // order, so each column reads as the world's outcome mix whatever its score (a world whose
+  // trials all collided has no bar, but a full vermillion column).
+  if (strip) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const int total = bars.outcomes[i].total();
+      if (total <= 0) continue;
+      int below = 0;
+      for (const OutcomeKind& kind : kOutcomeKinds) {
+        const int count = kind.count(bars.outcomes[i]);
+        if (count == 0) continue;
+        const auto edge = [&](int trials) { return std::round(strip_bottom - kStripHeight * trials / total); };
+        cairo_rectangle(cr, barX0(i), edge(below + count), barX1(i) - barX0(i), edge(below) - edge(below + count));
+        setColour(cr, kind.colour);
+        cairo_fill(cr);
+        below += count;
+      }
+    }
+    setColour(cr, kMutedInk);
+    drawRightAligned(cr, "trials", left - 8.0, centredBaseline(0.5 * (strip_top + strip_bottom), kSmallSize), kSmallSize);
+  }
+
   // Axes: left spine and the zero line.
   setColour(cr, kInk);
   cairo_set_line_width(cr, 1.0);
@@ -667,26 +820,33 @@ void renderWorldBars(const WorldBars& bars, const std::filesystem::path& output)
   cairo_line_to(cr, right, std::round(base) + 0.5);
   cairo_stroke(cr);
 
-  // x tick labels every `stride` bars, under the bar's centre.
+  // x tick labels every `stride` bars, under the bar's centre (and the strip).
   double widest = 0.0;
   for (const std::string& label : bars.labels)
     widest = std::max(widest, textWidth(label, kSmallSize));
   const std::size_t stride = labelStride(pitch, widest, 8.0);
   for (std::size_t i = 0; i < n; i += stride) {
     const double x = std::round(left + (static_cast<double>(i) + 0.5) * pitch) + 0.5;
-    cairo_move_to(cr, x, plot_bottom);
-    cairo_line_to(cr, x, plot_bottom + 4.0);
+    cairo_move_to(cr, x, ticks_top);
+    cairo_line_to(cr, x, ticks_top + 4.0);
     cairo_stroke(cr);
-    drawCentred(cr, bars.labels[i], x, plot_bottom + 20.0, kSmallSize);
+    drawCentred(cr, bars.labels[i], x, ticks_top + 20.0, kSmallSize);
   }
 
   const double x_label_width = textWidth(bars.x_label, kLabelSize);
   drawText(cr, bars.x_label,
            std::clamp(0.5 * (left + right - x_label_width), 8.0,
                       std::max(8.0, width - 8.0 - x_label_width)),
-           plot_bottom + 54.0, kLabelSize);
+           ticks_top + 54.0, kLabelSize);
   drawVertical(cr, bars.y_label, 22.0, 0.5 * (plot_top + plot_bottom), kLabelSize);
   drawTitle(cr, bars.title, left, right, width, 34.0);
+  if (!bars.subtitle.empty()) {
+    const double w = textWidth(bars.subtitle, kSubtitleSize);
+    setColour(cr, kMutedInk);
+    drawText(cr, bars.subtitle, std::clamp(0.5 * (left + right - w), 24.0, std::max(24.0, width - 24.0 - w)),
+             34.0 + kSubtitleBand, kSubtitleSize);
+  }
+  drawLegendRows(cr, legend_rows, left, kBarsTop + (bars.subtitle.empty() ? 0.0 : kSubtitleBand) - 6.0);
 
   detail::finishImage(image);
 }

@@ -343,6 +343,78 @@ TEST_F(PlotsTest, BarHeightsFollowTheYAxis) {
   EXPECT_TRUE(is_bar(bar_x(2), 60));
 }
 
+// Three worlds of 3 trials: all successes at the maximum; one success in three; two collisions
+// and a timeout (no bar: score 0).
+WorldBars threeWorldsWithOutcomes() {
+  WorldBars bars;
+  bars.title = "lflh: mean score per world";
+  bars.subtitle = "3 worlds of worlds/ (barnbench-generated) x 3 trials, barn2023 (max score 0.25)";
+  bars.y_label = "mean score";
+  bars.x_label = "worlds";
+  bars.labels = {"0", "1", "2"};
+  bars.values = {0.25, 0.25 / 3.0, 0.0};
+  bars.low = {0.25, 0.0, 0.0};
+  bars.high = {0.25, 0.25, 0.0};
+  bars.whisker_label = "min to max of its 3 trials";
+  bars.outcomes = {{3, 0, 0, 0}, {1, 2, 0, 0}, {0, 2, 1, 0}};
+  bars.y_max = 0.25;
+  return bars;
+}
+
+constexpr double kSuccess[] = {0.000, 0.620, 0.451};
+constexpr double kCollision[] = {0.835, 0.369, 0.000};
+constexpr double kTimeout[] = {0.902, 0.624, 0.000};
+constexpr double kError[] = {0.800, 0.475, 0.655};
+std::function<bool(Pixel)> is(const double (&rgb)[3]) { return test::isColour(rgb[0], rgb[1], rgb[2]); }
+
+TEST_F(PlotsTest, BarChartShowsEachWorldsOutcomeMixWhiskersAndALegend) {
+  renderWorldBars(threeWorldsWithOutcomes(), png_);
+  // Layout (plots.hpp): a subtitle (+22) and one legend row (+24) put the plot at y 102 ... 422
+  // (y = v is at 422 - 1280 v); the strip at 428 ... 456; 72 below. Bars are 240 px apart from
+  // x 72 with 24 px of gap each side: bar 1 spans x 336 ... 528, bar 2 x 576 ... 768.
+  const Size size = pngSize(png_);
+  EXPECT_EQ(size.width, 720 + 128);
+  EXPECT_EQ(size.height, 448 + 22 + 24 + 34);
+  const Image image(png_);
+  ASSERT_TRUE(image.ok());
+
+  // Strip of bar 1, stacked from the bottom: 1 success in 3 (456 - 28 / 3 = 446.7, so rows
+  // 447 ... 455), then 2 collisions (428 ... 446).
+  EXPECT_TRUE(is(kSuccess)(image.at(430, 452)));
+  EXPECT_TRUE(is(kCollision)(image.at(430, 435)));
+  // Bar 2 has no bar, but its strip says why: 2 collisions (rows 437 ... 455), a timeout above.
+  EXPECT_FALSE(image.any(580, 110, 760, 415, is({0.12, 0.47, 0.71})));
+  EXPECT_TRUE(is(kCollision)(image.at(650, 450)));
+  EXPECT_TRUE(is(kTimeout)(image.at(650, 431)));
+  // Bar 0: all successes, a full green column.
+  EXPECT_TRUE(is(kSuccess)(image.at(150, 430)));
+  EXPECT_TRUE(is(kSuccess)(image.at(150, 454)));
+
+  // Bar 1's whisker: an ink line on the bar's centre (x 432) from 0 up to 0.25 (y 102), above
+  // the bar's top at 0.083 (y 315); nothing beside it.
+  EXPECT_TRUE(test::isColour(0.1, 0.1, 0.1)(image.at(432, 150)));
+  EXPECT_FALSE(image.any(437, 140, 445, 160, [](Pixel p) { return p.r < 100; }));
+
+  // The legend row (y 78 ... 90): the bar's blue, green, vermillion and orange swatches; no
+  // purple, since no trial ended in an error.
+  const auto row = [&](const std::function<bool(Pixel)>& test) { return image.any(72, 78, size.width, 91, test); };
+  EXPECT_TRUE(is({0.12, 0.47, 0.71})(image.at(78, 84)));
+  EXPECT_TRUE(row(is(kSuccess)));
+  EXPECT_TRUE(row(is(kCollision)));
+  EXPECT_TRUE(row(is(kTimeout)));
+  EXPECT_FALSE(row(is(kError)));
+}
+
+TEST_F(PlotsTest, BarChartRejectsWhiskersOrOutcomesOfTheWrongLength) {
+  WorldBars bars = threeWorldsWithOutcomes();
+  bars.high.pop_back();
+  expectInputError([&] { renderWorldBars(bars, png_); }, {png_.string(), "3 low and 2 high"});
+  bars = threeWorldsWithOutcomes();
+  bars.outcomes.push_back({});
+  expectInputError([&] { renderWorldBars(bars, png_); }, {"4 outcome counts"});
+  EXPECT_FALSE(fs::exists(png_));
+}
+
 TEST_F(PlotsTest, BarChartRejectsEmptyOrMismatchedInput) {
   WorldBars bars = threeHundredWorlds();
   bars.labels.pop_back();

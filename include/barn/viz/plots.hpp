@@ -66,28 +66,52 @@ void renderHeatMap(const HeatMap& map, const std::filesystem::path& output);
 // ---------------------------------------------------------------------------
 // Per-world bar chart
 
+/// How a world's trials ended.
+struct OutcomeCounts {
+  int success = 0;
+  int collision = 0;
+  int timeout = 0;
+  int error = 0;
+  int total() const { return success + collision + timeout + error; }
+};
+
 /// One bar per world, in the given order (e.g. easiest to hardest).
 struct WorldBars {
-  std::string title;                    // e.g. "inventec_fi: score per world"
-  std::string y_label;                  // e.g. "score"
+  std::string title;                    // e.g. "inventec_fi: mean score per world"
+  std::string subtitle;                 // a second, smaller line, e.g. the world set and protocol; "" = none
+  std::string y_label;                  // e.g. "mean score"; also the bars' legend entry
   std::string x_label;                  // e.g. "worlds, easiest to hardest (by tortuosity)"
   std::vector<std::string> labels;      // (n) world ids as text, in plotting order
   std::vector<double> values;           // (n) bar heights; NaN = no bar
+  std::vector<double> low;              // (n or empty) whisker bottoms, e.g. the worst trial; NaN = no whisker
+  std::vector<double> high;             // (n or empty) whisker tops, e.g. the best trial
+  std::string whisker_label;            // the whiskers' legend entry, e.g. "min to max of the 10 trials"
+  std::vector<OutcomeCounts> outcomes;  // (n or empty) each world's trials by outcome
   double y_max = 0.0;                   // top of the y axis; 0 = automatic (5 % above the data)
   std::vector<double> reference_lines;  // y values drawn as labelled horizontal dashed lines
 };
 
 /// Draws `bars` as a bar chart; the y axis starts at 0 (or the smallest value, if negative).
-/// Only every k-th bar gets a tick label, k in 1, 2, 5, 10, 20, 25, 50, 100, ... the smallest
-/// that leaves 8 px between neighbouring labels.
+/// With whiskers, a 1 px ink line from low to high on each bar (capped once bars are 4 px
+/// apart). With outcomes, a strip under the zero line shows each world's trials stacked from
+/// the bottom by outcome (success green, collision vermillion, timeout orange, error purple;
+/// the share of the strip's height is the share of trials), in the same column as its bar, so
+/// a world that never succeeded, which has no bar, still shows why. With either, a legend above
+/// the plot names the bar (y_label), the whiskers (whisker_label) and the outcomes that occur
+/// (success always). Only every k-th bar gets a tick label, k in 1, 2, 5, 10, 20, 25, 50, 100,
+/// ... the smallest that leaves 8 px between neighbouring labels.
 ///
 /// Layout [px]: the plot area is plot_w = max(720, 4 * n) wide and 320 tall, with margins 72
-/// left, 56 right (reference-line labels), 56 top and 72 bottom, so
-///   width  = max(plot_w + 128, title width at 20 px + 48)
-///   height = 448
-/// e.g. 1328 x 448 px for 300 worlds.
-/// Throws InputError if there are no bars, labels and values differ in length, y_max is negative
-/// or not finite, or the image is wider than 32767 px.
+/// left and 56 right (reference-line labels); above it 56 (title), + 22 with a subtitle, + 24
+/// per legend row; below it, + 34 with outcomes (a gap of 6 and the 28 px strip), then 72 for
+/// the x ticks and label. So
+///   width  = max(plot_w + 128, title width at 20 px + 48, subtitle width at 14 px + 48)
+///   height = 448 (+ 22 with a subtitle, + 24 per legend row, + 34 with outcomes)
+/// e.g. 1328 x 448 px for 300 worlds and neither, 1328 x 528 px with whiskers, outcomes, a
+/// subtitle and one legend row.
+/// Throws InputError if there are no bars, labels and values differ in length, low, high or
+/// outcomes are neither empty nor one per bar, y_max is negative or not finite, or the image
+/// is wider than 32767 px.
 void renderWorldBars(const WorldBars& bars, const std::filesystem::path& output);
 
 // ---------------------------------------------------------------------------
