@@ -1,6 +1,6 @@
 // barn plot: pictures of one run record — per-world scores ordered by difficulty, and the
 // trajectories of chosen worlds (re-simulated from the record: the same seed drives the same
-// episode bit for bit), coloured by controller state.
+// episode bit for bit), coloured by controller state or by trial.
 
 #include <algorithm>
 #include <cstdio>
@@ -31,6 +31,7 @@ struct PlotOptions {
   std::string by = "difficulty";
   std::vector<int> worlds;
   std::vector<int> trials;
+  std::string colour = "state";
 };
 
 // A difficulty index per world: the sum of the normalised metrics signed so that larger means
@@ -142,7 +143,10 @@ void addPlotCommand(CLI::App& app, CommandContext& /*context*/) {
     std::printf("wrote %s\n", options->output.c_str());
   });
 
-  CLI::App* trajectory = plot->add_subcommand("trajectory", "Re-simulate and draw episodes of chosen worlds");
+  CLI::App* trajectory = plot->add_subcommand(
+      "trajectory",
+      "Re-simulate and draw episodes of chosen worlds: each trial's path coloured by controller state or by trial, "
+      "its outcome, time (AT) and score in the legend, the robot's collision outline at the pose of any contact");
   trajectory->add_option("record", options->record, "Run record folder")->required();
   trajectory->add_option("--world", options->worlds, "World id(s)")->required()->delimiter(',');
   trajectory->add_option("--trial", options->trials, "Trial(s) (default: every trial of the record)")->delimiter(',');
@@ -151,6 +155,12 @@ void addPlotCommand(CLI::App& app, CommandContext& /*context*/) {
                    "Image to write; .png, .pdf or .svg (the extension chooses). With several worlds, one file per "
                    "world: traj.pdf -> traj_world_3.pdf, ...")
       ->required();
+  trajectory
+      ->add_option("--colour", options->colour,
+                   "state: segments in the controller state's colour, trials told apart by dashes; trial: one colour "
+                   "per trial")
+      ->check(CLI::IsMember({"state", "trial"}))
+      ->capture_default_str();
   trajectory->callback([options] {
     viz::imageFormatFor(options->output);  // a bad extension is refused before any simulation
     const bench::RunManifest manifest = bench::readManifest(fs::path(options->record) / bench::kManifestFile);
@@ -177,17 +187,28 @@ void addPlotCommand(CLI::App& app, CommandContext& /*context*/) {
         const bench::EpisodeResult r = bench::runEpisode(*it, field, *controller, episode,
                                                          bench::episodeSeed(manifest.seed, id, t), true);
         viz::TrajectoryOverlay overlay;
-        overlay.label = "trial " + std::to_string(t) + ": " + std::string(bench::toString(r.outcome));
+        overlay.label = "trial " + std::to_string(t) + "  " + std::string(bench::toString(r.outcome));
+        char detail[64];
+        std::snprintf(detail, sizeof detail, "%.1f s  score %.3f", r.actual_time, r.score);
+        overlay.detail = detail;
         for (const auto& s : r.trajectory) overlay.points.push_back({s.pose.x, s.pose.y, s.state});
         if (r.collision) {
+          // The samples are control ticks; the contact comes after the last, so the line is
+          // carried on to the pose of contact, where the outline is drawn.
+          const std::string state = r.trajectory.empty() ? std::string() : r.trajectory.back().state;
+          overlay.points.push_back({r.collision->pose.x, r.collision->pose.y, state});
           overlay.collided = true;
           overlay.collision_x = r.collision->point.x();
           overlay.collision_y = r.collision->point.y();
+          overlay.collision_pose = r.collision->pose;
         }
         overlays.push_back(std::move(overlay));
       }
       const fs::path file = options->worlds.size() == 1 ? fs::path(options->output) : perWorldFile(options->output, id);
-      viz::renderTrajectories(*it, protocol, overlays, file);
+      viz::TrajectoryStyle style;
+      style.colouring = options->colour == "trial" ? viz::TrajectoryColouring::ByTrial : viz::TrajectoryColouring::ByState;
+      style.robot_outline = episode.robot.collisionRects();
+      viz::renderTrajectories(*it, protocol, overlays, file, style);
       std::printf("wrote %s\n", file.c_str());
     }
   });

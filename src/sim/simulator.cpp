@@ -161,7 +161,7 @@ std::optional<CollisionInfo> Simulator::findCollision(const core::Pose2& pose) c
     const double radius = field_->radiusOf(index);
     for (std::size_t i = 0; i < rects_.size(); ++i) {
       if (rectOverlapsCircle(pose, rects_[i], centre, radius)) {
-        if (!best) best = CollisionInfo{time_, centre, static_cast<int>(i)};
+        if (!best) best = CollisionInfo{time_, centre, static_cast<int>(i), pose};
       }
     }
   }

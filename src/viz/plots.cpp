@@ -392,10 +392,12 @@ std::size_t labelStride(double pitch, double label_width, double gap) {
 // ---------------------------------------------------------------------------
 // Trajectories
 
-constexpr double kLegendBand = 2.0;         // [m] right of the world picture
+constexpr double kLegendBand = 2.6;         // [m] right of the world picture
 constexpr double kTrajectoryWidth = 0.035;  // [m]
 constexpr double kLegendText = 0.15;        // [m] font size
 constexpr double kLegendRow = 0.30;         // [m] between legend rows
+constexpr double kLegendDetailText = 0.12;  // [m] font size of an entry's second line
+constexpr double kLegendDetailRow = 0.20;   // [m] from an entry's first line to its second
 constexpr double kLegendSwatch = 0.40;      // [m] line length of a legend entry
 constexpr Rgb kNoStateColour{0.30, 0.30, 0.30};
 constexpr Rgb kCollisionColour{0.86, 0.0, 0.0};
@@ -439,6 +441,31 @@ void drawCollisionMark(cairo_t* cr, double x, double y, double half, double widt
   setColour(cr, kCollisionColour);
   cairo_set_line_width(cr, width);
   cairo_stroke(cr);
+}
+
+/// The robot's collision rectangles (robot frame) at `pose`, in world coordinates: a light
+/// red fill and a red outline over a white halo, so it reads on cylinders and trajectories.
+void drawRobotOutline(cairo_t* cr, const core::Pose2& pose, const std::vector<core::RobotRect>& rects) {
+  if (rects.empty()) return;
+  cairo_save(cr);
+  cairo_translate(cr, pose.x, pose.y);
+  cairo_rotate(cr, pose.yaw);  // y up in world coordinates, so this turns counter-clockwise
+  cairo_new_path(cr);
+  for (const core::RobotRect& r : rects) {
+    cairo_rectangle(cr, r.centre_x - r.half_length, r.centre_y - r.half_width, 2.0 * r.half_length,
+                    2.0 * r.half_width);
+  }
+  cairo_set_dash(cr, nullptr, 0, 0.0);
+  cairo_set_line_join(cr, CAIRO_LINE_JOIN_MITER);
+  cairo_set_source_rgba(cr, kCollisionColour.r, kCollisionColour.g, kCollisionColour.b, 0.18);
+  cairo_fill_preserve(cr);
+  cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
+  cairo_set_line_width(cr, 0.045);
+  cairo_stroke_preserve(cr);
+  setColour(cr, kCollisionColour);
+  cairo_set_line_width(cr, 0.02);
+  cairo_stroke(cr);
+  cairo_restore(cr);
 }
 
 }  // namespace
@@ -1011,10 +1038,11 @@ void renderPairedWorlds(const PairedWorlds& pairs, const std::filesystem::path& 
 
 void renderTrajectories(const core::WorldSpec& world, const core::Protocol& protocol,
                         const std::vector<TrajectoryOverlay>& trajectories, const std::filesystem::path& output,
-                        double pixels_per_metre) {
+                        const TrajectoryStyle& style) {
   const std::string where = output.string();
   imageFormatFor(output);  // an unknown extension fails before any drawing
-  const double ppm = pixels_per_metre;
+  const double ppm = style.pixels_per_metre;
+  const bool by_trial = style.colouring == TrajectoryColouring::ByTrial;
   const detail::ViewBox view = detail::viewBox(protocol);
   const detail::ImageSize size = detail::worldImageSize(view, ppm, kLegendBand, where);
   const double map_width_px = (view.max_x - view.min_x + 2.0 * detail::kWorldMargin) * ppm;
@@ -1023,8 +1051,10 @@ void renderTrajectories(const core::WorldSpec& world, const core::Protocol& prot
   std::vector<std::string> states;
   bool any_stateless = false;
   bool any_collision = false;
+  bool any_outline = false;
   for (const TrajectoryOverlay& trajectory : trajectories) {
     any_collision = any_collision || trajectory.collided;
+    any_outline = any_outline || (trajectory.collision_pose && !style.robot_outline.empty());
     for (const TrajectoryPoint& point : trajectory.points) {
       if (point.state.empty())
         any_stateless = true;
@@ -1037,12 +1067,18 @@ void renderTrajectories(const core::WorldSpec& world, const core::Protocol& prot
     const auto it = std::find(states.begin(), states.end(), state);
     return kStatePalette[static_cast<std::size_t>(it - states.begin()) % kStatePalette.size()];
   };
+  // By trial, each trajectory has a palette colour, and a dash pattern once the colours repeat;
+  // by state, the colour is the state's and the dash pattern tells trajectories apart.
+  const auto trialColour = [&](std::size_t t) { return kStatePalette[t % kStatePalette.size()]; };
+  const auto trialDash = [&](std::size_t t) -> const DashPattern& {
+    return kDashPatterns[(by_trial ? t / kStatePalette.size() : t) % kDashPatterns.size()];
+  };
 
   detail::OutputCanvas image = detail::createOutputCanvas(size.width, size.height, output);
   cairo_t* cr = image.cr();
 
-  // The world as renderWorld draws it, with the A* path thin and light (a reference, not
-  // the subject).
+  // The world as renderWorld draws it, with the A* path thin and light (a reference, not the
+  // subject).
   const cairo_matrix_t world_to_px = detail::worldToPixels(view, ppm);
   cairo_save(cr);
   cairo_set_matrix(cr, &world_to_px);
@@ -1053,7 +1089,7 @@ void renderTrajectories(const core::WorldSpec& world, const core::Protocol& prot
   detail::drawGoal(cr, protocol);
   detail::drawStartPose(cr, protocol);
 
-  // Trajectories, clipped to the map. Each run of points in one state is one polyline that
+  // Trajectories, clipped to the map. Each run of points in one colour is one polyline that
   // ends at the next run's first point, so the line has no gaps and dashes run on across runs.
   cairo_rectangle(cr, view.min_x - detail::kWorldMargin, view.min_y - detail::kWorldMargin,
                   view.max_x - view.min_x + 2.0 * detail::kWorldMargin,
@@ -1067,7 +1103,7 @@ void renderTrajectories(const core::WorldSpec& world, const core::Protocol& prot
   };
   for (std::size_t t = 0; t < trajectories.size(); ++t) {
     const std::vector<TrajectoryPoint>& points = trajectories[t].points;
-    const DashPattern& pattern = kDashPatterns[t % kDashPatterns.size()];
+    const auto sameRun = [&](const TrajectoryPoint& a, const TrajectoryPoint& b) { return by_trial || a.state == b.state; };
     double travelled = 0.0;  // [m] along the drawn line, for the dash phase
     std::size_t i = 0;
     while (i < points.size()) {
@@ -1076,20 +1112,24 @@ void renderTrajectories(const core::WorldSpec& world, const core::Protocol& prot
         continue;
       }
       std::size_t end = i + 1;  // one past the run's last point
-      while (end < points.size() && finite(points[end]) && points[end].state == points[i].state)
-        ++end;
+      while (end < points.size() && finite(points[end]) && sameRun(points[end], points[i])) ++end;
       const std::size_t last = end < points.size() && finite(points[end]) ? end : end - 1;
-      setDash(cr, pattern, travelled);
+      setDash(cr, trialDash(t), travelled);
       cairo_move_to(cr, points[i].x, points[i].y);
       for (std::size_t k = i + 1; k <= last; ++k) {
         cairo_line_to(cr, points[k].x, points[k].y);
         travelled += std::hypot(points[k].x - points[k - 1].x, points[k].y - points[k - 1].y);
       }
       if (last == i) cairo_line_to(cr, points[i].x, points[i].y);  // a lone point: a round dot
-      setColour(cr, stateColour(points[i].state));
+      setColour(cr, by_trial ? trialColour(t) : stateColour(points[i].state));
       cairo_stroke(cr);
       i = end;
     }
+  }
+  // The robot where it touched, over the trajectories: its collision outline at the pose of
+  // contact, so the reader sees which part hit.
+  for (const TrajectoryOverlay& trajectory : trajectories) {
+    if (trajectory.collision_pose) drawRobotOutline(cr, *trajectory.collision_pose, style.robot_outline);
   }
   for (const TrajectoryOverlay& trajectory : trajectories) {
     if (trajectory.collided && std::isfinite(trajectory.collision_x) &&
@@ -1105,16 +1145,17 @@ void renderTrajectories(const core::WorldSpec& world, const core::Protocol& prot
 
   // Legend in the band right of the map, in device pixels; sizes scale with the map.
   const double text_size = kLegendText * ppm;
+  const double detail_size = kLegendDetailText * ppm;
   const double row = kLegendRow * ppm;
   const double x0 = map_width_px;
   const double text_x = x0 + (kLegendSwatch + 0.12) * ppm;
   const double text_room = size.width - text_x - 0.15 * ppm;
   double y = (detail::kWorldMargin + 0.2) * ppm;
-  const auto entryText = [&](const std::string& text, const Rgb& colour) {
+  const auto entryText = [&](const std::string& text, const Rgb& colour, double font_size, double at_y) {
     const double fit =
-        std::min(text_size, text_size * text_room / std::max(1e-9, textWidth(text, text_size)));
+        std::min(font_size, font_size * text_room / std::max(1e-9, textWidth(text, font_size)));
     setColour(cr, colour);
-    drawText(cr, text, text_x, centredBaseline(y, fit) - 0.125 * fit, fit);  // centred on x-height
+    drawText(cr, text, text_x, centredBaseline(at_y, fit) - 0.125 * fit, fit);  // centred on x-height
   };
   const auto swatch = [&](const Rgb& colour, const DashPattern& pattern) {
     cairo_move_to(cr, x0, y);
@@ -1134,31 +1175,34 @@ void renderTrajectories(const core::WorldSpec& world, const core::Protocol& prot
     y += row;
   };
 
-  if (!states.empty()) {
+  if (!by_trial && !states.empty()) {
     header("state");
     for (const std::string& state : states) {
       swatch(stateColour(state), kDashPatterns[0]);
-      entryText(state, kInk);
+      entryText(state, kInk, text_size, y);
       y += row;
     }
     if (any_stateless) {
       swatch(kNoStateColour, kDashPatterns[0]);
-      entryText("no state", kInk);
+      entryText("no state", kInk, text_size, y);
       y += row;
     }
     y += 0.5 * row;
   }
   const bool label_trajectories =
-      trajectories.size() > 1 ||
+      by_trial || trajectories.size() > 1 ||
       std::any_of(trajectories.begin(), trajectories.end(),
-                  [](const TrajectoryOverlay& t) { return !t.label.empty(); });
-  if (label_trajectories) {
+                  [](const TrajectoryOverlay& t) { return !t.label.empty() || !t.detail.empty(); });
+  if (label_trajectories && !trajectories.empty()) {
     header("trajectory");
     for (std::size_t t = 0; t < trajectories.size(); ++t) {
-      swatch(kInk, kDashPatterns[t % kDashPatterns.size()]);
-      entryText(
-          trajectories[t].label.empty() ? "trajectory " + std::to_string(t) : trajectories[t].label,
-          kInk);
+      swatch(by_trial ? trialColour(t) : kInk, trialDash(t));
+      entryText(trajectories[t].label.empty() ? "trajectory " + std::to_string(t) : trajectories[t].label, kInk,
+                text_size, y);
+      if (!trajectories[t].detail.empty()) {
+        y += kLegendDetailRow * ppm;
+        entryText(trajectories[t].detail, kMutedInk, detail_size, y);
+      }
       y += row;
     }
     y += 0.5 * row;
@@ -1168,7 +1212,7 @@ void renderTrajectories(const core::WorldSpec& world, const core::Protocol& prot
   setColour(cr, path_style.colour);
   cairo_set_line_width(cr, path_style.width * ppm);
   cairo_stroke(cr);
-  entryText("A* path", kInk);
+  entryText("A* path", kInk, text_size, y);
   y += row;
   if (any_collision) {
     cairo_save(cr);
@@ -1176,7 +1220,17 @@ void renderTrajectories(const core::WorldSpec& world, const core::Protocol& prot
     cairo_scale(cr, ppm, ppm);
     drawCollisionMark(cr, 0.0, 0.0, 0.09, 0.045);
     cairo_restore(cr);
-    entryText("collision", kInk);
+    entryText("cylinder hit", kInk, text_size, y);
+    y += row;
+  }
+  if (any_outline) {
+    // A small robot, heading right, in the swatch's place (y flipped back to the world's up).
+    cairo_save(cr);
+    cairo_translate(cr, x0 + 0.5 * kLegendSwatch * ppm, y);
+    cairo_scale(cr, 0.7 * ppm, -0.7 * ppm);
+    drawRobotOutline(cr, core::Pose2{}, style.robot_outline);
+    cairo_restore(cr);
+    entryText("robot at contact", kInk, text_size, y);
   }
 
   detail::finishImage(image);

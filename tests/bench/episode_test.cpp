@@ -260,6 +260,9 @@ TEST(Episode, DrivingIntoAWallIsACollisionAtTheTimeOfContact) {
   // x = -2.025 only at y = 5.64; the front-right wheel the one at -1.875 at about y = 5.634.)
   EXPECT_EQ(r.collision->point, core::cellCentre({15, 5}));
   EXPECT_EQ(r.collision->rect_index, 1);  // front-left wheel
+  // The pose at contact, where plots draw the robot's outline: straight ahead of the start.
+  EXPECT_NEAR(r.collision->pose.x, -2.0, 0.01);
+  EXPECT_NEAR(r.collision->pose.y, 5.621, 0.01);
 
   // Time: 0.204 s to reach 1 m/s over 0.102 m, then (2.621 - 0.102) / 1 = 2.519 s: 2.723 s.
   EXPECT_NEAR(r.collision->time, 2.723, 0.015);

@@ -179,7 +179,7 @@ TEST(EpisodesCsv, FormatsASuccessRow) {
 
 TEST(EpisodesCsv, WritesTheCollisionPointStatesAndASanitisedError) {
   EpisodeResult hit = episode(5, 0, Outcome::Collision, 2.5, 0.0, 2.75);
-  hit.collision = sim::CollisionInfo{2.75, {-2.175, 5.925}, 1};
+  hit.collision = sim::CollisionInfo{2.75, {-2.175, 5.925}, 1, {}};
   hit.state_entries = {{"drive", 2}, {"recover", 1}};
   EpisodeResult broken = episode(5, 1, Outcome::Error, 0.0, 0.0, 1.0);
   broken.error = "controller threw: bad, worse\nworst";

@@ -118,10 +118,15 @@ std::vector<FigureKind> figureKinds() {
       {"heat map", [](const fs::path& f) { renderHeatMap(heatMap(), f); }, 0, 0, 3000},
       {"world bars", [](const fs::path& f) { renderWorldBars(worldBars(), f); }, 0, 0, 3000},
       {"paired worlds", [](const fs::path& f) { renderPairedWorlds(pairedWorlds(), f); }, 720 + 128, 472, 3000},
-      // The world picture at 40 px/m plus the 2 m legend band: (4.5 + 1.2 + 2) * 40 = 308,
+      // The world picture at 40 px/m plus the 2.6 m legend band: (4.5 + 1.2 + 2.6) * 40 = 332,
       // (14 + 1.2) * 40 = 608.
       {"trajectories",
-       [protocol](const fs::path& f) { renderTrajectories(corridorWorld(), protocol, trajectories(), f, 40.0); }, 308,
+       [protocol](const fs::path& f) {
+         TrajectoryStyle style;
+         style.pixels_per_metre = 40.0;
+         renderTrajectories(corridorWorld(), protocol, trajectories(), f, style);
+       },
+       332,
        608, 3000},
       // (4.5 + 1.2) * 40 = 228, (14 + 1.2) * 40 = 608.
       {"world", [protocol](const fs::path& f) { renderWorld(corridorWorld(), protocol, f, RenderOptions{40.0, true, true}); },

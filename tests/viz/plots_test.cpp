@@ -11,6 +11,7 @@
 #include <iterator>
 #include <limits>
 #include <memory>
+#include <numbers>
 #include <random>
 #include <string>
 #include <vector>
@@ -20,6 +21,7 @@
 
 #include "barn/core/errors.hpp"
 #include "barn/core/protocol.hpp"
+#include "barn/core/robot_config.hpp"
 #include "barn/core/world.hpp"
 #include "barn/core/world_file.hpp"
 #include "barn/viz/world_render.hpp"
@@ -459,18 +461,24 @@ core::WorldSpec emptyWorld() {
 int pxX(double x) { return static_cast<int>(std::lround((x + 5.1) * 120.0)); }
 int pxY(double y) { return static_cast<int>(std::lround((14.6 - y) * 120.0)); }
 
+TrajectoryStyle scaled(double pixels_per_metre) {
+  TrajectoryStyle style;
+  style.pixels_per_metre = pixels_per_metre;
+  return style;
+}
+
 TEST_F(PlotsTest, TrajectoryOverlayIsTheWorldPictureWithALegendBand) {
   const core::Protocol protocol = core::protocolPreset("barn2023");
   renderTrajectories(emptyWorld(), protocol, {}, png_);
   const Size size = pngSize(png_);
-  EXPECT_EQ(size.width, std::lround((4.5 + 1.2 + 2.0) * 120.0));  // 924
+  EXPECT_EQ(size.width, std::lround((4.5 + 1.2 + 2.6) * 120.0));  // 996
   EXPECT_EQ(size.height, std::lround((14.0 + 1.2) * 120.0));      // 1824
 
-  // Same height as renderWorld, 2 m wider.
+  // Same height as renderWorld, 2.6 m wider.
   renderWorld(emptyWorld(), protocol, png_, RenderOptions{60.0, true, true});
   const Size world_size = pngSize(png_);
-  renderTrajectories(emptyWorld(), protocol, {}, png_, 60.0);
-  EXPECT_EQ(pngSize(png_).width, world_size.width + 120);
+  renderTrajectories(emptyWorld(), protocol, {}, png_, scaled(60.0));
+  EXPECT_EQ(pngSize(png_).width, world_size.width + 156);  // 2.6 m x 60 px/m
   EXPECT_EQ(pngSize(png_).height, world_size.height);
 }
 
@@ -506,6 +514,67 @@ TEST_F(PlotsTest, TrajectorySegmentsTakeTheirStateColourAndCollisionsAreMarked) 
   EXPECT_TRUE(near(image.at(pxX(-2.5), pxY(2.5)), 1.0, 1.0, 1.0));
 }
 
+TEST_F(PlotsTest, ColouredByTrialEachTrajectoryHasOneColourAndALegendEntry) {
+  // The same two paths as above, states and all: by trial, trajectory 0 is orange throughout
+  // and trajectory 1 sky blue, whatever their states; both solid (7 colours before a repeat).
+  TrajectoryOverlay first;
+  first.label = "trial 0  success";
+  first.detail = "23.4 s  score 0.212";
+  for (int k = 0; k <= 20; ++k) first.points.push_back({-3.5, 1.0 + 0.1 * k, k < 10 ? "forward" : "recovery"});
+  TrajectoryOverlay second;
+  second.label = "trial 1  collision";
+  second.detail = "12.0 s  score 0.000";
+  for (int k = 0; k <= 20; ++k) second.points.push_back({-1.0, 1.0 + 0.1 * k, k < 10 ? "recovery" : "backtrack"});
+  TrajectoryStyle style;
+  style.colouring = TrajectoryColouring::ByTrial;
+  renderTrajectories(emptyWorld(), core::protocolPreset("barn2023"), {first, second}, png_, style);
+
+  const Image image(png_);
+  ASSERT_TRUE(image.ok());
+  EXPECT_TRUE(near(image.at(pxX(-3.5), pxY(1.45)), 0.902, 0.624, 0.0));    // forward, trial 0
+  EXPECT_TRUE(near(image.at(pxX(-3.5), pxY(2.55)), 0.902, 0.624, 0.0));    // recovery, trial 0
+  EXPECT_TRUE(near(image.at(pxX(-1.0), pxY(1.15)), 0.337, 0.706, 0.914));  // recovery, trial 1
+  EXPECT_TRUE(near(image.at(pxX(-1.0), pxY(2.15)), 0.337, 0.706, 0.914));  // backtrack, trial 1, solid
+  // Legend, from x 684 (the map's width) and y 96 (0.8 m): the "trajectory" header, then one
+  // 0.3 m row per entry plus 0.2 m for its detail line. Trial 0's swatch at y 132, trial 1's
+  // at 132 + 24 + 36 = 192; no state section.
+  EXPECT_TRUE(near(image.at(700, 132), 0.902, 0.624, 0.0));
+  EXPECT_TRUE(near(image.at(700, 192), 0.337, 0.706, 0.914));
+}
+
+TEST_F(PlotsTest, TheRobotsOutlineIsDrawnAtThePoseOfContact) {
+  // The Jackal's collision shape: chassis 0.42 x 0.31 m, wheels 0.196 x 0.04 m at x +-0.131,
+  // y +-0.188 (core::RobotConfig). Facing up the page (yaw pi/2), a point 0.19 m ahead of the
+  // centre is inside the chassis (half length 0.21) and one 0.18 m to its right is outside it
+  // (half width 0.155) and between the wheels (x 0.033 ... 0.229 ahead).
+  TrajectoryOverlay crash;
+  crash.label = "trial 0  collision";
+  for (int k = 0; k <= 10; ++k) crash.points.push_back({-2.5, 3.0 + 0.2 * k, ""});
+  crash.collided = true;
+  crash.collision_x = -2.5;
+  crash.collision_y = 5.3;
+  crash.collision_pose = core::Pose2{-2.5, 5.0, std::numbers::pi / 2};
+  TrajectoryStyle style;
+  style.robot_outline = core::RobotConfig{}.collisionRects();
+  renderTrajectories(emptyWorld(), core::protocolPreset("barn2023"), {crash}, png_, style);
+
+  const Image image(png_);
+  ASSERT_TRUE(image.ok());
+  // Inside: the outline's light red fill (0.18 of (0.86, 0, 0) over white), off the
+  // trajectory's line (x -2.5 +- 0.018 m).
+  const auto pink = [](Pixel p) { return p.r > 240 && p.g > 195 && p.g < 222 && std::abs(p.g - p.b) <= 3; };
+  EXPECT_TRUE(pink(image.at(pxX(-2.5 + 0.08), pxY(5.0 + 0.12))));
+  // Outside the chassis beside its centre: white.
+  EXPECT_TRUE(near(image.at(pxX(-2.5 + 0.18), pxY(5.0)), 1.0, 1.0, 1.0));
+  // The chassis' front edge (0.21 m ahead) in the collision red.
+  EXPECT_TRUE(image.any(pxX(-2.5 + 0.08) - 1, pxY(5.21) - 2, pxX(-2.5 + 0.08) + 2, pxY(5.21) + 3,
+                        test::isColour(0.86, 0.0, 0.0)));
+  // Without the shape, no outline.
+  style.robot_outline.clear();
+  renderTrajectories(emptyWorld(), core::protocolPreset("barn2023"), {crash}, png_, style);
+  EXPECT_TRUE(near(Image(png_).at(pxX(-2.5 + 0.08), pxY(5.0 + 0.12)), 1.0, 1.0, 1.0));
+}
+
 TEST_F(PlotsTest, TrajectoryOverlayRendersARealWorld) {
   const core::WorldSpec world =
       core::readWorldFile(fs::path(BARN_SOURCE_DIR) / "worlds" / "world_150.yaml");
@@ -516,16 +585,16 @@ TEST_F(PlotsTest, TrajectoryOverlayRendersARealWorld) {
                   {kNaN, 4.5, ""},
                   {-1.9, 5.0, "forward"},
                   {-1.8, 6.0, "forward"}};
-  renderTrajectories(world, core::protocolPreset("barn2024"), {trial}, png_, 50.0);
+  renderTrajectories(world, core::protocolPreset("barn2024"), {trial}, png_, scaled(50.0));
   EXPECT_GT(pngSize(png_).width, 0);
 }
 
 TEST_F(PlotsTest, TrajectoryOverlayRejectsABadScale) {
   expectInputError(
-      [&] { renderTrajectories(emptyWorld(), core::protocolPreset("barn2023"), {}, png_, 0.0); },
+      [&] { renderTrajectories(emptyWorld(), core::protocolPreset("barn2023"), {}, png_, scaled(0.0)); },
       {png_.string(), "pixels_per_metre"});
   expectInputError(
-      [&] { renderTrajectories(emptyWorld(), core::protocolPreset("barn2023"), {}, png_, 1e4); },
+      [&] { renderTrajectories(emptyWorld(), core::protocolPreset("barn2023"), {}, png_, scaled(1e4)); },
       {"out of range"});
 }
 
@@ -617,8 +686,7 @@ TEST_F(PlotsTest, UnwritablePathThrowsInputErrorNamingThePath) {
   expectInputError([&] { renderWorldBars(threeHundredWorlds(), unwritable_); }, parts);
   expectInputError(
       [&] {
-        renderTrajectories(emptyWorld(), core::protocolPreset("barn2023"), {}, unwritable_,
-                              20.0);
+        renderTrajectories(emptyWorld(), core::protocolPreset("barn2023"), {}, unwritable_, scaled(20.0));
       },
       parts);
   EXPECT_FALSE(fs::exists(unwritable_.parent_path()));

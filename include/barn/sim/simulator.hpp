@@ -53,6 +53,7 @@ struct CollisionInfo {
   double time = 0.0;                          // [s]
   Eigen::Vector2d point = Eigen::Vector2d::Zero();  // [m] cylinder centre that was hit
   int rect_index = -1;                        // 0 chassis, 1-4 wheels
+  core::Pose2 pose;                           // the robot's pose at contact (not kept in episodes.csv)
 };
 
 class Simulator {

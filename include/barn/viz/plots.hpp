@@ -13,10 +13,13 @@
 
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "barn/core/protocol.hpp"
+#include "barn/core/robot_config.hpp"
+#include "barn/core/types.hpp"
 #include "barn/core/world.hpp"
 #include "barn/viz/image_format.hpp"
 
@@ -155,28 +158,48 @@ struct TrajectoryPoint {
 
 /// One trial's path through the world.
 struct TrajectoryOverlay {
-  std::string label;                    // legend text, e.g. "trial 0"
+  std::string label;                    // legend text, e.g. "trial 0  success"
+  std::string detail;                   // a second, smaller legend line, e.g. "23.4 s  score 0.212"; "" = none
   std::vector<TrajectoryPoint> points;  // in time order; non-finite points break the line
   bool collided = false;                // draw a red X at the collision point
-  double collision_x = 0.0;             // [m] world frame, if collided
+  double collision_x = 0.0;             // [m] world frame, if collided: the cylinder hit
   double collision_y = 0.0;             // [m] world frame, if collided
+  std::optional<core::Pose2> collision_pose;  // world frame: the robot's pose at contact, outlined there
+};
+
+/// What colours a trajectory's line.
+enum class TrajectoryColouring {
+  ByState,  ///< each segment its controller state's colour; trajectories told apart by dash pattern
+  ByTrial,  ///< one colour per trajectory (a dash pattern too, once the 7 colours repeat)
+};
+
+/// How trajectories are drawn.
+struct TrajectoryStyle {
+  TrajectoryColouring colouring = TrajectoryColouring::ByState;
+  double pixels_per_metre = 120.0;  // [px/m] (pt/m in a PDF or SVG)
+  std::vector<core::RobotRect> robot_outline;  // robot frame, drawn at each collision_pose (e.g.
+                                               // core::RobotConfig::collisionRects()); empty = none
 };
 
 /// Draws the world as renderWorld does (cells, cylinders, start pose, goal; the A* path thin
-/// and light), then each trajectory as a polyline whose segments take the colour of their start
-/// point's state, a red X at each collision, and a legend on the right: the states, the
-/// trajectories (one dash pattern each, when there is more than one or a label is set), the A*
-/// path and the collision mark. State colours come from a fixed colour-blind-safe palette
-/// (Okabe-Ito), assigned to state names in order of first appearance across all trajectories
-/// (cycling after 7); points without a state are dark grey.
+/// and light), then each trajectory as a polyline, the robot's outline (light red, outlined in
+/// red) at each collision pose, a red X on each cylinder hit, and a legend on the right. By
+/// state, each segment takes the colour of its start point's state and the legend lists the
+/// states, then the trajectories (one dash pattern each); by trial, each trajectory has one
+/// colour, listed under "trajectory". A trajectory's legend entry is its label (or "trajectory
+/// <k>") with its detail on a second line; the A* path, the cylinder mark and the robot outline
+/// follow when present. Colours come from a fixed colour-blind-safe palette (Okabe-Ito): states
+/// in order of first appearance across all trajectories, trials in order (cycling after 7);
+/// points without a state are dark grey.
 ///
-/// Layout: the world picture of renderWorld at the same scale plus a 2.0 m legend band:
-///   width  = lround((x_max - x_min + 2 * 0.6 + 2.0) * pixels_per_metre)  [px]
+/// Layout: the world picture of renderWorld at the same scale plus a 2.6 m legend band:
+///   width  = lround((x_max - x_min + 2 * 0.6 + 2.6) * pixels_per_metre)  [px]
 ///   height = lround((y_max - y_min + 2 * 0.6) * pixels_per_metre)        [px]
-/// e.g. 924 x 1824 px for either preset at 120 px/m.
+/// e.g. 996 x 1824 px for either preset at 120 px/m. Legend text is 0.15 m (details 0.12 m)
+/// tall, shrunk to fit the band.
 /// Throws InputError if pixels_per_metre is not positive or an image side exceeds 32767 px.
 void renderTrajectories(const core::WorldSpec& world, const core::Protocol& protocol,
                         const std::vector<TrajectoryOverlay>& trajectories, const std::filesystem::path& output,
-                        double pixels_per_metre = 120.0);
+                        const TrajectoryStyle& style = {});
 
 }  // namespace barn::viz

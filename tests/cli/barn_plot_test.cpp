@@ -1,0 +1,116 @@
+// `barn plot`, `barn world render` and their outputs through the real executable: the
+// extension of -o chooses PNG, PDF or SVG, and any other is bad input (exit 2) refused before
+// any work, with nothing written.
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "cli_runner.hpp"
+
+namespace {
+
+using namespace barn::test;
+using testing::HasSubstr;
+
+const fs::path kRepo = BARN_SOURCE_DIR;
+
+/// A file's kind by its first bytes.
+std::string magic(const fs::path& file) {
+  const std::string text = readFile(file);
+  if (text.rfind("\x89PNG\r\n\x1a\n", 0) == 0) return "png";
+  if (text.rfind("%PDF-", 0) == 0) return "pdf";
+  if (text.find("<svg") != std::string::npos && text.find("<svg") < 200) return "svg";
+  return "?";
+}
+
+class BarnPlot : public ::testing::Test {
+ protected:
+  // One record for the suite: the straight-line fixture on worlds 0 and 150, 2 trials each
+  // (fast, and it collides, so trajectories have contacts).
+  static void SetUpTestSuite() {
+    dir_ = new fs::path(uniqueTempPath("barn_plot_test"));
+    fs::create_directories(*dir_);
+    const RunResult r = run("run --controller straight --worlds 0,150 --trials 2 --out " + quote(*dir_ / "record"));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+  }
+  static void TearDownTestSuite() {
+    std::error_code ec;
+    fs::remove_all(*dir_, ec);
+    delete dir_;
+  }
+  static fs::path record() { return *dir_ / "record"; }
+  static fs::path* dir_;
+};
+fs::path* BarnPlot::dir_ = nullptr;
+
+TEST_F(BarnPlot, ScoresAreWrittenInTheFormatOfTheExtension) {
+  for (const std::string extension : {"png", "pdf", "svg"}) {
+    const fs::path out = *dir_ / ("scores." + extension);
+    const RunResult r = run("plot scores " + quote(record()) + " -o " + quote(out));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_EQ(magic(out), extension);
+    EXPECT_GT(fs::file_size(out), 3000u);
+  }
+  // PNG size (plots.hpp): 720 + 128 wide; 448 + 22 (subtitle) + 24 (one legend row) + 34
+  // (outcome strip) tall. Bytes 16 and 20 hold them big-endian.
+  const std::string png = readFile(*dir_ / "scores.png");
+  const auto be32 = [&](std::size_t at) {
+    return (static_cast<unsigned char>(png[at]) << 24) | (static_cast<unsigned char>(png[at + 1]) << 16) |
+           (static_cast<unsigned char>(png[at + 2]) << 8) | static_cast<unsigned char>(png[at + 3]);
+  };
+  EXPECT_EQ(be32(16), 848u);
+  EXPECT_EQ(be32(20), 528u);
+}
+
+TEST_F(BarnPlot, AnUnknownExtensionIsBadInputNamingTheFile) {
+  const fs::path jpg = *dir_ / "scores.jpg";
+  RunResult r = run("plot scores " + quote(record()) + " -o " + quote(jpg));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr(jpg.string()));
+  EXPECT_THAT(r.output, HasSubstr(".png, .pdf or .svg"));
+  EXPECT_FALSE(fs::exists(jpg));
+
+  const fs::path gif = *dir_ / "traj.gif";
+  r = run("plot trajectory " + quote(record()) + " --world 0 -o " + quote(gif));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr(gif.string()));
+  EXPECT_FALSE(fs::exists(gif));
+
+  const fs::path none = *dir_ / "world";
+  r = run("world render " + quote(kRepo / "worlds" / "world_000.yaml") + " -o " + quote(none));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("unknown image type"));
+}
+
+TEST_F(BarnPlot, TrajectoriesOfSeveralWorldsAreOneFileEachInTheChosenFormat) {
+  const RunResult r = run("plot trajectory " + quote(record()) + " --world 0,150 --colour trial -o " +
+                          quote(*dir_ / "traj.pdf"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(magic(*dir_ / "traj_world_0.pdf"), "pdf");
+  EXPECT_EQ(magic(*dir_ / "traj_world_150.pdf"), "pdf");
+  EXPECT_FALSE(fs::exists(*dir_ / "traj.pdf"));
+}
+
+TEST_F(BarnPlot, TrajectoryColouringIsStateOrTrial) {
+  const fs::path svg = *dir_ / "state.svg";
+  RunResult r = run("plot trajectory " + quote(record()) + " --world 150 --trial 1 -o " + quote(svg));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(magic(svg), "svg");
+  r = run("plot trajectory " + quote(record()) + " --world 150 --colour rainbow -o " + quote(*dir_ / "x.png"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("rainbow"));
+}
+
+TEST_F(BarnPlot, WorldRenderWritesVectorFormats) {
+  for (const std::string extension : {"pdf", "svg"}) {
+    const fs::path out = *dir_ / ("world." + extension);
+    const RunResult r = run("world render " + quote(kRepo / "worlds" / "world_000.yaml") + " -o " + quote(out));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_EQ(magic(out), extension);
+  }
+}
+
+}  // namespace
