@@ -22,7 +22,7 @@ using detail::setColour;
 // Series colours (blue, orange, green, purple), then the reference lines' grey.
 constexpr Rgb kPalette[] = {{0.12, 0.47, 0.71}, {0.95, 0.50, 0.10}, {0.17, 0.63, 0.17}, {0.58, 0.40, 0.74}};
 constexpr Rgb kReferenceColour{0.45, 0.45, 0.45};
-constexpr Rgb kInk{0.10, 0.10, 0.10};
+constexpr Rgb kInk = detail::kInkColour;
 constexpr Rgb kGrid{0.90, 0.90, 0.90};
 
 // Margins around the plot area, legend rows and text sizes, in pixels.

@@ -54,12 +54,22 @@ using detail::textWidth;
 // ---------------------------------------------------------------------------
 // Style shared by the charts (device pixels)
 
-constexpr Rgb kInk{0.10, 0.10, 0.10};
+constexpr Rgb kInk = detail::kInkColour;
 constexpr Rgb kMutedInk{0.40, 0.40, 0.40};  // reference-line labels, legend headers
 constexpr Rgb kGridLine{0.90, 0.90, 0.90};
 constexpr Rgb kMissingFill{0.93, 0.93, 0.93};
 constexpr Rgb kMissingHatch{0.70, 0.70, 0.70};
 constexpr Rgb kBarColour{0.12, 0.47, 0.71};
+
+// Okabe and Ito's colour-blind-safe qualitative palette (black aside): trajectory states and
+// trials, and the outcomes of the score bars.
+constexpr Rgb kOrange{0.902, 0.624, 0.000};
+constexpr Rgb kSkyBlue{0.337, 0.706, 0.914};
+constexpr Rgb kBluishGreen{0.000, 0.620, 0.451};
+constexpr Rgb kYellow{0.941, 0.894, 0.259};
+constexpr Rgb kBlue{0.000, 0.447, 0.698};
+constexpr Rgb kVermillion{0.835, 0.369, 0.000};
+constexpr Rgb kReddishPurple{0.800, 0.475, 0.655};
 
 constexpr double kTitleSize = 20.0;  // [px]
 constexpr double kLabelSize = 16.0;  // [px] axis labels
@@ -282,23 +292,22 @@ constexpr double kBarsPlotHeight = 320.0;
 constexpr double kBarsLeft = 72.0, kBarsRight = 56.0, kBarsTop = 56.0, kBarsBottom = 72.0;
 constexpr double kSubtitleBand = 22.0;    // added above the plot by a subtitle
 constexpr double kSubtitleSize = 14.0;
-constexpr double kLegendRowHeight = 24.0;  // added above the plot per legend row
+constexpr double kChartLegendRow = 24.0;  // added above the plot per legend row
 constexpr double kStripGap = 6.0;          // between the zero line and the outcome strip
 constexpr double kStripHeight = 28.0;
 
-/// An outcome as the strip and legend show it. Okabe and Ito's colour-blind-safe colours: green
-/// for success, vermillion for collision (the red of the trajectory plots' collision marks),
-/// orange for timeout, reddish purple for error.
+/// An outcome as the strip and legend show it: green for success, the palette's red
+/// (vermillion) for collision, orange for timeout, reddish purple for error.
 struct OutcomeKind {
   const char* name;
   Rgb colour;
   int OutcomeCounts::*member;
   int count(const OutcomeCounts& counts) const { return counts.*member; }
 };
-constexpr std::array<OutcomeKind, 4> kOutcomeKinds{{{"success", {0.000, 0.620, 0.451}, &OutcomeCounts::success},
-                                                    {"collision", {0.835, 0.369, 0.000}, &OutcomeCounts::collision},
-                                                    {"timeout", {0.902, 0.624, 0.000}, &OutcomeCounts::timeout},
-                                                    {"error", {0.800, 0.475, 0.655}, &OutcomeCounts::error}}};
+constexpr std::array<OutcomeKind, 4> kOutcomeKinds{{{"success", kBluishGreen, &OutcomeCounts::success},
+                                                    {"collision", kVermillion, &OutcomeCounts::collision},
+                                                    {"timeout", kOrange, &OutcomeCounts::timeout},
+                                                    {"error", kReddishPurple, &OutcomeCounts::error}}};
 
 // A legend of small marks and texts in rows above a chart.
 enum class LegendMark { Box, Whisker, Header };
@@ -308,26 +317,26 @@ struct LegendItem {
   std::string text;
   double width() const { return (mark == LegendMark::Header ? 0.0 : 18.0) + textWidth(text, kSmallSize); }
 };
-constexpr double kLegendItemGap = 18.0;
+constexpr double kChartLegendGap = 18.0;
 
 /// The items in rows no wider than `room`.
 std::vector<std::vector<const LegendItem*>> legendRows(const std::vector<LegendItem>& items, double room) {
   std::vector<std::vector<const LegendItem*>> rows;
   double used = 0.0;
   for (const LegendItem& item : items) {
-    if (rows.empty() || (!rows.back().empty() && used + kLegendItemGap + item.width() > room)) {
+    if (rows.empty() || (!rows.back().empty() && used + kChartLegendGap + item.width() > room)) {
       rows.emplace_back();
-      used = -kLegendItemGap;
+      used = -kChartLegendGap;
     }
     rows.back().push_back(&item);
-    used += kLegendItemGap + item.width();
+    used += kChartLegendGap + item.width();
   }
   return rows;
 }
 
 /// Draws legend rows from `left`, the first row's top at `top`.
 void drawLegendRows(cairo_t* cr, const std::vector<std::vector<const LegendItem*>>& rows, double left, double top) {
-  double y = top + 0.5 * kLegendRowHeight;
+  double y = top + 0.5 * kChartLegendRow;
   for (const std::vector<const LegendItem*>& row : rows) {
     double x = left;
     for (const LegendItem* item : row) {
@@ -349,9 +358,9 @@ void drawLegendRows(cairo_t* cr, const std::vector<std::vector<const LegendItem*
       const double text_x = item->mark == LegendMark::Header ? x : x + 18.0;
       setColour(cr, item->mark == LegendMark::Header ? kMutedInk : kInk);
       drawText(cr, item->text, text_x, centredBaseline(y, kSmallSize), kSmallSize);
-      x += item->width() + kLegendItemGap;
+      x += item->width() + kChartLegendGap;
     }
-    y += kLegendRowHeight;
+    y += kChartLegendRow;
   }
 }
 
@@ -402,16 +411,10 @@ constexpr double kLegendSwatch = 0.40;      // [m] line length of a legend entry
 constexpr Rgb kNoStateColour{0.30, 0.30, 0.30};
 constexpr Rgb kCollisionColour{0.86, 0.0, 0.0};
 
-// Okabe and Ito's colour-blind-safe qualitative palette, without black (the ink) and with
+// The state and trial colours: Okabe and Ito's palette without black (the ink) and with
 // yellow last (weak on white). Vermillion sits late too: it is the nearest to the obstacles'
 // red and the collision marks.
-constexpr std::array<Rgb, 7> kStatePalette{{{0.902, 0.624, 0.000},    // orange
-                                            {0.337, 0.706, 0.914},    // sky blue
-                                            {0.000, 0.620, 0.451},    // bluish green
-                                            {0.800, 0.475, 0.655},    // reddish purple
-                                            {0.000, 0.447, 0.698},    // blue
-                                            {0.835, 0.369, 0.000},    // vermillion
-                                            {0.941, 0.894, 0.259}}};  // yellow
+constexpr std::array<Rgb, 7> kStatePalette{{kOrange, kSkyBlue, kBluishGreen, kReddishPurple, kBlue, kVermillion, kYellow}};
 
 // Dash patterns that tell trajectories apart; the colour is taken by the state. [m] on, off
 struct DashPattern {
@@ -737,7 +740,7 @@ void renderWorldBars(const WorldBars& bars, const std::filesystem::path& output)
   const double plot_w = std::max(kBarsMinPlotWidth, kBarsPitch * static_cast<double>(n));
   const std::vector<std::vector<const LegendItem*>> legend_rows = legendRows(legend, plot_w);
   const double plot_top = kBarsTop + (bars.subtitle.empty() ? 0.0 : kSubtitleBand) +
-                          kLegendRowHeight * static_cast<double>(legend_rows.size());
+                          kChartLegendRow * static_cast<double>(legend_rows.size());
   const double plot_bottom = plot_top + kBarsPlotHeight;
   const double strip_top = plot_bottom + kStripGap, strip_bottom = strip_top + kStripHeight;
   const double ticks_top = strip ? strip_bottom : plot_bottom;  // x tick labels hang from here
