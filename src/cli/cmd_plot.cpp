@@ -55,18 +55,13 @@ double orderKey(const core::WorldSpec& w, const std::string& by) {
 }
 
 // "300 worlds of worlds/ (barnbench-generated)": how many of the record's worlds are shown,
-// which folder they are in and where they came from (core::WorldSource), so a figure of the
+// which folder they are in and where they came from (bench::worldSetName), so a figure of the
 // official BARN worlds is not mistaken for one of barnbench's own.
 std::string worldSetText(const bench::RunManifest& manifest, const std::vector<core::WorldSpec>& worlds,
                          std::size_t shown) {
-  std::size_t imported = 0;
-  for (const auto& w : worlds) imported += w.source == core::WorldSource::BarnDataset ? 1 : 0;
-  const char* source = imported == 0 ? "barnbench-generated"
-                       : imported == worlds.size() ? "the official BARN dataset, imported"
-                                                   : "barnbench-generated and imported BARN worlds";
   const std::string folder = fs::path(manifest.worlds_folder).lexically_normal().filename().string();
   return std::to_string(shown) + (shown == 1 ? " world of " : " worlds of ") + (folder.empty() ? "?" : folder) +
-         "/ (" + source + ")";
+         "/ (" + bench::worldSetName(worlds) + ")";
 }
 
 // traj.pdf -> traj_world_<id>.pdf beside it: one figure per world of a several-world request.

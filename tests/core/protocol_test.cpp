@@ -71,6 +71,16 @@ TEST(Protocol, Barn2024StartsOnTheCorridorCentreAndClipsAtTwiceOT) {
   EXPECT_DOUBLE_EQ(p.clip_high, 8.0);
 }
 
+TEST(Protocol, TheScoreScaleEndsAtOneOverTheLowerClip) {
+  // A success at or under clip_low * OT scores OT / (clip_low OT); at or over 8 OT, 1 / 8.
+  EXPECT_DOUBLE_EQ(protocolPreset("barn2023").maxScore(), 0.25);
+  EXPECT_DOUBLE_EQ(protocolPreset("barn2024").maxScore(), 0.5);
+  EXPECT_DOUBLE_EQ(protocolPreset("barn2023").minSuccessScore(), 0.125);
+  const Protocol p = protocolPreset("barn2024");
+  EXPECT_DOUBLE_EQ(barnScore(true, 0.5, 10.0, p), p.maxScore());
+  EXPECT_DOUBLE_EQ(barnScore(true, 1000.0, 10.0, p), p.minSuccessScore());
+}
+
 TEST(Protocol, UnknownPresetThrowsInputErrorNamingIt) {
   EXPECT_THROW(protocolPreset("barn2025"), InputError);
   EXPECT_THAT(presetError("barn2025"), HasSubstr("barn2025"));
