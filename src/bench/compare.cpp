@@ -39,30 +39,6 @@ std::string fmt(const char* format, double v) {
 
 }  // namespace
 
-std::vector<WorldStats> perWorldStats(const std::vector<EpisodeResult>& results) {
-  std::map<int, WorldStats> worlds;
-  std::map<int, double> time_sum, score_sum;
-  for (const auto& r : results) {
-    WorldStats& w = worlds[r.world_id];
-    w.world_id = r.world_id;
-    ++w.trials;
-    w.successes += r.outcome == Outcome::Success;
-    w.collisions += r.outcome == Outcome::Collision;
-    w.timeouts += r.outcome == Outcome::Timeout;
-    w.errors += r.outcome == Outcome::Error;
-    score_sum[r.world_id] += r.score;
-    if (r.outcome == Outcome::Success) time_sum[r.world_id] += r.actual_time;
-  }
-  std::vector<WorldStats> out;
-  for (auto& [id, w] : worlds) {
-    w.success_rate = static_cast<double>(w.successes) / w.trials;
-    w.mean_score = score_sum[id] / w.trials;
-    w.mean_success_time = w.successes ? time_sum[id] / w.successes : kNaN;
-    out.push_back(w);
-  }
-  return out;
-}
-
 std::vector<double> averageRanks(const std::vector<double>& values) {
   const std::size_t n = values.size();
   std::vector<std::size_t> order(n);

@@ -124,7 +124,7 @@ void writeSummaryFields(std::ostringstream& out, const RunSummary& s) {
 
 }  // namespace
 
-std::string summaryJson(const std::string& world_set, const RunSummary& summary, const std::vector<WorldScore>& per_world,
+std::string summaryJson(const std::string& world_set, const RunSummary& summary, const std::vector<WorldStats>& per_world,
                         const std::vector<BucketSummary>& breakdown) {
   const auto number = [](double v) { return std::isfinite(v) ? core::formatDouble(v) : std::string("null"); };
   std::ostringstream out;
@@ -132,12 +132,13 @@ std::string summaryJson(const std::string& world_set, const RunSummary& summary,
   writeSummaryFields(out, summary);
   out << "},\n  \"per_world\": [";
   for (std::size_t i = 0; i < per_world.size(); ++i) {
-    const WorldScore& w = per_world[i];
-    out << (i ? ",\n    " : "\n    ") << "{\"world\": " << w.world << ", \"trials\": " << w.trials
-        << ", \"score\": " << number(w.score) << ", \"score_ci95\": [" << number(w.score_ci_low) << ", "
+    const WorldStats& w = per_world[i];
+    const double n = w.trials;
+    out << (i ? ",\n    " : "\n    ") << "{\"world\": " << w.world_id << ", \"trials\": " << w.trials
+        << ", \"score\": " << number(w.mean_score) << ", \"score_ci95\": [" << number(w.score_ci_low) << ", "
         << number(w.score_ci_high) << "], \"success_rate\": " << number(w.success_rate)
-        << ", \"collision_rate\": " << number(w.collision_rate) << ", \"timeout_rate\": " << number(w.timeout_rate)
-        << ", \"avg_success_time_s\": " << number(w.avg_success_time) << "}";
+        << ", \"collision_rate\": " << number(w.collisions / n) << ", \"timeout_rate\": " << number(w.timeouts / n)
+        << ", \"avg_success_time_s\": " << number(w.mean_success_time) << "}";
   }
   out << "\n  ],\n  \"breakdown\": [";
   for (std::size_t i = 0; i < breakdown.size(); ++i) {
@@ -150,55 +151,47 @@ std::string summaryJson(const std::string& world_set, const RunSummary& summary,
   return out.str();
 }
 
-std::vector<WorldScore> perWorldScores(const std::vector<EpisodeResult>& results) {
-  std::vector<WorldScore> worlds;
-  std::map<int, std::size_t> index;
-  std::vector<std::vector<double>> scores;
-  std::vector<double> success_time;
+std::vector<WorldStats> perWorldStats(const std::vector<EpisodeResult>& results) {
+  std::map<int, WorldStats> worlds;
+  std::map<int, std::vector<double>> scores;
+  std::map<int, double> time_sum;
   for (const auto& r : results) {
-    auto [it, added] = index.emplace(r.world_id, worlds.size());
-    if (added) {
-      worlds.push_back({});
-      worlds.back().world = r.world_id;
-      scores.emplace_back();
-      success_time.push_back(0.0);
-    }
-    WorldScore& w = worlds[it->second];
+    WorldStats& w = worlds[r.world_id];
+    w.world_id = r.world_id;
     ++w.trials;
-    scores[it->second].push_back(r.score);
-    w.success_rate += r.outcome == Outcome::Success;
-    w.collision_rate += r.outcome == Outcome::Collision;
-    w.timeout_rate += r.outcome == Outcome::Timeout;
-    if (r.outcome == Outcome::Success) success_time[it->second] += r.actual_time;
+    w.successes += r.outcome == Outcome::Success;
+    w.collisions += r.outcome == Outcome::Collision;
+    w.timeouts += r.outcome == Outcome::Timeout;
+    w.errors += r.outcome == Outcome::Error;
+    scores[r.world_id].push_back(r.score);
+    if (r.outcome == Outcome::Success) time_sum[r.world_id] += r.actual_time;
   }
   // Student's t(0.975, df) for df = 1 ... 30; the normal 1.96 beyond.
   static constexpr double kT975[] = {12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228,
                                      2.201,  2.179, 2.160, 2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086,
                                      2.080,  2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048, 2.045, 2.042};
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  for (std::size_t i = 0; i < worlds.size(); ++i) {
-    WorldScore& w = worlds[i];
+  std::vector<WorldStats> out;
+  for (auto& [id, w] : worlds) {
+    const std::vector<double>& s = scores[id];
     const double n = w.trials;
     double sum = 0.0;
-    for (double v : scores[i]) sum += v;
-    w.score = sum / n;
+    for (double v : s) sum += v;
+    w.success_rate = w.successes / n;
+    w.mean_score = sum / n;
+    w.mean_success_time = w.successes ? time_sum[id] / w.successes : kNaN;
     w.score_ci_low = w.score_ci_high = kNaN;
     if (w.trials > 1) {
       double squares = 0.0;
-      for (double v : scores[i]) squares += (v - w.score) * (v - w.score);
+      for (double v : s) squares += (v - w.mean_score) * (v - w.mean_score);
       const int df = w.trials - 1;
-      const double t = df <= 30 ? kT975[df - 1] : 1.96;
-      const double half = t * std::sqrt(squares / df / n);
-      w.score_ci_low = w.score - half;
-      w.score_ci_high = w.score + half;
+      const double half = (df <= 30 ? kT975[df - 1] : 1.96) * std::sqrt(squares / df / n);
+      w.score_ci_low = w.mean_score - half;
+      w.score_ci_high = w.mean_score + half;
     }
-    const double successes = w.success_rate;
-    w.avg_success_time = successes > 0 ? success_time[i] / successes : kNaN;
-    w.success_rate /= n;
-    w.collision_rate /= n;
-    w.timeout_rate /= n;
+    out.push_back(w);
   }
-  return worlds;
+  return out;
 }
 
 std::string worldSetName(const std::vector<core::WorldSpec>& worlds) {

@@ -247,7 +247,7 @@ void writeCompleteRecord(const std::filesystem::path& dir, RunManifest manifest,
   manifest.episodes_done = results.size();
   manifest.sim_time_s = summary.sim_time;
   core::writeFilesAtomic(dir, {{kEpisodesFile, episodesCsv(results)},
-                               {kSummaryFile, summaryJson(worldSetName(worlds), summary, perWorldScores(results),
+                               {kSummaryFile, summaryJson(worldSetName(worlds), summary, perWorldStats(results),
                                                           difficultyBreakdown(results, worlds))},
                                {kManifestFile, formatManifest(manifest)}});
   std::error_code ec;

@@ -24,15 +24,16 @@ struct ShowOptions {
 
 std::string worldTable(const std::vector<bench::EpisodeResult>& results) {
   std::string table = "  world  trials  success  collision  timeout   score  95 % interval      time [s]\n";
-  for (const bench::WorldScore& w : bench::perWorldScores(results)) {
+  for (const bench::WorldStats& w : bench::perWorldStats(results)) {
     char interval[48] = "            -";
     if (std::isfinite(w.score_ci_low))
       std::snprintf(interval, sizeof(interval), "[%+.4f, %+.4f]", w.score_ci_low, w.score_ci_high);
     char time[16] = "     -";
-    if (std::isfinite(w.avg_success_time)) std::snprintf(time, sizeof(time), "%6.1f", w.avg_success_time);
+    if (std::isfinite(w.mean_success_time)) std::snprintf(time, sizeof(time), "%6.1f", w.mean_success_time);
+    const double n = w.trials;
     char line[160];
-    std::snprintf(line, sizeof(line), "  %5d  %6d  %7.2f  %9.2f  %7.2f  %.4f  %-18s %s\n", w.world, w.trials,
-                  w.success_rate, w.collision_rate, w.timeout_rate, w.score, interval, time);
+    std::snprintf(line, sizeof(line), "  %5d  %6d  %7.2f  %9.2f  %7.2f  %.4f  %-18s %s\n", w.world_id, w.trials,
+                  w.success_rate, w.collisions / n, w.timeouts / n, w.mean_score, interval, time);
     table += line;
   }
   return table;

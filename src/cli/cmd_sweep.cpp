@@ -157,26 +157,7 @@ void addSweepCommand(CLI::App& app, CommandContext& context) {
     }
     // sweep.csv and the figures. Units come from the controller's config file (a resumed or
     // merged sweep reads the default one, configs/controllers/NAME.yaml).
-    SweepTable table;
-    table.controller = grid.controller;
-    const fs::path config_file = controllerConfigFile(grid.controller, options->config);
-    for (const auto& p : grid.parameters) {
-      table.keys.push_back(p.key);
-      table.units.push_back(config_file.empty() ? std::string() : configKeyUnit(config_file, p.key));
-    }
-    if (!sessions.empty()) {
-      table.protocol = sessions.front().spec.episode.protocol;
-      table.trials = sessions.front().record.manifest.trials;
-    }
-    for (std::size_t c = 0; c < sessions.size(); ++c) {
-      SweepCell cell;
-      cell.name = grid.cells[c];
-      cell.values = bench::cellValues(grid, c);
-      const auto episodes = bench::readEpisodesCsv(sessions[c].record.dir / bench::kEpisodesFile);
-      cell.summary = bench::summarise(episodes);
-      cell.worlds = bench::perWorldStats(episodes);
-      table.cells.push_back(cell);
-    }
+    const SweepTable table = readSweepTable(dir, controllerConfigFile(grid.controller, options->config));
     core::writeFileAtomic(dir / "sweep.csv", sweepCsv(table));
     std::printf("%s", sweepSummary(table).c_str());
     for (const auto& figure : writeSweepPlots(table, dir, "." + options->figures))

@@ -45,6 +45,7 @@ void addWorldCommand(CLI::App& app, CommandContext& context);
 void addRunCommand(CLI::App& app, CommandContext& context);
 void addMergeCommand(CLI::App& app, CommandContext& context);
 void addShowCommand(CLI::App& app, CommandContext& context);
+void addReportCommand(CLI::App& app, CommandContext& context);
 void addLflhCommand(CLI::App& app, CommandContext& context);
 
 void addRegressCommand(CLI::App& app, CommandContext& context);

@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   barn::cli::addRunCommand(app, context);
   barn::cli::addMergeCommand(app, context);
   barn::cli::addShowCommand(app, context);
+  barn::cli::addReportCommand(app, context);
   barn::cli::addRegressCommand(app, context);
   barn::cli::addSweepCommand(app, context);
   barn::cli::addPlotCommand(app, context);

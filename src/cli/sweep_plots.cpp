@@ -6,8 +6,13 @@
 #include <cmath>
 #include <cstdio>
 
+#include "barn/bench/results_io.hpp"
+#include "barn/bench/run_record.hpp"
+#include "barn/bench/sweep_grid.hpp"
+#include "barn/core/errors.hpp"
 #include "barn/core/protocol.hpp"
 #include "barn/core/text_io.hpp"
+#include "config_units.hpp"
 #include "barn/viz/line_plot.hpp"
 #include "barn/viz/plots.hpp"
 
@@ -124,6 +129,35 @@ viz::LinePlot linePlot(const SweepTable& table, const Metric& metric) {
 }
 
 }  // namespace
+
+SweepTable readSweepTable(const std::filesystem::path& dir, const std::filesystem::path& config_file) {
+  const bench::SweepGrid grid = bench::readSweepFile(dir);
+  SweepTable table;
+  table.controller = grid.controller;
+  for (const auto& p : grid.parameters) {
+    table.keys.push_back(p.key);
+    table.units.push_back(config_file.empty() ? std::string() : configKeyUnit(config_file, p.key));
+  }
+  for (std::size_t c = 0; c < grid.cells.size(); ++c) {
+    const std::filesystem::path cell_dir = dir / grid.cells[c];
+    const bench::RunManifest m = bench::readManifest(cell_dir / bench::kManifestFile);
+    if (!m.complete)
+      throw core::InputError(cell_dir.string() + ": not complete; finish the sweep with barn sweep --resume " + dir.string());
+    if (c == 0) {
+      table.protocol =
+          core::readConfig<bench::EpisodeConfig>(core::ConfigNode::parseString(m.episode_config, "manifest")).protocol;
+      table.trials = m.trials;
+    }
+    SweepCell cell;
+    cell.name = grid.cells[c];
+    cell.values = bench::cellValues(grid, c);
+    const auto episodes = bench::readEpisodesCsv(cell_dir / bench::kEpisodesFile);
+    cell.summary = bench::summarise(episodes);
+    cell.worlds = bench::perWorldStats(episodes);
+    table.cells.push_back(cell);
+  }
+  return table;
+}
 
 std::string sweepCsv(const SweepTable& table) {
   std::string text = "cell";

@@ -26,6 +26,11 @@ struct SweepTable {
   std::vector<SweepCell> cells;    // odometer order, last key fastest
 };
 
+/// The table of a finished sweep folder: its grid (sweep.yaml) and every cell's episodes.csv.
+/// Units come from `config_file` (the controller's config; none if empty). InputError if a
+/// cell is not complete.
+SweepTable readSweepTable(const std::filesystem::path& dir, const std::filesystem::path& config_file);
+
 /// One row per cell: the parameter values, score, success/collision/timeout rates, avg time.
 std::string sweepCsv(const SweepTable& table);
 /// The same as a printed table, best score marked.

@@ -109,31 +109,27 @@ constexpr char kEpisodesHeader[] =
     "world,trial,seed,outcome,time_s,score,optimal_time_s,path_length_m,mean_speed_mps,sim_time_s,"
     "collision_x,collision_y,states,error\n";
 
-TEST(PerWorldScores, MeansRatesAndTheStudentTIntervalPerWorldInFirstSeenOrder) {
-  const std::vector<WorldScore> worlds = perWorldScores(unevenRun());
+TEST(PerWorldStats, MeanScoreWithTheStudentTIntervalPerWorld) {
+  const std::vector<WorldStats> worlds = perWorldStats(unevenRun());
   ASSERT_EQ(worlds.size(), 3u);
-  EXPECT_EQ(worlds[0].world, 8);
-  EXPECT_EQ(worlds[1].world, 3);
-  EXPECT_EQ(worlds[2].world, 1);
+  EXPECT_EQ(worlds[0].world_id, 1);
+  EXPECT_EQ(worlds[1].world_id, 3);
+  EXPECT_EQ(worlds[2].world_id, 8);
   // World 8: scores 0.3, 0.15, 0 -> mean 0.15, sample sd 0.15, t(0.975, 2) = 4.303.
-  const WorldScore& w8 = worlds[0];
+  const WorldStats& w8 = worlds[2];
   EXPECT_EQ(w8.trials, 3);
-  EXPECT_NEAR(w8.score, 0.15, 1e-12);
+  EXPECT_NEAR(w8.mean_score, 0.15, 1e-12);
   const double half = 4.303 * 0.15 / std::sqrt(3.0);
   EXPECT_NEAR(w8.score_ci_low, 0.15 - half, 1e-12);
   EXPECT_NEAR(w8.score_ci_high, 0.15 + half, 1e-12);
-  EXPECT_NEAR(w8.success_rate, 2.0 / 3.0, 1e-12);
-  EXPECT_NEAR(w8.collision_rate, 1.0 / 3.0, 1e-12);
-  EXPECT_NEAR(w8.avg_success_time, 25.0, 1e-12);
-  // One trial: no interval. No success: no time.
+  EXPECT_EQ(w8.collisions, 1);
+  // One trial: no interval.
   EXPECT_TRUE(std::isnan(worlds[1].score_ci_low) && std::isnan(worlds[1].score_ci_high));
-  EXPECT_TRUE(std::isnan(worlds[2].avg_success_time));
-  EXPECT_NEAR(worlds[2].timeout_rate, 0.5, 1e-12);
 }
 
 TEST(SummaryJson, NamesTheWorldSetAndListsEveryWorld) {
   const std::vector<EpisodeResult> run = unevenRun();
-  const std::string json = summaryJson("barnbench-generated", summarise(run), perWorldScores(run), {});
+  const std::string json = summaryJson("barnbench-generated", summarise(run), perWorldStats(run), {});
   EXPECT_THAT(json, HasSubstr("\"world_set\": \"barnbench-generated\""));
   EXPECT_THAT(json, HasSubstr("{\"world\": 3, \"trials\": 1, \"score\": 0.5, \"score_ci95\": [null, null]"));
   std::size_t entries = 0;

@@ -8,26 +8,9 @@
 #include <vector>
 
 #include "barn/bench/episode.hpp"
+#include "barn/bench/report.hpp"
 
 namespace barn::bench {
-
-/// One world's results in one record.
-struct WorldStats {
-  int world_id = 0;
-  int trials = 0;
-  int successes = 0;
-  int collisions = 0;
-  int timeouts = 0;
-  int errors = 0;
-  double success_rate = 0.0;
-  double mean_score = 0.0;
-  double mean_success_time = 0.0;  // [s] mean AT of successful trials; NaN without a success
-  /// Majority outcome: more than half of the trials succeeded.
-  bool mostlySucceeds() const { return 2 * successes > trials; }
-};
-
-/// Per-world statistics, ascending world id.
-std::vector<WorldStats> perWorldStats(const std::vector<EpisodeResult>& results);
 
 /// Ranks 1..n of `values`, tied values sharing the mean of their ranks.
 std::vector<double> averageRanks(const std::vector<double>& values);

@@ -39,27 +39,31 @@ std::vector<BucketSummary> difficultyBreakdown(const std::vector<EpisodeResult>&
                                                const std::vector<core::WorldSpec>& worlds);
 
 /// One world's results over its trials.
-struct WorldScore {
-  int world = 0;
+struct WorldStats {
+  int world_id = 0;
   int trials = 0;
-  double score = 0.0;          // mean over the trials
-  double score_ci_low = 0.0;   // 95 % interval of that mean: mean -+ t(0.975, n - 1) sd / sqrt(n)
-  double score_ci_high = 0.0;  //   (Student's t; NaN with a single trial)
+  int successes = 0;
+  int collisions = 0;
+  int timeouts = 0;
+  int errors = 0;
   double success_rate = 0.0;
-  double collision_rate = 0.0;
-  double timeout_rate = 0.0;
-  double avg_success_time = 0.0;  // [s] mean AT of the successful trials; NaN if none
+  double mean_score = 0.0;
+  double score_ci_low = 0.0;   // 95 % interval of mean_score: mean -+ t(0.975, n - 1) sd / sqrt(n)
+  double score_ci_high = 0.0;  //   (Student's t; NaN with a single trial)
+  double mean_success_time = 0.0;  // [s] mean AT of successful trials; NaN without a success
+  /// Majority outcome: more than half of the trials succeeded.
+  bool mostlySucceeds() const { return 2 * successes > trials; }
 };
 
-/// Per world, in the order the worlds first appear in `results`.
-std::vector<WorldScore> perWorldScores(const std::vector<EpisodeResult>& results);
+/// Per-world statistics, ascending world id.
+std::vector<WorldStats> perWorldStats(const std::vector<EpisodeResult>& results);
 
 /// What the worlds are: "barnbench-generated", "official BARN (imported)" or "mixed".
 std::string worldSetName(const std::vector<core::WorldSpec>& worlds);
 
 /// summary.json: the world set, the overall summary, the per-world scores and the breakdown.
 /// Deterministic: no times or hosts.
-std::string summaryJson(const std::string& world_set, const RunSummary& summary, const std::vector<WorldScore>& per_world,
+std::string summaryJson(const std::string& world_set, const RunSummary& summary, const std::vector<WorldStats>& per_world,
                         const std::vector<BucketSummary>& breakdown);
 
 /// The breakdown as a printed table.

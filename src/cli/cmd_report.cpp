@@ -1,0 +1,193 @@
+// barn report: a finished run record or sweep as one self-contained HTML page (html_report.hpp):
+// the summary, the per-world table, the difficulty breakdown and the figures.
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "barn/bench/report.hpp"
+#include "barn/bench/results_io.hpp"
+#include "barn/bench/run_record.hpp"
+#include "barn/bench/sweep_grid.hpp"
+#include "barn/core/errors.hpp"
+#include "barn/core/text_io.hpp"
+#include "commands.hpp"
+#include "html_report.hpp"
+#include "report_figures.hpp"
+
+namespace barn::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct ReportOptions {
+  std::string input;
+  std::string output;
+  int max_failures = 12;
+};
+
+std::string fixed(double value, int digits) {
+  if (!std::isfinite(value)) return "-";
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.*f", digits, value);
+  return text;
+}
+
+std::string protocolOf(const bench::RunManifest& m) {
+  return core::readConfig<bench::EpisodeConfig>(core::ConfigNode::parseString(m.episode_config, "manifest")).protocol;
+}
+
+HtmlTable summaryRows(const std::vector<std::pair<std::string, bench::RunSummary>>& rows, const std::string& id,
+                       const std::string& first_column) {
+  HtmlTable table;
+  table.id = id;
+  table.header = {first_column, "worlds", "episodes", "score", "success", "collision", "timeout", "error", "time [s]"};
+  table.numeric = {false, true, true, true, true, true, true, true, true};
+  for (const auto& [name, s] : rows)
+    table.rows.push_back({name, std::to_string(s.worlds), std::to_string(s.episodes), fixed(s.score, 4),
+                          fixed(s.success_rate, 3), fixed(s.collision_rate, 3), fixed(s.timeout_rate, 3),
+                          fixed(s.error_rate, 3), fixed(s.avg_success_time, 1)});
+  return table;
+}
+
+HtmlTable perWorldTable(const std::vector<bench::EpisodeResult>& results, const std::vector<core::WorldSpec>& worlds) {
+  HtmlTable table;
+  table.id = "per-world";
+  table.header = {"world", "trials", "success", "collision", "timeout", "score", "95 % low", "95 % high", "time [s]",
+                  "tortuosity"};
+  table.numeric = std::vector<bool>(table.header.size(), true);
+  for (const bench::WorldStats& w : bench::perWorldStats(results)) {
+    double tortuosity = NAN;
+    for (const auto& spec : worlds)
+      if (spec.id == w.world_id) tortuosity = spec.metrics.tortuosity;
+    const double n = w.trials;
+    table.rows.push_back({std::to_string(w.world_id), std::to_string(w.trials), fixed(w.success_rate, 2),
+                          fixed(w.collisions / n, 2), fixed(w.timeouts / n, 2), fixed(w.mean_score, 4),
+                          fixed(w.score_ci_low, 4), fixed(w.score_ci_high, 4), fixed(w.mean_success_time, 1),
+                          fixed(tortuosity, 3)});
+  }
+  return table;
+}
+
+HtmlTable difficultyTable(const std::vector<bench::BucketSummary>& buckets) {
+  HtmlTable table;
+  table.id = "breakdown";
+  table.sortable = false;
+  table.header = {"group", "bucket", "worlds", "score", "success", "collision", "timeout"};
+  for (const auto& b : buckets)
+    table.rows.push_back({b.group, b.bucket, std::to_string(b.summary.worlds), fixed(b.summary.score, 4),
+                          fixed(b.summary.success_rate, 3), fixed(b.summary.collision_rate, 3),
+                          fixed(b.summary.timeout_rate, 3)});
+  return table;
+}
+
+HtmlReport runReport(const fs::path& dir, const fs::path& figures, int max_failures) {
+  const bench::RunManifest m = bench::readManifest(dir / bench::kManifestFile);
+  if (!m.complete)
+    throw core::InputError(dir.string() + ": not complete; finish it with barn run --resume " + dir.string());
+  const std::vector<core::WorldSpec> worlds = bench::loadManifestWorlds(m);
+  const std::vector<bench::EpisodeResult> results = bench::readEpisodesCsv(dir / bench::kEpisodesFile);
+  const bench::RunSummary summary = bench::summarise(results);
+  HtmlReport report;
+  report.title = m.controller + " on " + bench::worldSetName(worlds) + " worlds";
+  report.subtitle = "worlds " + m.worlds_spec + " x " + std::to_string(m.trials) + " trials, protocol " + protocolOf(m) +
+                    ", run seed " + std::to_string(m.seed) + "; barnbench " + m.barnbench_version + ", commit " +
+                    m.git_commit + ", " + m.host + ", started " + m.started;
+  HtmlSection overview{"Summary", {"Rates and the score are means over worlds of the per-world mean over trials, as the "
+                                   "official report_test.py computes them; the time is that of successful trials."},
+                       {summaryRows({{m.controller, summary}}, "summary", "run")}, {}};
+  overview.figures = scoreFigures(dir, figures);
+  report.sections.push_back(overview);
+  report.sections.push_back({"Per world", {"Click a column header to sort. The interval is Student's t over the trials."},
+                             {perWorldTable(results, worlds)}, {}});
+  report.sections.push_back({"By difficulty", {"Per generator setting and per quartile of each normalised metric."},
+                             {difficultyTable(bench::difficultyBreakdown(results, worlds))}, {}});
+  HtmlSection failures{"Failed episodes", {}, {}, {}};
+  std::size_t failed = 0;
+  for (const auto& r : results) failed += r.outcome != bench::Outcome::Success;
+  if (failed == 0) {
+    failures.paragraphs.push_back("Every episode succeeded.");
+  } else if (!m.source.empty()) {
+    failures.paragraphs.push_back(std::to_string(failed) + " episodes failed; this record was imported (" + m.source +
+                                  "), so they cannot be re-simulated.");
+  } else {
+    failures.figures = failureFigures(dir, figures, static_cast<std::size_t>(max_failures));
+    failures.paragraphs.push_back(std::to_string(failed) + " episodes failed" +
+                                  (failed > failures.figures.size()
+                                       ? "; the first " + std::to_string(failures.figures.size()) + " are drawn"
+                                       : "") +
+                                  " (re-simulated from the record: the same seed gives the same episode).");
+  }
+  report.sections.push_back(failures);
+  return report;
+}
+
+HtmlReport sweepReport(const fs::path& dir, const fs::path& figures) {
+  const bench::SweepGrid grid = bench::readSweepFile(dir);
+  HtmlReport report;
+  report.title = "Sweep of " + grid.controller;
+  std::string swept;
+  for (const auto& p : grid.parameters) swept += (swept.empty() ? "" : " x ") + p.key;
+  report.subtitle = std::to_string(grid.cells.size()) + " cells over " + swept;
+  HtmlTable cells;
+  cells.id = "cells";
+  for (const auto& p : grid.parameters) cells.header.push_back(p.key);
+  for (const char* column : {"score", "success", "collision", "timeout", "time [s]"}) cells.header.push_back(column);
+  cells.numeric = std::vector<bool>(cells.header.size(), true);
+  std::string subtitle_detail;
+  for (std::size_t c = 0; c < grid.cells.size(); ++c) {
+    const fs::path cell = dir / grid.cells[c];
+    const bench::RunManifest m = bench::readManifest(cell / bench::kManifestFile);
+    if (!m.complete) throw core::InputError(cell.string() + ": not complete; finish the sweep with barn sweep --resume " + dir.string());
+    if (subtitle_detail.empty())
+      subtitle_detail = "; worlds " + m.worlds_spec + " x " + std::to_string(m.trials) + " trials, protocol " + protocolOf(m);
+    const bench::RunSummary s = bench::summarise(bench::readEpisodesCsv(cell / bench::kEpisodesFile));
+    std::vector<std::string> row = bench::cellValues(grid, c);
+    for (const std::string& v : {fixed(s.score, 4), fixed(s.success_rate, 3), fixed(s.collision_rate, 3),
+                                 fixed(s.timeout_rate, 3), fixed(s.avg_success_time, 1)})
+      row.push_back(v);
+    cells.rows.push_back(row);
+  }
+  report.subtitle += subtitle_detail;
+  report.sections.push_back({"Cells", {"One run record per cell; click a column header to sort."}, {cells},
+                             sweepFigures(dir, figures)});
+  return report;
+}
+
+}  // namespace
+
+void addReportCommand(CLI::App& app, CommandContext& /*context*/) {
+  auto options = std::make_shared<ReportOptions>();
+  CLI::App* cmd = app.add_subcommand("report", "A finished run record or sweep as one self-contained HTML page");
+  cmd->add_option("input", options->input, "Run record or sweep folder")->required();
+  cmd->add_option("-o,--output", options->output, "HTML file")->required();
+  cmd->add_option("--max-failures", options->max_failures, "Failed episodes to re-simulate and draw at most")
+      ->check(CLI::Range(0, 1000))
+      ->capture_default_str();
+  cmd->callback([options] {
+    const fs::path input = options->input;
+    const fs::path output = options->output;
+    if (output.extension() != ".html") throw core::InputError("-o " + output.string() + ": expected a .html file");
+    const bool is_run = fs::exists(input / bench::kManifestFile);
+    if (!is_run && !fs::exists(input / bench::kSweepFile))
+      throw core::InputError(input.string() + ": neither a run record (manifest.yaml) nor a sweep (sweep.yaml)");
+    // Figures are drawn into a scratch folder, embedded, and removed.
+    const fs::path scratch = output.parent_path().empty() ? fs::path(".barn_report.tmp") : output.parent_path() / ".barn_report.tmp";
+    std::error_code ec;
+    fs::remove_all(scratch, ec);
+    fs::create_directories(scratch);
+    std::string html;
+    try {
+      html = renderHtml(is_run ? runReport(input, scratch, options->max_failures) : sweepReport(input, scratch));
+    } catch (...) {
+      fs::remove_all(scratch, ec);
+      throw;
+    }
+    fs::remove_all(scratch, ec);
+    core::writeFileAtomic(output, html);
+    std::printf("wrote %s\n", output.c_str());
+  });
+}
+
+}  // namespace barn::cli

@@ -1,0 +1,150 @@
+#include "record_figures.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <map>
+
+#include "barn/bench/batch.hpp"
+#include "barn/bench/report.hpp"
+#include "barn/bench/results_io.hpp"
+#include "barn/core/config.hpp"
+#include "barn/core/errors.hpp"
+#include "barn/core/protocol.hpp"
+#include "barn/sim/obstacle_field.hpp"
+
+namespace barn::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// A difficulty index per world: the sum of the normalised metrics signed so that larger means
+// harder (less clearance, visibility and width; more dispersion and tortuosity).
+double difficultyIndex(const core::WorldSpec& w) {
+  const auto& z = w.norm_metrics;
+  return -z.closest_wall - z.avg_visibility + z.dispersion - z.characteristic_dimension + z.tortuosity;
+}
+
+double orderKey(const core::WorldSpec& w, const std::string& by) {
+  if (by == "difficulty") return difficultyIndex(w);
+  if (by == "id") return w.id;
+  const auto values = w.norm_metrics.toArray();
+  for (std::size_t k = 0; k < values.size(); ++k)
+    if (by == core::DifficultyMetrics::kNames[k]) {
+      // Larger is harder for dispersion and tortuosity, easier for the others.
+      const bool harder_when_larger = k == 2 || k == 4;
+      return harder_when_larger ? values[k] : -values[k];
+    }
+  throw core::InputError("--by '" + by + "': expected difficulty, id or a metric name");
+}
+
+// "300 worlds of worlds/ (barnbench-generated)": how many of the record's worlds are shown,
+// which folder they are in and where they came from (bench::worldSetName), so a figure of the
+// official BARN worlds is not mistaken for one of barnbench's own.
+std::string worldSetText(const bench::RunManifest& manifest, const std::vector<core::WorldSpec>& worlds,
+                         std::size_t shown) {
+  const std::string folder = fs::path(manifest.worlds_folder).lexically_normal().filename().string();
+  return std::to_string(shown) + (shown == 1 ? " world of " : " worlds of ") + (folder.empty() ? "?" : folder) +
+         "/ (" + bench::worldSetName(worlds) + ")";
+}
+
+}  // namespace
+
+void renderScoreBars(const fs::path& record, const std::string& by, const fs::path& output) {
+  const bench::RunManifest manifest = bench::readManifest(fs::path(record) / bench::kManifestFile);
+  const auto worlds = bench::loadManifestWorlds(manifest);
+  const auto results = bench::readEpisodesCsv(fs::path(record) / bench::kEpisodesFile);
+  std::map<int, bench::WorldStats> stats;
+  for (const bench::WorldStats& w : bench::perWorldStats(results)) stats[w.world_id] = w;
+  std::map<int, std::pair<double, double>> range;  // world -> (worst, best) trial score
+  for (const auto& r : results) {
+    const auto [it, fresh] = range.try_emplace(r.world_id, r.score, r.score);
+    if (!fresh) it->second = {std::min(it->second.first, r.score), std::max(it->second.second, r.score)};
+  }
+  std::vector<const core::WorldSpec*> order;
+  for (const auto& w : worlds)
+    if (stats.count(w.id)) order.push_back(&w);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](const auto* a, const auto* b) { return orderKey(*a, by) < orderKey(*b, by); });
+  const std::string protocol =
+      core::readConfig<bench::EpisodeConfig>(core::ConfigNode::parseString(manifest.episode_config, "manifest")).protocol;
+  const core::Protocol preset = core::protocolPreset(protocol);
+
+  viz::WorldBars bars;
+  bars.title = manifest.controller + ": mean score per world";
+  char max_score[32];
+  std::snprintf(max_score, sizeof max_score, "%g", preset.maxScore());
+  bars.subtitle = worldSetText(manifest, worlds, order.size()) + " x " + std::to_string(manifest.trials) +
+                  (manifest.trials == 1 ? " trial, " : " trials, ") + protocol + " (max score " + max_score + ")";
+  if (!manifest.source.empty())
+    bars.subtitle += "; results imported from " + fs::path(manifest.source).filename().string();
+  bars.y_label = "mean score";
+  bars.x_label = "worlds, easiest to hardest (by " + by + ")";
+  // Whiskers only when there is a spread to show: one trial is its own minimum and maximum.
+  const bool whiskers = manifest.trials > 1;
+  if (whiskers) bars.whisker_label = "min to max of its " + std::to_string(manifest.trials) + " trials";
+  for (const auto* w : order) {
+    const bench::WorldStats& s = stats[w->id];
+    bars.labels.push_back(std::to_string(w->id));
+    bars.values.push_back(s.mean_score);
+    bars.outcomes.push_back({s.successes, s.collisions, s.timeouts, s.errors});
+    if (whiskers) {
+      bars.low.push_back(range[w->id].first);
+      bars.high.push_back(range[w->id].second);
+    }
+  }
+  bars.y_max = preset.maxScore();
+  bars.reference_lines = {preset.maxScore(), preset.minSuccessScore()};
+  viz::renderWorldBars(bars, output);
+}
+
+RecordReplay::RecordReplay(const fs::path& record)
+    : record_(record), manifest_(bench::readManifest(record / bench::kManifestFile)) {
+  if (!manifest_.source.empty())
+    throw core::InputError(record.string() + ": imported from " + manifest_.source +
+                           " (barn import-out); its episodes cannot be re-simulated");
+  worlds_ = bench::loadManifestWorlds(manifest_);
+  make_controller_ = controllers::makeControllerFactory(core::ConfigNode::parseString(manifest_.controller_config, "manifest"));
+  episode_ = bench::validatedEpisodeConfig(core::ConfigNode::parseString(manifest_.episode_config, "manifest"), record.string());
+}
+
+void RecordReplay::renderWorld(int world_id, const std::vector<int>& trials, viz::TrajectoryColouring colouring,
+                               const fs::path& output) const {
+  for (int t : trials)
+    if (t < 0 || t >= manifest_.trials)
+      throw core::InputError("--trial " + std::to_string(t) + ": the record has trials 0.." + std::to_string(manifest_.trials - 1));
+  const int id = world_id;
+  const auto it = std::find_if(worlds_.begin(), worlds_.end(), [id](const auto& w) { return w.id == id; });
+  if (it == worlds_.end()) throw core::InputError("--world " + std::to_string(id) + ": not a world of the record");
+  const core::Protocol protocol = core::protocolPreset(episode_.protocol);
+  const sim::ObstacleField field = sim::ObstacleField::fromWorld(*it);
+  std::vector<viz::TrajectoryOverlay> overlays;
+  for (int t : trials) {
+    auto controller = make_controller_();
+    const bench::EpisodeResult r = bench::runEpisode(*it, field, *controller, episode_,
+                                                     bench::episodeSeed(manifest_.seed, id, t), true);
+    viz::TrajectoryOverlay overlay;
+    overlay.label = "trial " + std::to_string(t) + "  " + std::string(bench::toString(r.outcome));
+    char detail[64];
+    std::snprintf(detail, sizeof detail, "%.1f s  score %.3f", r.actual_time, r.score);
+    overlay.detail = detail;
+    for (const auto& s : r.trajectory) overlay.points.push_back({s.pose.x, s.pose.y, s.state});
+    if (r.collision) {
+      // The samples are control ticks; the contact comes after the last, so the line is
+      // carried on to the pose of contact, where the outline is drawn.
+      const std::string state = r.trajectory.empty() ? std::string() : r.trajectory.back().state;
+      overlay.points.push_back({r.collision->pose.x, r.collision->pose.y, state});
+      overlay.collided = true;
+      overlay.collision_x = r.collision->point.x();
+      overlay.collision_y = r.collision->point.y();
+      overlay.collision_pose = r.collision->pose;
+    }
+    overlays.push_back(std::move(overlay));
+  }
+  viz::TrajectoryStyle style;
+  style.colouring = colouring;
+  style.robot_outline = episode_.robot.collisionRects();
+  viz::renderTrajectories(*it, protocol, overlays, output, style);
+}
+
+}  // namespace barn::cli

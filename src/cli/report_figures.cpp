@@ -1,0 +1,54 @@
+#include "report_figures.hpp"
+
+#include <map>
+#include <string>
+
+#include "barn/bench/results_io.hpp"
+#include "barn/bench/run_record.hpp"
+#include "barn/bench/sweep_grid.hpp"
+#include "commands.hpp"
+#include "record_figures.hpp"
+#include "sweep_plots.hpp"
+
+namespace barn::cli {
+
+namespace fs = std::filesystem;
+
+std::vector<HtmlFigure> scoreFigures(const fs::path& record, const fs::path& scratch) {
+  const fs::path file = scratch / "scores.png";
+  renderScoreBars(record, "difficulty", file);
+  return {{"Mean score per world, easiest to hardest; whiskers: min to max over trials; strip: the trials' outcomes", file}};
+}
+
+std::vector<HtmlFigure> failureFigures(const fs::path& record, const fs::path& scratch, std::size_t max_episodes) {
+  std::vector<int> world_order;
+  std::map<int, std::vector<int>> failed;  // world -> failed trials
+  std::size_t taken = 0;
+  for (const auto& r : bench::readEpisodesCsv(record / bench::kEpisodesFile)) {
+    if (r.outcome == bench::Outcome::Success || taken >= max_episodes) continue;
+    if (!failed.count(r.world_id)) world_order.push_back(r.world_id);
+    failed[r.world_id].push_back(r.trial);
+    ++taken;
+  }
+  std::vector<HtmlFigure> figures;
+  if (world_order.empty()) return figures;
+  const RecordReplay replay(record);
+  for (int world : world_order) {
+    const fs::path file = scratch / ("failed_world_" + std::to_string(world) + ".png");
+    replay.renderWorld(world, failed[world], viz::TrajectoryColouring::ByState, file);
+    std::string trials;
+    for (int t : failed[world]) trials += (trials.empty() ? "" : ", ") + std::to_string(t);
+    figures.push_back({"World " + std::to_string(world) + ", failed trial(s) " + trials, file});
+  }
+  return figures;
+}
+
+std::vector<HtmlFigure> sweepFigures(const fs::path& sweep, const fs::path& scratch) {
+  const bench::SweepGrid grid = bench::readSweepFile(sweep);
+  const SweepTable table = readSweepTable(sweep, controllerConfigFile(grid.controller, ""));
+  std::vector<HtmlFigure> figures;
+  for (const fs::path& file : writeSweepPlots(table, scratch, ".png")) figures.push_back({file.stem().string(), file});
+  return figures;
+}
+
+}  // namespace barn::cli

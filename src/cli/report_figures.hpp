@@ -1,0 +1,23 @@
+#pragma once
+/// The figures `barn report` embeds, drawn as PNG into a scratch folder.
+
+#include <cstddef>
+#include <filesystem>
+#include <vector>
+
+#include "html_report.hpp"
+
+namespace barn::cli {
+
+/// The run record's per-world score bars.
+std::vector<HtmlFigure> scoreFigures(const std::filesystem::path& record, const std::filesystem::path& scratch);
+
+/// The failed episodes of the record, re-simulated, one figure per world (its failed trials),
+/// at most `max_episodes` episodes in all, in run order.
+std::vector<HtmlFigure> failureFigures(const std::filesystem::path& record, const std::filesystem::path& scratch,
+                                       std::size_t max_episodes);
+
+/// A sweep's heat maps (two keys) or line plots (one key).
+std::vector<HtmlFigure> sweepFigures(const std::filesystem::path& sweep, const std::filesystem::path& scratch);
+
+}  // namespace barn::cli
