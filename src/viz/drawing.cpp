@@ -335,6 +335,16 @@ void drawScaleBar(cairo_t* cr, double left_px, double baseline_px, double pixels
   drawText(cr, "1 m", left_px + 1.12 * ppm, baseline_px + 0.25 * size, size);
 }
 
+void addIntervalBar(cairo_t* cr, double x, double y0, double y1, double cap_half_width) {
+  cairo_move_to(cr, x, y0);
+  cairo_line_to(cr, x, y1);
+  if (cap_half_width <= 0.0) return;
+  for (const double y : {y0, y1}) {
+    cairo_move_to(cr, x - cap_half_width, y);
+    cairo_line_to(cr, x + cap_half_width, y);
+  }
+}
+
 }  // namespace barn::viz::detail
 
 namespace barn::viz {

@@ -106,6 +106,9 @@ std::string tickText(double value, double step);
 
 /// Adds a closed circle to the current path without joining it to the previous point.
 void addCircle(cairo_t* cr, const Eigen::Vector2d& centre, double radius);
+/// Adds (does not stroke) an interval bar: a vertical line at x from y0 to y1 and, if
+/// cap_half_width > 0, a cap of that half width at each end.
+void addIntervalBar(cairo_t* cr, double x, double y0, double y1, double cap_half_width);
 
 // ---------------------------------------------------------------------------
 // World pictures (see barn/viz/world_render.hpp for the layout)

@@ -52,13 +52,7 @@ void drawMarker(cairo_t* cr, double x, double y, const Rgb& colour) {
 
 /// A vertical bar from y0 to y1 at x with short caps; on a pixel centre, so it is crisp.
 void drawIntervalBar(cairo_t* cr, double x, double y0, double y1, const Rgb& colour) {
-  x = std::floor(x) + 0.5;
-  cairo_move_to(cr, x, y0);
-  cairo_line_to(cr, x, y1);
-  cairo_move_to(cr, x - kCapHalfWidth, y0);
-  cairo_line_to(cr, x + kCapHalfWidth, y0);
-  cairo_move_to(cr, x - kCapHalfWidth, y1);
-  cairo_line_to(cr, x + kCapHalfWidth, y1);
+  detail::addIntervalBar(cr, std::floor(x) + 0.5, y0, y1, kCapHalfWidth);
   setColour(cr, colour);
   cairo_set_line_width(cr, 1.5);
   cairo_stroke(cr);

@@ -785,14 +785,7 @@ void renderWorldBars(const WorldBars& bars, const std::filesystem::path& output)
       if (!std::isfinite(bars.low[i]) || !std::isfinite(bars.high[i])) continue;
       const double x = std::floor(0.5 * (barX0(i) + barX1(i))) + 0.5;
       const double y_low = std::round(py(bars.low[i])) + 0.5, y_high = std::round(py(bars.high[i])) + 0.5;
-      cairo_move_to(cr, x, y_low);
-      cairo_line_to(cr, x, y_high);
-      if (cap > 0.0) {
-        cairo_move_to(cr, x - cap, y_low);
-        cairo_line_to(cr, x + cap, y_low);
-        cairo_move_to(cr, x - cap, y_high);
-        cairo_line_to(cr, x + cap, y_high);
-      }
+      detail::addIntervalBar(cr, x, y_low, y_high, cap);
     }
     setColour(cr, kInk);
     cairo_set_line_width(cr, 1.0);
