@@ -4,7 +4,8 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cstdio>
+#include <cstdio>  // renameat2 (GNU)
+#include <fcntl.h>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -113,14 +114,20 @@ void replaceRecord(Session& session, const fs::path& old_dir) {
                 old_dir.c_str(), new_dir.c_str(), new_dir.c_str());
     return;
   }
-  const fs::path trash = old_dir.string() + ".old";
+  // One atomic exchange of the two folders (Linux renameat2), so OUT always holds a complete
+  // record; where the file system cannot exchange, two renames.
   std::error_code ec;
-  fs::remove_all(trash, ec);
-  fs::rename(old_dir, trash, ec);
-  if (ec) throw core::IoError(old_dir.string() + ": cannot move aside: " + ec.message() + " (the new record is in " + new_dir.string() + ")");
-  fs::rename(new_dir, old_dir, ec);
-  if (ec) throw core::IoError(new_dir.string() + ": cannot move to " + old_dir.string() + ": " + ec.message() + " (the old record is in " + trash.string() + ")");
-  fs::remove_all(trash, ec);
+  if (::renameat2(AT_FDCWD, new_dir.c_str(), AT_FDCWD, old_dir.c_str(), RENAME_EXCHANGE) == 0) {
+    fs::remove_all(new_dir, ec);  // now the old record
+  } else {
+    const fs::path trash = old_dir.string() + ".old";
+    fs::remove_all(trash, ec);
+    fs::rename(old_dir, trash, ec);
+    if (ec) throw core::IoError(old_dir.string() + ": cannot move aside: " + ec.message() + " (the new record is in " + new_dir.string() + ")");
+    fs::rename(new_dir, old_dir, ec);
+    if (ec) throw core::IoError(new_dir.string() + ": cannot move to " + old_dir.string() + ": " + ec.message() + " (the old record is in " + trash.string() + ")");
+    fs::remove_all(trash, ec);
+  }
   std::printf("replaced %s\n", old_dir.c_str());
 }
 
