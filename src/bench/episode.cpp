@@ -1,6 +1,7 @@
 #include "barn/bench/episode.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <exception>
 
 #include "barn/core/world_geometry.hpp"
@@ -81,6 +82,19 @@ std::vector<Eigen::Vector2d> referencePathInOdom(const core::WorldSpec& world, c
   return path;
 }
 
+void checkControllerPeriod(double controller_period, const EpisodeConfig& config) {
+  if (!(controller_period > 0.0) || !std::isfinite(controller_period))
+    throw core::InputError("controller period must be a positive number of seconds");
+  if (!stepsIn(controller_period, config.physics.dt())) {
+    char message[192];
+    std::snprintf(message, sizeof(message),
+                  "controller rate %g Hz: not a whole number of physics steps (physics.rate %g Hz); choose a rate "
+                  "that divides it",
+                  1.0 / controller_period, config.physics.rate);
+    throw core::InputError(message);
+  }
+}
+
 Episode::Episode(const core::WorldSpec& world, const sim::ObstacleField& field, const EpisodeConfig& config,
                  std::uint64_t seed, double controller_period)
     : protocol_(core::protocolPreset(config.protocol)),
@@ -90,8 +104,7 @@ Episode::Episode(const core::WorldSpec& world, const sim::ObstacleField& field, 
       lidar_(config.lidar, field),
       scan_noise_(core::mixSeed(seed, 1)),
       odometry_noise_(core::mixSeed(seed, 3)) {
-  if (!(controller_period > 0.0) || !std::isfinite(controller_period))
-    throw core::InputError("controller period must be a positive number of seconds");
+  checkControllerPeriod(controller_period, config);
   start_ = {protocol_.start_x, protocol_.start_y, protocol_.start_yaw};
   odom_origin_ = protocol_.start();  // odom = world shifted to the start
   goal_world_ = protocol_.goal();
@@ -111,7 +124,7 @@ Episode::Episode(const core::WorldSpec& world, const sim::ObstacleField& field, 
   const double dt = simulator_.dt();
   scan_steps_ = *stepsIn(1.0 / config.lidar.rate, dt);
   check_steps_ = *stepsIn(protocol_.check_period, dt);
-  control_steps_ = std::max(1L, std::lround(controller_period / dt));
+  control_steps_ = *stepsIn(controller_period, dt);
   max_steps_ = std::lround((protocol_.timeout + 1.0) / dt);
   latency_steps_ = std::lround(config.latency.command / dt);
   previous_position_ = start_.position();

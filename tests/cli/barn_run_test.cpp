@@ -519,6 +519,14 @@ TEST_F(BarnRun, UnknownControllerIsRejectedListingTheKnownOnes) {
   expectRejected("run --controller inventec_f --worlds 0", dir_ / "o", {"did you mean inventec_fi?"});
 }
 
+TEST_F(BarnRun, AControllerRateOffThePhysicsStepsIsRejectedBeforeTheRun) {
+  // 30 Hz at 200 Hz physics would run every 6.67 steps, i.e. at 28.6 Hz if rounded.
+  const fs::path config = dir_ / "pp30.yaml";
+  writeFile(config, "type: pure_pursuit\npure_pursuit:\n  rate: 30\n");
+  expectRejected("run --controller pp30 --config " + quote(config) + " --worlds 0", dir_ / "o",
+                 {"controller rate 30 Hz", "physics.rate 200 Hz"});
+}
+
 TEST_F(BarnRun, UnknownProtocolBlamesTheFlag) {
   expectRejected("run --controller pure_pursuit --worlds 0 --protocol barn2025", dir_ / "o",
                  {"--protocol barn2025", "barn2023", "barn2024"});

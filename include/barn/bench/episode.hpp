@@ -73,6 +73,11 @@ void validate(const EpisodeConfig& config, core::Errors& errors);
 /// `where` and the field otherwise.
 EpisodeConfig validatedEpisodeConfig(const core::ConfigNode& node, const std::string& where);
 
+/// InputError unless a controller acting every `controller_period` seconds acts on physics
+/// steps (physics.rate a whole multiple of the controller's rate): a rate that is not would be
+/// rounded to another one (30 Hz at 200 Hz physics would run at 28.6 Hz).
+void checkControllerPeriod(double controller_period, const EpisodeConfig& config);
+
 enum class Outcome {
   Success,    ///< reached the goal radius before the timeout, without contact
   Collision,  ///< a robot fixture touched a cylinder
