@@ -24,7 +24,8 @@ free_port() {
   local port
   for _ in $(seq 1 50); do
     port=$((20000 + RANDOM % 20000))
-    if ! ss -Hltn "sport = :$port" 2>/dev/null | grep -q .; then echo "$port"; return; fi
+    # Nothing answers a connection there (bash's /dev/tcp: no extra tool needed).
+    if ! (exec 3<>"/dev/tcp/127.0.0.1/$port") 2>/dev/null; then echo "$port"; return; fi
   done
   unavailable "no free local port found"
 }
@@ -40,7 +41,7 @@ stop_pid_file() {
 }
 
 start() {
-  for tool in munged slurmctld slurmd sbatch sinfo ss; do
+  for tool in munged slurmctld slurmd sbatch sinfo; do
     command -v "$tool" >/dev/null 2>&1 || unavailable "$tool not found (tools/setup.sh installs slurm-wlm and munge)"
   done
   if [ -e "$dir" ] && [ -n "$(ls -A "$dir")" ]; then
