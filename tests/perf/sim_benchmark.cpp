@@ -6,7 +6,7 @@
 //                     through a dense world, with or without reading a cost afterwards (the
 //                     inflation is brought up to date only when read)
 //   BM_GlobalPlan     one full planner field on a dense world
-// Run: build/tests/perf/barn_sim_benchmark --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+// Run: build-bench/tests/perf/barn_sim_benchmark --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 
 #include <benchmark/benchmark.h>
 
