@@ -132,6 +132,14 @@ EpisodeConfig configFor(const std::string& protocol) {
 // ---------------------------------------------------------------------------------------------
 // Success, timeout, never moving
 
+TEST(EpisodeConfig, TheShippedSimConfigHoldsExactlyTheCodesDefaults) {
+  // configs/sim/barn.yaml says "every value is the default in the code": written back, it and
+  // a default-constructed config give the same text, so neither can drift from the other.
+  const std::string file = std::string(BARN_SOURCE_DIR) + "/configs/sim/barn.yaml";
+  const EpisodeConfig shipped = validatedEpisodeConfig(core::ConfigNode::parseFile(file), file);
+  EXPECT_EQ(core::writeConfig(shipped), core::writeConfig(EpisodeConfig{}));
+}
+
 TEST(Episode, DrivingStraightAtOneMeterPerSecondSucceedsAtTheExpectedTime) {
   ConstantController controller({1.0, 0.0});
   const EpisodeResult r = run(emptyWorld(), controller);

@@ -35,6 +35,20 @@ TEST(ControllerRegistry, ListsTheKnownTypes) {
   EXPECT_THAT(controllerTypes(), ElementsAre("straight", "pure_pursuit", "dwa", "lflh", "inventec", "external"));
 }
 
+TEST(ControllerRegistry, TheShippedBaselineConfigsHoldTheCodesDefaults) {
+  // These files say their values are the code's defaults (the BARN baselines as published):
+  // their effective configs equal the bare type's.
+  for (const char* name : {"dwa", "pure_pursuit", "straight"}) {
+    const std::string file = std::string(BARN_SOURCE_DIR) + "/configs/controllers/" + name + ".yaml";
+    const core::ConfigNode shipped = core::ConfigNode::parseFile(file);
+    std::string type;
+    shipped.child("type").read(type);
+    EXPECT_EQ(effectiveControllerConfig(shipped),
+              effectiveControllerConfig(core::ConfigNode::parseString("type: " + type, "defaults")))
+        << file;
+  }
+}
+
 TEST(ControllerRegistry, MakesAStraightController) {
   const ControllerFactory factory = makeControllerFactory(yaml("type: straight\nstraight: {speed: 0.8, rate: 10}"));
   const auto controller = factory();
