@@ -14,6 +14,7 @@
 #include "commands.hpp"
 #include "html_report.hpp"
 #include "report_figures.hpp"
+#include "sweep_plots.hpp"
 
 namespace barn::cli {
 
@@ -124,34 +125,30 @@ HtmlReport runReport(const fs::path& dir, const fs::path& figures, int max_failu
 }
 
 HtmlReport sweepReport(const fs::path& dir, const fs::path& figures) {
-  const bench::SweepGrid grid = bench::readSweepFile(dir);
+  const SweepTable table = readSweepTable(dir, controllerConfigFile(bench::readSweepFile(dir).controller, ""));
   HtmlReport report;
-  report.title = "Sweep of " + grid.controller;
+  report.title = "Sweep of " + table.controller;
   std::string swept;
-  for (const auto& p : grid.parameters) swept += (swept.empty() ? "" : " x ") + p.key;
-  report.subtitle = std::to_string(grid.cells.size()) + " cells over " + swept;
+  for (const auto& key : table.keys) swept += (swept.empty() ? "" : " x ") + key;
+  report.subtitle = std::to_string(table.cells.size()) + " cells over " + swept;
+  if (!table.cells.empty())
+    report.subtitle += "; " + std::to_string(table.cells.front().summary.worlds) + " worlds x " +
+                       std::to_string(table.trials) + " trials, protocol " + table.protocol;
   HtmlTable cells;
   cells.id = "cells";
-  for (const auto& p : grid.parameters) cells.header.push_back(p.key);
+  cells.header = table.keys;
   for (const char* column : {"score", "success", "collision", "timeout", "time [s]"}) cells.header.push_back(column);
   cells.numeric = std::vector<bool>(cells.header.size(), true);
-  std::string subtitle_detail;
-  for (std::size_t c = 0; c < grid.cells.size(); ++c) {
-    const fs::path cell = dir / grid.cells[c];
-    const bench::RunManifest m = bench::readManifest(cell / bench::kManifestFile);
-    if (!m.complete) throw core::InputError(cell.string() + ": not complete; finish the sweep with barn sweep --resume " + dir.string());
-    if (subtitle_detail.empty())
-      subtitle_detail = "; worlds " + m.worlds_spec + " x " + std::to_string(m.trials) + " trials, protocol " + protocolOf(m);
-    const bench::RunSummary s = bench::summarise(bench::readEpisodesCsv(cell / bench::kEpisodesFile));
-    std::vector<std::string> row = bench::cellValues(grid, c);
+  for (const SweepCell& cell : table.cells) {
+    const bench::RunSummary& s = cell.summary;
+    std::vector<std::string> row = cell.values;
     for (const std::string& v : {fixed(s.score, 4), fixed(s.success_rate, 3), fixed(s.collision_rate, 3),
                                  fixed(s.timeout_rate, 3), fixed(s.avg_success_time, 1)})
       row.push_back(v);
     cells.rows.push_back(row);
   }
-  report.subtitle += subtitle_detail;
   report.sections.push_back({"Cells", {"One run record per cell; click a column header to sort."}, {cells},
-                             sweepFigures(dir, figures)});
+                             sweepFigures(table, figures)});
   return report;
 }
 

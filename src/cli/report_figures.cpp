@@ -5,10 +5,7 @@
 
 #include "barn/bench/results_io.hpp"
 #include "barn/bench/run_record.hpp"
-#include "barn/bench/sweep_grid.hpp"
-#include "commands.hpp"
 #include "record_figures.hpp"
-#include "sweep_plots.hpp"
 
 namespace barn::cli {
 
@@ -43,11 +40,9 @@ std::vector<HtmlFigure> failureFigures(const fs::path& record, const fs::path& s
   return figures;
 }
 
-std::vector<HtmlFigure> sweepFigures(const fs::path& sweep, const fs::path& scratch) {
-  const bench::SweepGrid grid = bench::readSweepFile(sweep);
-  const SweepTable table = readSweepTable(sweep, controllerConfigFile(grid.controller, ""));
+std::vector<HtmlFigure> sweepFigures(const SweepTable& sweep, const fs::path& scratch) {
   std::vector<HtmlFigure> figures;
-  for (const fs::path& file : writeSweepPlots(table, scratch, ".png")) figures.push_back({file.stem().string(), file});
+  for (const fs::path& file : writeSweepPlots(sweep, scratch, ".png")) figures.push_back({file.stem().string(), file});
   return figures;
 }
 

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "html_report.hpp"
+#include "sweep_plots.hpp"
 
 namespace barn::cli {
 
@@ -18,6 +19,6 @@ std::vector<HtmlFigure> failureFigures(const std::filesystem::path& record, cons
                                        std::size_t max_episodes);
 
 /// A sweep's heat maps (two keys) or line plots (one key).
-std::vector<HtmlFigure> sweepFigures(const std::filesystem::path& sweep, const std::filesystem::path& scratch);
+std::vector<HtmlFigure> sweepFigures(const SweepTable& sweep, const std::filesystem::path& scratch);
 
 }  // namespace barn::cli
