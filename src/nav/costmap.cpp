@@ -46,6 +46,11 @@ Costmap::Costmap(const CostmapConfig& config) : config_(config) {
     }
   std::stable_sort(offsets_by_distance_.begin(), offsets_by_distance_.end(),
                    [](const KernelOffset& a, const KernelOffset& b) { return a.dx * a.dx + a.dy * a.dy < b.dx * b.dx + b.dy * b.dy; });
+  // Costs fall with distance, so the offsets that give at most cost c are a suffix.
+  for (int c = 0; c < 256; ++c)
+    first_offset_at_most_[static_cast<std::size_t>(c)] = static_cast<std::size_t>(
+        std::find_if(offsets_by_distance_.begin(), offsets_by_distance_.end(), [&](const KernelOffset& o) { return o.cost <= c; }) -
+        offsets_by_distance_.begin());
 }
 
 std::uint8_t Costmap::inflationCostAtCells(double cells) const {
@@ -259,19 +264,24 @@ void Costmap::recomputeCell(int x, int y) const {
     cost_[i] = state;
     return;
   }
-  // The nearest obstacle decides: offsets are visited nearest first.
+  // The nearest obstacle decides: offsets are visited nearest first. The cell's cost so far is
+  // the largest any obstacle of the state it was computed for gives it, so offsets giving more
+  // can only hold obstacles new since then, and inflatePending stamps those afterwards.
   const int r = inflation_cells_;
+  const auto first = offsets_by_distance_.begin() + static_cast<std::ptrdiff_t>(first_offset_at_most_[cost_[i]]);
+  const auto last = offsets_by_distance_.end();
   if (x >= r && y >= r && x + r < width_ && y + r < height_) {  // the whole kernel on the map
     const std::uint8_t* here = &obstacle_[i];
-    for (const KernelOffset& o : offsets_by_distance_)
-      if (here[o.flat] == kLethalCost) {
-        cost_[i] = o.cost;
+    for (auto o = first; o != last; ++o)
+      if (here[o->flat] == kLethalCost) {
+        cost_[i] = o->cost;
         return;
       }
     cost_[i] = kFreeCost;
     return;
   }
-  for (const KernelOffset& o : offsets_by_distance_) {
+  for (auto it = first; it != last; ++it) {
+    const KernelOffset& o = *it;
     const int ox = x + o.dx, oy = y + o.dy;
     if (inBounds(ox, oy) && obstacle_[index(ox, oy)] == kLethalCost) {
       cost_[i] = o.cost;

@@ -15,6 +15,7 @@
 /// recomputed lazily, at the first cost read after a change: a map nobody reads between scans
 /// (the local costmap of a controller that plans on the global one) costs only its ray traces.
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -188,6 +189,7 @@ class Costmap {
     std::uint8_t cost = 0;
   };
   std::vector<KernelOffset> offsets_by_distance_;
+  std::array<std::size_t, 256> first_offset_at_most_{};  // first offset whose cost is <= the index
   // Scratch of inflatePending(): the round in which each cell was last recomputed.
   mutable std::vector<std::uint32_t> recomputed_in_round_;
   mutable std::uint32_t recompute_round_ = 0;
