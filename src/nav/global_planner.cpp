@@ -1,3 +1,5 @@
+#include <atomic>
+#include <cstdio>
 #include "barn/nav/global_planner.hpp"
 
 #include <algorithm>
@@ -46,7 +48,6 @@ void GlobalPlanner::computeField(const Costmap& costmap, CellIndex goal, CellInd
   const int h = costmap.heightCells() + 2;
   const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
   field_.assign(n, kUnreached);
-  next_.assign(n, -1);
   settled_.assign(n, 0);
   padded_cost_.assign(n, kLethalCost);
   const std::uint8_t* costs = costmap.costs();
@@ -57,19 +58,38 @@ void GlobalPlanner::computeField(const Costmap& costmap, CellIndex goal, CellInd
   const int* straight_cost = straight_cost_.data();
   const int* diagonal_cost = diagonal_cost_.data();
   const auto passable = [&](int i) { return straight_cost[cost[i]] >= 0; };
-  const int start_index = paddedIndex(start, w);
+  const auto start_index = static_cast<std::size_t>(paddedIndex(start, w));
   int offset[8];
   for (int k = 0; k < 8; ++k) offset[k] = kSteps[k][1] * w + kSteps[k][0];
 
-  // Dial's algorithm: a ring of buckets, one per integer distance modulo (largest edge + 1),
-  // and a bitmap of the non-empty ones so the scan jumps over the (many) empty distances.
-  const int ring = diagonal_cost_[kInscribedCost - 1] + 1;
+  // A* toward the start: cells are settled in order of f = g + h, with h the octile distance
+  // to the start priced at the cheapest step costs. h is consistent (a step changes it by at
+  // most that step's cheapest cost), so a settled cell's g is final, as in Dijkstra, while the
+  // search stays in the band between goal and start instead of the disc around the goal.
+  const int start_x = start.x + 1;
+  const int start_y = start.y + 1;
+  const int h_straight = straight_cost_[0];
+  const int h_diagonal = diagonal_cost_[0];
+  heuristic_.resize(n);
+  for (int y = 0; y < h; ++y) {
+    const int dy = std::abs(y - start_y);
+    int* row = heuristic_.data() + static_cast<std::ptrdiff_t>(y) * w;
+    for (int x = 0; x < w; ++x) {
+      const int dx = std::abs(x - start_x);
+      row[x] = h_straight * std::abs(dx - dy) + h_diagonal * std::min(dx, dy);
+    }
+  }
+  const int* heuristic = heuristic_.data();
+
+  // Dial's algorithm on f: a ring of buckets, one per integer f modulo (largest f increase
+  // + 1), and a bitmap of the non-empty ones so the scan jumps over the (many) empty values.
+  const int ring = diagonal_cost_[kInscribedCost - 1] + h_diagonal + 1;
   buckets_.resize(static_cast<std::size_t>(ring));
   for (auto& b : buckets_) b.clear();
   std::vector<std::vector<int>>& buckets = buckets_;
   std::vector<std::uint64_t>& occupied = occupied_buckets_;
   occupied.assign(static_cast<std::size_t>(ring + 63) / 64, 0);
-  // A cell at `ahead` (< ring) past the current distance, whose slot is `slot`.
+  // A cell at `ahead` (< ring) past the current key, whose slot is `slot`.
   const auto push = [&](int slot, int ahead, int cell) {
     int target = slot + ahead;
     if (target >= ring) target -= ring;
@@ -91,20 +111,27 @@ void GlobalPlanner::computeField(const Costmap& costmap, CellIndex goal, CellInd
   push(0, 0, goal_index);
   std::size_t pending = 1;
   std::size_t expanded = 0;
-  bool start_settled = false;
-  std::int64_t d = 0;
+  std::int64_t d = heuristic[goal_index];  // the key of the bucket being scanned
   int slot = 0;
-  while (pending > 0 && !start_settled) {
+  // Stop once every cell with f up to the start's g is settled (h is 0 at the start): then
+  // the start's g is final, and so is every cell its descent may step to or compare with,
+  // since along that descent f never exceeds the start's (see plan()).
+  while (pending > 0) {
     const int next = nextOccupied(slot);
-    d += (next - slot + ring) % ring;
+    const std::int64_t next_key = d + (next - slot + ring) % ring;
+    if (next_key > field_[start_index]) break;
+    d = next_key;
     slot = next;
     std::vector<int>& bucket = buckets[static_cast<std::size_t>(slot)];
-    // Entries may be appended to this bucket while it is scanned only with d (zero-cost
-    // edges), which do not exist: every step costs at least 10 * neutral.
+    // Entries are appended to this bucket while it is scanned when a step leaves f unchanged
+    // (a free step straight toward the start); the loop re-reads the size for them.
     for (std::size_t k = 0; k < bucket.size(); ++k) {
       const int i = bucket[k];
       --pending;
-      if (field_[static_cast<std::size_t>(i)] != d || settled_[static_cast<std::size_t>(i)]) continue;  // stale entry
+      if (settled_[static_cast<std::size_t>(i)]) continue;  // stale entry
+      const int h_here = heuristic[i];
+      const std::int64_t g = field_[static_cast<std::size_t>(i)];
+      if (g + h_here != d) continue;  // stale entry
       settled_[static_cast<std::size_t>(i)] = 1;
       ++expanded;
       // Reverse search: a neighbour p reaches this cell by entering it.
@@ -114,26 +141,60 @@ void GlobalPlanner::computeField(const Costmap& costmap, CellIndex goal, CellInd
         const bool diagonal = dir >= 4;
         if (diagonal && (!passable(i + kSteps[dir][0]) || !passable(i + kSteps[dir][1] * w))) continue;  // no corner cutting
         const int step = diagonal ? diagonal_cost[here] : straight_cost[here];
-        const std::int64_t candidate = d + step;
+        const std::int64_t candidate = g + step;
         if (candidate >= field_[static_cast<std::size_t>(p)]) continue;
         field_[static_cast<std::size_t>(p)] = candidate;
-        next_[static_cast<std::size_t>(p)] = i;
-        // The start is done once reached if it cannot be entered (it is never expanded).
-        if (p == start_index && !passable(p)) settled_[static_cast<std::size_t>(p)] = 1;
         // An impassable neighbour gets a cost (a start may sit there) but is never expanded:
         // nothing can pass through it. (The padding is impassable too.)
         if (!passable(p)) continue;
-        push(slot, step, p);
+        push(slot, step + heuristic[p] - h_here, p);
         ++pending;
       }
     }
     bucket.clear();
     occupied[static_cast<std::size_t>(slot) / 64] &= ~(std::uint64_t{1} << (slot % 64));
-    // Stop once the start's cost is final: every cell on its path is settled by then, and
-    // later starts reuse the field only if their cell is settled too.
-    start_settled = settled_[static_cast<std::size_t>(start_index)] != 0;
   }
+  // A start that cannot be entered is never expanded; its g is final now all the same.
+  if (field_[start_index] != kUnreached) settled_[start_index] = 1;
   last_expanded_ = expanded;
+}
+
+bool GlobalPlanner::descend(int start_index, int goal_index, int w) {
+  // Every cell compared is settled: a neighbour n of a cell p on the descent ties only if
+  // g(n) + step = g(p), so its f = g(n) + h(n) <= g(p) + h(p); along the descent f does not
+  // grow beyond the start's, and computeField settled every cell up to that.
+  const std::uint8_t* cost = padded_cost_.data();
+  const auto passable = [&](int i) { return straight_cost_[cost[i]] >= 0; };
+  const Eigen::Vector2d goal_xy(goal_index % w, goal_index / w);
+  descent_.clear();
+  for (int i = start_index;;) {
+    descent_.push_back(i);
+    if (i == goal_index) return true;
+    const Eigen::Vector2d to_goal_dir = (goal_xy - Eigen::Vector2d(i % w, i / w)).normalized();
+    int best = -1;
+    std::int64_t best_cost = kUnreached;
+    std::int64_t best_to_goal = kUnreached;
+    double best_alignment = -2.0;
+    for (int dir = 0; dir < 8; ++dir) {
+      const int nb = i + kSteps[dir][1] * w + kSteps[dir][0];
+      const bool diagonal = dir >= 4;
+      if (!passable(nb)) continue;
+      if (diagonal && (!passable(i + kSteps[dir][0]) || !passable(i + kSteps[dir][1] * w))) continue;
+      const std::int64_t to_goal = field_[static_cast<std::size_t>(nb)];
+      if (to_goal == kUnreached || !settled_[static_cast<std::size_t>(nb)]) continue;
+      const std::int64_t through = to_goal + stepCost(cost[nb], diagonal);
+      const double alignment = Eigen::Vector2d(kSteps[dir][0], kSteps[dir][1]).normalized().dot(to_goal_dir);
+      if (through < best_cost || (through == best_cost && (to_goal < best_to_goal ||
+                                                          (to_goal == best_to_goal && alignment > best_alignment)))) {
+        best_cost = through;
+        best_to_goal = to_goal;
+        best_alignment = alignment;
+        best = nb;
+      }
+    }
+    if (best < 0) return false;  // cannot happen for a reached start; no path rather than a loop
+    i = best;
+  }
 }
 
 Plan GlobalPlanner::planNavFn(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal) {
@@ -184,8 +245,8 @@ Plan GlobalPlanner::plan(const Costmap& costmap, const Eigen::Vector2d& start, c
   if (field_[start_index] == kUnreached) return result;
   result.found = true;
   result.cost = field_[start_index];
-  for (int i = static_cast<int>(start_index); i >= 0; i = next_[static_cast<std::size_t>(i)])
-    result.path.push_back(costmap.cellCentre({i % w - 1, i / w - 1}));
+  if (!descend(static_cast<int>(start_index), paddedIndex(g, w), w)) return {};
+  for (const int i : descent_) result.path.push_back(costmap.cellCentre({i % w - 1, i / w - 1}));
   if (config_.smoothing_window > 1 && result.path.size() > 2) {
     // Moving average over the cell path, end points kept: removes the 45-degree staircase.
     const std::vector<Eigen::Vector2d> raw = result.path;

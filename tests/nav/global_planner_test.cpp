@@ -1,5 +1,6 @@
 #include "barn/nav/global_planner.hpp"
 
+#include <cmath>
 #include <limits>
 #include <map>
 
@@ -44,6 +45,113 @@ std::int64_t bruteForceCost(const GlobalPlanner& planner, const Costmap& map, Ce
       }
   }
   return d[static_cast<std::size_t>(g.y * w + g.x)];
+}
+
+// Exhaustive cost-to-goal field (Bellman-Ford toward the goal) and the steepest descent on it
+// that the planner documents: from each cell to the neighbour with the least g + step; among
+// equals the one with the least g, then the one pointing most nearly at the goal, then the
+// first in the planner's direction order (straight +x, -x, +y, -y, then diagonals).
+std::vector<CellIndex> bruteForceDescent(const GlobalPlanner& planner, const Costmap& map, CellIndex s, CellIndex g) {
+  const int w = map.widthCells(), h = map.heightCells();
+  constexpr std::int64_t kInf = std::numeric_limits<std::int64_t>::max() / 4;
+  constexpr int kOrder[8][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {1, -1}, {-1, 1}, {-1, -1}};
+  const auto passable = [&](int x, int y) {
+    return x >= 0 && y >= 0 && x < w && y < h && planner.stepCost(map.cost(x, y), false) >= 0;
+  };
+  const auto step = [&](int x, int y, int dir) -> std::int64_t {  // entering the neighbour, -1 if not allowed
+    const int nx = x + kOrder[dir][0], ny = y + kOrder[dir][1];
+    if (!passable(nx, ny)) return -1;
+    const bool diagonal = dir >= 4;
+    if (diagonal && (!passable(nx, y) || !passable(x, ny))) return -1;
+    return planner.stepCost(map.cost(nx, ny), diagonal);
+  };
+  std::vector<std::int64_t> to_goal(static_cast<std::size_t>(w * h), kInf);
+  to_goal[static_cast<std::size_t>(g.y * w + g.x)] = 0;
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        for (int dir = 0; dir < 8; ++dir) {
+          const std::int64_t c = step(x, y, dir);
+          const std::int64_t there = c < 0 ? kInf : to_goal[static_cast<std::size_t>((y + kOrder[dir][1]) * w + x + kOrder[dir][0])];
+          std::int64_t& here = to_goal[static_cast<std::size_t>(y * w + x)];
+          if (there < kInf && there + c < here) {
+            here = there + c;
+            changed = true;
+          }
+        }
+  }
+  std::vector<CellIndex> path;
+  if (to_goal[static_cast<std::size_t>(s.y * w + s.x)] >= kInf) return path;
+  for (CellIndex c = s;;) {
+    path.push_back(c);
+    if (c == g) return path;
+    std::int64_t best = kInf, best_g = kInf;
+    double best_cos = -2.0;
+    CellIndex next = c;
+    const double gx = g.x - c.x, gy = g.y - c.y;
+    for (int dir = 0; dir < 8; ++dir) {
+      const std::int64_t cost = step(c.x, c.y, dir);
+      if (cost < 0) continue;
+      const CellIndex n{c.x + kOrder[dir][0], c.y + kOrder[dir][1]};
+      const std::int64_t there = to_goal[static_cast<std::size_t>(n.y * w + n.x)];
+      const std::int64_t through = there + cost;
+      const double cos = (kOrder[dir][0] * gx + kOrder[dir][1] * gy) /
+                         (std::hypot(kOrder[dir][0], kOrder[dir][1]) * std::hypot(gx, gy));
+      if (through < best || (through == best && (there < best_g || (there == best_g && cos > best_cos)))) {
+        best = through;
+        best_g = there;
+        best_cos = cos;
+        next = n;
+      }
+    }
+    c = next;
+  }
+}
+
+// A 1 m-cell map of random obstacles, inflated so costs vary from cell to cell.
+Costmap randomInflatedMap(core::Rng& rng, int width, int height, double obstacle_fraction) {
+  CostmapConfig c;
+  c.resolution = 1.0;
+  c.width = width;
+  c.height = height;
+  c.inscribed_radius = 0.0;
+  c.inflation_radius = 2.5;
+  c.cost_scaling_factor = 1.0;
+  Costmap map(c);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      if (rng.uniform01() < obstacle_fraction) map.markObstacle({x + 0.5, y + 0.5});
+  return map;
+}
+
+TEST(GlobalPlanner, PathIsTheSteepestDescentOfTheExactField) {
+  // The path depends on the costs, start and goal only, not on the order the search settled
+  // cells in: it equals the descent on an exhaustively computed field, ties included (free
+  // maps have many equal routes).
+  core::Rng rng(11);
+  for (int trial = 0; trial < 30; ++trial) {
+    const Costmap map = randomInflatedMap(rng, 12, 9, trial % 3 == 0 ? 0.0 : 0.12);
+    const CellIndex start{static_cast<int>(rng.uniform01() * 12), static_cast<int>(rng.uniform01() * 9)};
+    const CellIndex goal{static_cast<int>(rng.uniform01() * 12), static_cast<int>(rng.uniform01() * 9)};
+    GlobalPlanner planner({});
+    if (planner.stepCost(map.cost(goal.x, goal.y), false) < 0) continue;
+    const Plan plan = planner.plan(map, map.cellCentre(start), map.cellCentre(goal));
+    const std::vector<CellIndex> expected = bruteForceDescent(planner, map, start, goal);
+    ASSERT_EQ(plan.found, !expected.empty()) << "trial " << trial;
+    ASSERT_EQ(plan.path.size(), expected.size()) << "trial " << trial;
+    for (std::size_t k = 0; k < expected.size(); ++k)
+      EXPECT_EQ(plan.path[k], map.cellCentre(expected[k])) << "trial " << trial << " point " << k;
+    // A later start on the path reuses the field and still gets the exhaustive descent.
+    if (expected.size() > 2) {
+      const CellIndex later = expected[expected.size() / 2];
+      const Plan reused = planner.plan(map, map.cellCentre(later), map.cellCentre(goal));
+      const std::vector<CellIndex> expected_later = bruteForceDescent(planner, map, later, goal);
+      ASSERT_EQ(reused.path.size(), expected_later.size()) << "trial " << trial;
+      for (std::size_t k = 0; k < expected_later.size(); ++k)
+        EXPECT_EQ(reused.path[k], map.cellCentre(expected_later[k])) << "trial " << trial << " point " << k;
+    }
+  }
 }
 
 TEST(GlobalPlanner, StraightLineInAnEmptyMap) {

@@ -18,10 +18,14 @@
 /// obstacle must still be able to leave); the goal may not.
 ///
 /// Unlike NavFn (whose field is rooted at the robot), the search runs from the goal and yields
-/// a cost-to-goal field; the path from the start follows it downhill. The search stops once the start's cost is final, and the field
-/// is reused while the costmap and the goal are unchanged and the new start is settled, so
-/// replanning at 20 Hz between 10 Hz map updates mostly costs only the path extraction. Edge
-/// costs are rounded to integers (tenths of the NavFn unit) so the open list is a bucket queue (Dial's algorithm): exact Dijkstra on those integer costs.
+/// a cost-to-goal field; the path from the start follows it downhill (steepest descent with a
+/// fixed tie-break, so the path does not depend on the order cells were settled in). The
+/// search is A* toward the start with the octile distance at the cheapest step costs (so it
+/// covers the band between goal and start, not the disc around the goal) and stops once the
+/// start's cost is final. The field is reused while the costmap and the goal are unchanged and
+/// the new start is settled, so replanning at 20 Hz between 10 Hz map updates mostly costs only
+/// the path extraction. Edge costs are rounded to integers (tenths of the NavFn unit) so the
+/// open list is a bucket queue (Dial's algorithm): exact on those integer costs.
 
 #include <cstdint>
 #include <string>
@@ -77,6 +81,13 @@ class GlobalPlanner {
 
  private:
   void computeField(const Costmap& costmap, CellIndex goal, CellIndex start);
+  /// Steepest descent on the field from the start to the goal into descent_ (padded flat
+  /// indices): each step to the neighbour with the least step cost + cost-to-goal; among
+  /// equals, the one nearest the goal (the dearer step: a diagonal before a straight one, so a
+  /// sideways shift comes early, as Dijkstra's first-settled parent has it), then the one
+  /// pointing most nearly at the goal, then the first in kSteps order. The path is a function
+  /// of the costs, start and goal alone, not of the search order.
+  bool descend(int start_index, int goal_index, int w);
   /// A cell's flat index on the padded grid `padded_width` wide.
   static int paddedIndex(CellIndex cell, int padded_width) { return (cell.y + 1) * padded_width + cell.x + 1; }
   Plan planNavFn(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal);
@@ -89,8 +100,9 @@ class GlobalPlanner {
   std::vector<int> diagonal_cost_;
   // The cost-to-goal field and where it was computed.
   std::vector<std::int64_t> field_;
-  std::vector<int> next_;           // flat index of the next cell toward the goal, -1 none
   std::vector<char> settled_;       // cells whose field value is final
+  std::vector<int> descent_;        // scratch: the last descent's cells
+  std::vector<int> heuristic_;      // scratch: A*'s h of every cell for the current start
   std::vector<std::uint8_t> padded_cost_;  // scratch: the costs, padded by a lethal border
   std::vector<std::vector<int>> buckets_;  // scratch: Dial's bucket ring
   std::vector<std::uint64_t> occupied_buckets_;  // scratch: a bit per non-empty bucket
