@@ -210,35 +210,36 @@ void Costmap::integrateScan(const core::LaserScan& scan, const core::Pose2& sens
     kept = range;
     return range >= scan.range_min && range < scan.range_max;
   };
+  // The beams' directions in the sensor frame are the same every scan; each scan rotates them
+  // by the sensor's yaw, as laser_geometry projects a scan with its cached cosines and sines.
+  if (beam_cos_.size() != scan.ranges.size() || beam_angle_min_ != scan.angle_min || beam_angle_increment_ != scan.angle_increment) {
+    beam_cos_.resize(scan.ranges.size());
+    beam_sin_.resize(scan.ranges.size());
+    for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
+      beam_cos_[i] = std::cos(scan.angle(i));
+      beam_sin_[i] = std::sin(scan.angle(i));
+    }
+    beam_angle_min_ = scan.angle_min;
+    beam_angle_increment_ = scan.angle_increment;
+  }
+  const auto direction = [&](std::size_t i) {
+    return Eigen::Vector2d(c * beam_cos_[i] - s * beam_sin_[i], s * beam_cos_[i] + c * beam_sin_[i]);
+  };
   // Clearing first, then marking (costmap_2d's order), so a return inside another beam's
   // cleared ray stays an obstacle. Nothing is traced if the sensor is off the map.
   CellIndex sensor_cell;
   if (toCell(origin, sensor_cell)) {
-    // The beams' directions in the sensor frame are the same every scan.
-    if (beam_cos_.size() != scan.ranges.size() || beam_angle_min_ != scan.angle_min || beam_angle_increment_ != scan.angle_increment) {
-      beam_cos_.resize(scan.ranges.size());
-      beam_sin_.resize(scan.ranges.size());
-      for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
-        beam_cos_[i] = std::cos(scan.angle(i));
-        beam_sin_[i] = std::sin(scan.angle(i));
-      }
-      beam_angle_min_ = scan.angle_min;
-      beam_angle_increment_ = scan.angle_increment;
-    }
     for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
       double range = 0.0;
       if (!usable(scan.ranges[i], range)) continue;
-      const Eigen::Vector2d u(c * beam_cos_[i] - s * beam_sin_[i], s * beam_cos_[i] + c * beam_sin_[i]);
-      clearRay(sensor_cell, origin + range * u);
+      clearRay(sensor_cell, origin + range * direction(i));
     }
   }
   for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
     double range = 0.0;
     if (!usable(scan.ranges[i], range) || !(range < config_.obstacle_range)) continue;
-    const double angle = scan.angle(i) + sensor_pose.yaw;
     CellIndex cell;
-    if (toCell(origin + range * Eigen::Vector2d(std::cos(angle), std::sin(angle)), cell))
-      setObstacle(cell.x, cell.y, kLethalCost);
+    if (toCell(origin + range * direction(i), cell)) setObstacle(cell.x, cell.y, kLethalCost);
   }
 }
 
