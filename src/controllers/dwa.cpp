@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
+#include <optional>
 
 #include "barn/nav/grid_line.hpp"
 
@@ -46,42 +46,31 @@ void validate(const DwaConfig& c, core::Errors& errors, const std::string& prefi
                "the scoring scales must be >= 0");
   errors.check(c.scoring_window > 0.0, prefix + ".scoring_window", "must be > 0");
   errors.check(c.escape_vel < 0.0, prefix + ".escape_vel", "must be < 0 (backwards)");
-  errors.check(c.recovery.controller_patience > 0.0, prefix + ".recovery.controller_patience", "must be > 0");
-  errors.check(c.recovery.planner_patience > 0.0, prefix + ".recovery.planner_patience", "must be > 0");
   errors.check(c.escape_reset_dist > 0.0, prefix + ".escape_reset_dist", "must be > 0");
   errors.check(c.escape_reset_theta > 0.0, prefix + ".escape_reset_theta", "must be > 0");
-  errors.check(c.recovery.max_rotation_speed > 0.0, prefix + ".recovery.max_rotation_speed", "must be > 0");
-  errors.check(c.recovery.min_rotation_speed > 0.0 && c.recovery.min_rotation_speed <= c.recovery.max_rotation_speed,
-               prefix + ".recovery.min_rotation_speed", "must be in (0, max_rotation_speed]");
-  errors.check(c.recovery.rotation_acceleration > 0.0, prefix + ".recovery.rotation_acceleration", "must be > 0");
-  errors.check(c.recovery.rotation_tolerance > 0.0, prefix + ".recovery.rotation_tolerance", "must be > 0");
-  errors.check(c.recovery.sweep_step > 0.0, prefix + ".recovery.sweep_step", "must be > 0");
+  validate(c.recovery, errors, prefix + ".recovery");
   nav::validate(c.nav, errors, prefix + ".nav");
 }
 
 DwaController::DwaController(const DwaConfig& config)
-    : config_(config), nav_(config.nav), footprint_(nav_.paddedFootprint()) {}
+    : config_(config), nav_(config.nav), move_base_(config.recovery), footprint_(nav_.paddedFootprint()) {}
 
 void DwaController::reset(const EpisodeInfo& info) {
   info_ = info;
   nav_.reset(info.goal);
-  mode_ = Mode::Planning;
-  last_valid_time_ = 0.0;
-  recovery_index_ = 0;
-  recovery_trigger_ = RecoveryTrigger::Controller;
-  waiting_since_ = 0.0;
-  rotated_ = 0.0;
+  move_base_.reset();
   escaping_ = false;
   rotating_left_ = rotating_right_ = stuck_left_ = stuck_right_ = false;
   last_rotation_position_ = Eigen::Vector2d::Zero();  // upstream starts prev_x_, prev_y_ at 0
 }
 
 std::string_view DwaController::stateLabel() const {
-  switch (mode_) {
-    case Mode::Planning: return escaping_ ? "escaping" : "planning";
-    case Mode::WaitingForPlan: return "waiting";
-    case Mode::RecoveryRotate: return "recovery";
-    case Mode::GaveUp: return "aborted";
+  // move_base's CONTROLLING keeps the planner's name for the state label.
+  switch (move_base_.mode()) {
+    case MoveBase::Mode::Controlling: return escaping_ ? "escaping" : "planning";
+    case MoveBase::Mode::WaitingForPlan: return "waiting";
+    case MoveBase::Mode::RecoveryRotate: return "recovery";
+    case MoveBase::Mode::Aborted: return "aborted";
   }
   return "";
 }
@@ -109,12 +98,6 @@ int DwaController::outlineCost(const nav::CellIndex (&corners)[4]) const {
   for (int k = 0; k < 4; ++k)
     worst = std::max(worst, highestCostOnSegment(costs, width, corners[k], corners[(k + 1) % 4]));
   return worst >= nav::kLethalCost ? -1 : worst;
-}
-
-double DwaController::footprintCost(double x, double y, double theta) const {
-  nav::CellIndex corners[4];
-  if (!footprintCorners(x, y, std::cos(theta), std::sin(theta), corners)) return -1.0;  // a corner off the map
-  return outlineCost(corners);
 }
 
 void DwaController::Wavefront::start(std::span<const int> seeds) {
@@ -486,95 +469,17 @@ DwaTrajectory DwaController::findBestPath(const core::Pose2& pose, const core::T
   return escape;
 }
 
-bool DwaController::sweepClear(const core::Pose2& pose, double sweep) const {
-  for (double turned = 0.0; turned <= sweep; turned += config_.recovery.sweep_step)
-    if (footprintCost(pose.x, pose.y, pose.yaw + turned) < 0.0) return false;
-  return true;
-}
-
-core::Twist DwaController::recover(const Observation& obs) {
-  // move_base runs its recoveries in order, each after a failing controller cycle, until
-  // one lets the controller find a command again; after the last it aborts the goal.
-  const core::Pose2& pose = obs.odom_pose;
-  const DwaRecoveryConfig& r = config_.recovery;
-  if (mode_ == Mode::RecoveryRotate) {
-    rotated_ += std::abs(core::wrapAngle(pose.yaw - last_yaw_));
-    last_yaw_ = pose.yaw;
-    const double remaining = 2.0 * std::numbers::pi - rotated_;
-    if (remaining > r.rotation_tolerance && sweepClear(pose, remaining)) {
-      const double speed = std::clamp(std::sqrt(2.0 * r.rotation_acceleration * remaining), r.min_rotation_speed,
-                                      r.max_rotation_speed);
-      return {0.0, speed};
-    }
-    waitForPlan(obs.time);  // the turn is done (or would hit): plan again
-    return {};
-  }
-  if (recovery_index_ >= 4) {
-    mode_ = Mode::GaveUp;
-    return {};
-  }
-  const int step = recovery_index_++;
-  if (step % 2 == 0) {
-    if (r.clear_costmaps) {
-      const double keep = step == 0 ? r.conservative_reset_distance : r.aggressive_reset_distance;
-      nav_.mutableGlobalCostmap().clearOutside(pose.position(), keep);
-      nav_.mutableLocalCostmap().clearOutside(pose.position(), keep);
-    }
-    waitForPlan(obs.time);
-    return {};
-  }
-  mode_ = Mode::RecoveryRotate;
-  rotated_ = 0.0;
-  last_yaw_ = pose.yaw;
-  return recover(obs);
-}
-
 core::Twist DwaController::act(const Observation& obs) {
   const core::Pose2 pose = obs.odom_pose;
   const core::Pose2 sensor{pose.transform({info_.lidar.mount_x, info_.lidar.mount_y}).x(),
                            pose.transform({info_.lidar.mount_x, info_.lidar.mount_y}).y(), pose.yaw};
   nav_.update(obs.time, *obs.scan, sensor, pose);
 
-  if (mode_ == Mode::GaveUp) return {};
-  if (mode_ == Mode::RecoveryRotate) {
-    const core::Twist turn = recover(obs);
-    if (mode_ == Mode::RecoveryRotate) return turn;
-  }
-  const bool recoveries = config_.recovery.enabled;
-  if (mode_ == Mode::WaitingForPlan) {
-    // The plan of this cycle (nav_.update) stands for the one move_base's planner thread makes
-    // between two control cycles once woken.
-    if (!nav_.lastPlanFound()) {
-      if (recoveries && obs.time - waiting_since_ > config_.recovery.planner_patience) {
-        recovery_trigger_ = RecoveryTrigger::Planner;
-        return recover(obs);
-      }
-      return {};
-    }
-    mode_ = Mode::Planning;
-  }
-  // A new plan handed to the controller ends recoveries the planner started.
-  if (recovery_trigger_ == RecoveryTrigger::Planner && nav_.lastPlanFound()) recovery_index_ = 0;
+  if (const auto command = move_base_.beforeController(obs, nav_)) return *command;
   updateDistanceMaps(pose);
   const DwaTrajectory best = findBestPath(pose, obs.odom_twist);
-  if (best.cost >= 0.0) {
-    last_valid_time_ = obs.time;
-    if (recovery_trigger_ == RecoveryTrigger::Controller) recovery_index_ = 0;
-    return {best.vx, best.vtheta};
-  }
-  // move_base: a failed cycle publishes zero; after controller_patience, the recoveries; else it
-  // waits for the planner.
-  if (recoveries && obs.time - last_valid_time_ >= config_.recovery.controller_patience) {
-    recovery_trigger_ = RecoveryTrigger::Controller;
-    return recover(obs);
-  }
-  waitForPlan(obs.time);
-  return {};
-}
-
-void DwaController::waitForPlan(double time) {
-  mode_ = Mode::WaitingForPlan;
-  waiting_since_ = time;
+  return move_base_.afterController(obs, nav_, best.cost >= 0.0 ? std::optional<core::Twist>(core::Twist{best.vx, best.vtheta})
+                                                                 : std::nullopt);
 }
 
 }  // namespace barn::controllers

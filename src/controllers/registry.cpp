@@ -1,6 +1,7 @@
 #include "barn/controllers/registry.hpp"
 
 #include "barn/controllers/dwa.hpp"
+#include "barn/controllers/eband.hpp"
 #include "barn/controllers/external.hpp"
 #include "barn/controllers/inventec.hpp"
 #include "barn/controllers/lflh.hpp"
@@ -72,6 +73,7 @@ const std::vector<Entry>& entries() {
       entry<StraightConfig, StraightController>("straight"),
       entry<PurePursuitConfig, PurePursuitController>("pure_pursuit"),
       entry<DwaConfig, DwaController>("dwa"),
+      entry<EbandConfig, EbandController>("eband"),
       policyEntry<LflhConfig, LflhController>("lflh"),
       policyEntry<InventecConfig, InventecController>("inventec"),
       externalEntry(),

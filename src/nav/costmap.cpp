@@ -414,6 +414,18 @@ void Costmap::markObstacle(const Eigen::Vector2d& p) {
   setObstacle(cell.x, cell.y, kLethalCost);
 }
 
+void Costmap::reset() {
+  // No obstacle is left, so no cell is inflated: every cost is the unseen value.
+  const std::uint8_t unseen = config_.track_unknown ? kUnknownCost : kFreeCost;
+  std::fill(obstacle_.begin(), obstacle_.end(), unseen);
+  std::fill(cost_.begin(), cost_.end(), unseen);
+  inflated_state_ = obstacle_;
+  changed_.clear();
+  pending_.clear();
+  stale_ = false;
+  ++version_;
+}
+
 void Costmap::clearOutside(const Eigen::Vector2d& centre, double radius) {
   const std::uint8_t unseen = config_.track_unknown ? kUnknownCost : kFreeCost;
   for (int y = 0; y < height_; ++y)

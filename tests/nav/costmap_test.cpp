@@ -250,5 +250,25 @@ TEST(Costmap, ClearOutsideForgetsDistantObstacles) {
   EXPECT_EQ(map.costAt({2.0, 0.0}), kFreeCost);
 }
 
+TEST(Costmap, ResetForgetsEverythingUntilTheNextScan) {
+  // costmap_2d's resetLayers (eband's answer to a plan it cannot turn into a band).
+  Costmap map(smallMap());
+  map.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
+  ASSERT_EQ(map.costAt({1.0, 0.0}), kLethalCost);
+  ASSERT_GT(map.costAt({0.8, 0.0}), kFreeCost);
+  const std::uint64_t version = map.version();
+  map.reset();
+  EXPECT_NE(map.version(), version);
+  for (int y = 0; y < map.heightCells(); ++y)
+    for (int x = 0; x < map.widthCells(); ++x) ASSERT_EQ(map.cost(x, y), kFreeCost);
+  EXPECT_FALSE(map.isObstacle(0, 0));
+  // The next scan marks and inflates as on a fresh map.
+  map.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
+  Costmap fresh(smallMap());
+  fresh.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
+  for (int y = 0; y < map.heightCells(); ++y)
+    for (int x = 0; x < map.widthCells(); ++x) ASSERT_EQ(map.cost(x, y), fresh.cost(x, y));
+}
+
 }  // namespace
 }  // namespace barn::nav

@@ -19,49 +19,21 @@
 /// escape_reset_theta. A cycle without a valid command stops the robot until the global
 /// planner finds a path again (move_base's PLANNING state). If no command is valid for
 /// controller_patience seconds, or no plan is found for planner_patience seconds while waiting,
-/// move_base's recoveries run (DwaRecoveryConfig); after them the robot gives up, as move_base
-/// aborts.
+/// move_base's recoveries run (MoveBase, move_base.hpp); after them the robot gives up, as
+/// move_base aborts.
 
 #include <span>
 #include <vector>
 
 #include "barn/controllers/controller.hpp"
+#include "barn/controllers/move_base.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/nav/nav_stack.hpp"
 
 namespace barn::controllers {
 
-/// move_base's recoveries, in its default order: clear the costmaps beyond 3 m, rotate, clear
-/// beyond 1.84 m, rotate; then abort. They start after controller_patience without a valid
-/// command, or after planner_patience without a plan while the controller waits for one (after
-/// a cycle without a valid command move_base stops and runs the controller again only once the
-/// global planner has found a path: its PLANNING state).
-struct DwaRecoveryConfig {
-  bool enabled = true;
-  double controller_patience = 15.0;       // [s] without a valid command before recovering
-  double planner_patience = 5.0;           // [s] waiting for a plan before recovering
-  // BARN's clearing recoveries clear nothing: ClearCostmapRecovery resets only layers named
-  // "obstacles", and BARN's obstacle layer is called "obstacles_layer". true clears as intended.
-  bool clear_costmaps = false;
-  double conservative_reset_distance = 3.0;  // [m] first clearing keeps obstacles within this
-  double aggressive_reset_distance = 1.84;   // [m] 4 x the default circumscribed radius (0.46)
-  // rotate_recovery: always counter-clockwise, a full turn, at clamp(sqrt(2 acc remaining),
-  // min, max); the footprint is checked over the whole remaining sweep every tick and any hit
-  // ends the behaviour at once.
-  double max_rotation_speed = 1.57;        // [rad/s] max_vel_theta
-  double min_rotation_speed = 0.314;       // [rad/s] min_in_place_vel_theta
-  double rotation_acceleration = 20.0;     // [rad/s^2] acc_lim_theta
-  double rotation_tolerance = 0.157;       // [rad] yaw_goal_tolerance
-  double sweep_step = 0.017;               // [rad] sim_granularity of the sweep check
-  template <class V> void visit(V& v) {
-    v("enabled", enabled); v("controller_patience", controller_patience);
-    v("planner_patience", planner_patience); v("clear_costmaps", clear_costmaps);
-    v("conservative_reset_distance", conservative_reset_distance);
-    v("aggressive_reset_distance", aggressive_reset_distance); v("max_rotation_speed", max_rotation_speed);
-    v("min_rotation_speed", min_rotation_speed); v("rotation_acceleration", rotation_acceleration);
-    v("rotation_tolerance", rotation_tolerance); v("sweep_step", sweep_step);
-  }
-};
+/// move_base's patience and recoveries (controllers/move_base.hpp).
+using DwaRecoveryConfig = MoveBaseRecoveryConfig;
 
 struct DwaConfig {
   double rate = 20.0;                 // [Hz] controller_frequency
@@ -135,15 +107,6 @@ class DwaController : public Controller {
   bool escaping() const { return escaping_; }
 
  private:
-  /// move_base's states: Planning is its CONTROLLING (the planner's name is kept for the
-  /// state label), WaitingForPlan its PLANNING, RecoveryRotate a running rotate_recovery.
-  enum class Mode { Planning, WaitingForPlan, RecoveryRotate, GaveUp };
-  /// What started the current recoveries: move_base forgets them when that recovers.
-  enum class RecoveryTrigger { Controller, Planner };
-
-  /// move_base enters PLANNING: stop until the global planner finds a path.
-  void waitForPlan(double time);
-
   /// The headings of every roll-out with the same step count and yaw-rate sample: the yaw
   /// sequence depends on nothing else within one findBestPath(), so its sines and cosines
   /// are computed once and shared (the arcs of one yaw rate at different speeds often take
@@ -252,22 +215,13 @@ class DwaController : public Controller {
   double trajectoryCost(int path_cells, int goal_cells, int occupancy) const;
   int pathDistance(const nav::CellIndex& cell);
   int goalDistance(const nav::CellIndex& cell);
-  double footprintCost(double x, double y, double theta) const;
   bool footprintCorners(double x, double y, double cos_theta, double sin_theta, nav::CellIndex (&corners)[4]) const;
   int outlineCost(const nav::CellIndex (&corners)[4]) const;
-  bool sweepClear(const core::Pose2& pose, double sweep) const;
-  core::Twist recover(const Observation& obs);
 
   DwaConfig config_;
   nav::NavStack nav_;
   EpisodeInfo info_;
-  Mode mode_ = Mode::Planning;
-  double last_valid_time_ = 0.0;
-  int recovery_index_ = 0;  // next of move_base's four recoveries
-  RecoveryTrigger recovery_trigger_ = RecoveryTrigger::Controller;
-  double waiting_since_ = 0.0;  // [s] when the controller started waiting for a plan
-  double rotated_ = 0.0;    // [rad] turned in the current recovery rotation
-  double last_yaw_ = 0.0;
+  MoveBase move_base_;
   // TrajectoryPlanner's flags.
   bool escaping_ = false;
   core::Pose2 escape_pose_;

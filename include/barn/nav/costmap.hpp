@@ -89,6 +89,10 @@ class Costmap {
   /// also how tests draw maps).
   void markObstacle(const Eigen::Vector2d& p);
 
+  /// Forgets everything: every cell back to unseen (free, or unknown when unknown space is
+  /// tracked), as costmap_2d's resetLayers leaves the map until its next update.
+  void reset();
+
   /// Forgets the obstacles farther than `radius` from `centre` (move_base's clearing
   /// recovery resets them to unknown, or free when unknown space is not tracked).
   void clearOutside(const Eigen::Vector2d& centre, double radius);
