@@ -471,9 +471,7 @@ DwaTrajectory DwaController::findBestPath(const core::Pose2& pose, const core::T
 
 core::Twist DwaController::act(const Observation& obs) {
   const core::Pose2 pose = obs.odom_pose;
-  const core::Pose2 sensor{pose.transform({info_.lidar.mount_x, info_.lidar.mount_y}).x(),
-                           pose.transform({info_.lidar.mount_x, info_.lidar.mount_y}).y(), pose.yaw};
-  nav_.update(obs.time, *obs.scan, sensor, pose);
+  nav_.update(obs.time, *obs.scan, info_.lidar.sensorPose(pose), pose);
 
   if (const auto command = move_base_.beforeController(obs, nav_)) return *command;
   updateDistanceMaps(pose);

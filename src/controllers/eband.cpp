@@ -428,7 +428,7 @@ bool EbandController::setPlan(const core::Pose2& robot) {
   if (!band_.setPlan(window)) {
     // Upstream's answer to plans through obstacles of the local costmap (its issue #5): reset
     // the local costmap (until its next update, the next cycle here) and try once more.
-    nav_.mutableLocalCostmap().reset();
+    nav_.resetLocalCostmap();
     ++costmap_resets_;
     band_.setCostmap(nav_.localCostmap());
     if (!band_.setPlan(window)) return false;
@@ -522,8 +522,7 @@ EbandController::Command EbandController::commandFor(const std::vector<EbandBubb
 
 core::Twist EbandController::act(const Observation& obs) {
   const core::Pose2 pose = obs.odom_pose;
-  const Eigen::Vector2d sensor_position = pose.transform({info_.lidar.mount_x, info_.lidar.mount_y});
-  nav_.update(obs.time, *obs.scan, {sensor_position.x(), sensor_position.y(), pose.yaw}, pose);
+  nav_.update(obs.time, *obs.scan, info_.lidar.sensorPose(pose), pose);
 
   if (goal_reached_) return {};  // move_base succeeded (BARN's episode ends 1 m before)
   if (const auto command = move_base_.beforeController(obs, nav_)) return *command;

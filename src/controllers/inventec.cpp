@@ -253,7 +253,7 @@ void InventecController::enter(InventecState state, const core::Pose2& pose, dou
 core::Twist InventecController::act(const Observation& obs) {
   const core::Pose2 pose = obs.odom_pose;
   const core::LaserScan& scan = *obs.scan;
-  nav_.update(obs.time, scan, sensorPose(pose, info_.lidar), pose);
+  nav_.update(obs.time, scan, info_.lidar.sensorPose(pose), pose);
   const std::vector<Eigen::Vector2d> points = scanPoints(scan, info_.lidar);
   const bool code = config_.codeVariant();
   const bool checks = config_.safety.type != "none";

@@ -50,11 +50,6 @@ Eigen::Vector2d localGoalDirection(const nav::Path& path, const core::Pose2& pos
   return local.norm() > 1e-9 ? Eigen::Vector2d(local.normalized()) : Eigen::Vector2d(1.0, 0.0);
 }
 
-core::Pose2 sensorPose(const core::Pose2& pose, const core::LidarConfig& lidar) {
-  const Eigen::Vector2d p = pose.transform({lidar.mount_x, lidar.mount_y});
-  return {p.x(), p.y(), pose.yaw};
-}
-
 LflhController::LflhController(const LflhConfig& config, std::shared_ptr<const learning::Policy> policy)
     : config_(config), policy_(std::move(policy)), nav_(config.nav) {}
 
@@ -64,7 +59,7 @@ void LflhController::reset(const EpisodeInfo& info) {
 }
 
 core::Twist LflhController::act(const Observation& obs) {
-  nav_.update(obs.time, *obs.scan, sensorPose(obs.odom_pose, info_.lidar), obs.odom_pose);
+  nav_.update(obs.time, *obs.scan, info_.lidar.sensorPose(obs.odom_pose), obs.odom_pose);
   // Until the first plan (and if planning never succeeds) the goal itself is the target.
   const nav::Path path = nav_.hasPath() ? nav_.path() : nav::Path{obs.odom_pose.position(), obs.goal};
   const core::Twist raw = policy_->act(*obs.scan, localGoalDirection(path, obs.odom_pose, config_.local_goal_distance));

@@ -79,8 +79,7 @@ core::Twist MoveBase::recover(const Observation& obs, nav::NavStack& nav) {
   if (step % 2 == 0) {
     if (r.clear_costmaps) {
       const double keep = step == 0 ? r.conservative_reset_distance : r.aggressive_reset_distance;
-      nav.mutableGlobalCostmap().clearOutside(pose.position(), keep);
-      nav.mutableLocalCostmap().clearOutside(pose.position(), keep);
+      nav.clearCostmapsOutside(pose.position(), keep);
     }
     waitForPlan(obs.time);
     return {};

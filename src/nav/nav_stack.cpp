@@ -110,6 +110,17 @@ void NavStack::applyLocalUpdates() const {
   local_updates_queued_ = 0;
 }
 
+void NavStack::clearCostmapsOutside(const Eigen::Vector2d& centre, double keep) {
+  global_.clearOutside(centre, keep);
+  applyLocalUpdates();
+  local_.clearOutside(centre, keep);
+}
+
+void NavStack::resetLocalCostmap() {
+  applyLocalUpdates();
+  local_.reset();
+}
+
 void NavStack::replan(const core::Pose2& robot_pose) {
   Plan plan = planner_.plan(global_, robot_pose.position(), goal_);
   ++plans_;

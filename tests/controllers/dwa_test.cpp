@@ -115,6 +115,7 @@ TEST(Dwa, EscapingEndsAfterTurningEscapeResetTheta) {
   info.goal = {6.0, 0.0};
   info.lidar.mount_x = 0.0;
   dwa.reset(info);
+  // One scan (later cycles see no new one, so the map stays as it was).
   const core::LaserScan scan = scanOf(kBoxedIn);
   Observation obs;
   obs.scan = &scan;
@@ -122,14 +123,14 @@ TEST(Dwa, EscapingEndsAfterTurningEscapeResetTheta) {
   dwa.act(obs);
   ASSERT_TRUE(dwa.escaping());
   // Still boxed in after turning 0.05 rad (< escape_reset_theta 0.1): still escaping.
-  core::Pose2 turned{0.0, 0.0, 0.05};
-  dwa.updateDistanceMaps(turned);
-  dwa.findBestPath(turned, {});
+  obs.time = 0.05;
+  obs.odom_pose = {0.0, 0.0, 0.05};
+  dwa.act(obs);
   EXPECT_TRUE(dwa.escaping());
   // 0.11 rad from where the escape began: escaping ends (upstream: distance OR angle).
-  turned.yaw = 0.11;
-  dwa.updateDistanceMaps(turned);
-  dwa.findBestPath(turned, {});
+  obs.time = 0.10;
+  obs.odom_pose.yaw = 0.11;
+  dwa.act(obs);
   EXPECT_FALSE(dwa.escaping());
 }
 

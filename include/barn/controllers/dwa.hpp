@@ -96,17 +96,20 @@ class DwaController : public Controller {
   double period() const override { return 1.0 / config_.rate; }
   std::string_view stateLabel() const override;
 
-  /// One TrajectoryPlanner cycle for `pose` moving at `velocity` on the stack's current
-  /// costmap and the distance maps of the last updateDistanceMaps(): forward arcs, in-place
-  /// rotations, else the blind back-up; updates the oscillation and escape flags as upstream.
-  /// cost < 0: no command (the robot stops). Exposed for tests.
-  DwaTrajectory findBestPath(const core::Pose2& pose, const core::Twist& velocity);
-  nav::NavStack& navStack() { return nav_; }
-  /// Recomputes the path and goal distance maps on the local costmap (after the path changed).
-  void updateDistanceMaps(const core::Pose2& pose);
+  const nav::NavStack& navStack() const { return nav_; }
+  /// TrajectoryPlanner's escape flag: set by a blind back-up, cleared after escape_reset_dist
+  /// or escape_reset_theta.
   bool escaping() const { return escaping_; }
 
  private:
+  /// One TrajectoryPlanner cycle for `pose` moving at `velocity` on the stack's current
+  /// costmap and the distance maps of the last updateDistanceMaps(): forward arcs, in-place
+  /// rotations, else the blind back-up; updates the oscillation and escape flags as upstream.
+  /// cost < 0: no command (the robot stops).
+  DwaTrajectory findBestPath(const core::Pose2& pose, const core::Twist& velocity);
+  /// Recomputes the path and goal distance maps on the local costmap (after the path changed).
+  void updateDistanceMaps(const core::Pose2& pose);
+
   /// The headings of every roll-out with the same step count and yaw-rate sample: the yaw
   /// sequence depends on nothing else within one findBestPath(), so its sines and cosines
   /// are computed once and shared (the arcs of one yaw rate at different speeds often take

@@ -43,8 +43,6 @@ std::string resolvePolicyPath(const std::string& policy, const std::string& conf
 /// robot to the point `distance` along the path (x forward, y left).
 Eigen::Vector2d localGoalDirection(const nav::Path& path, const core::Pose2& pose, double distance);
 
-/// The LiDAR pose in the odom frame for a robot at `pose`.
-core::Pose2 sensorPose(const core::Pose2& pose, const core::LidarConfig& lidar);
 
 class LflhController : public Controller {
  public:

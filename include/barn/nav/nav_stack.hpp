@@ -66,11 +66,11 @@ class NavStack {
     applyLocalUpdates();
     return local_;
   }
-  Costmap& mutableGlobalCostmap() { return global_; }
-  Costmap& mutableLocalCostmap() {
-    applyLocalUpdates();
-    return local_;
-  }
+  /// move_base's clearing recoveries: both costmaps forget obstacles farther than `keep`
+  /// from `centre`.
+  void clearCostmapsOutside(const Eigen::Vector2d& centre, double keep);
+  /// costmap_2d's resetLayers on the local costmap: empty until the next scan.
+  void resetLocalCostmap();
   const Eigen::Vector2d& goal() const { return goal_; }
   int plansMade() const { return plans_; }
   int plansFailed() const { return failed_plans_; }
