@@ -154,6 +154,46 @@ TEST(GlobalPlanner, PathIsTheSteepestDescentOfTheExactField) {
   }
 }
 
+TEST(GlobalPlanner, RepairedFieldGivesTheExhaustivePathAfterMapChangesAndMoves) {
+  // One planner on one costmap through a sequence of obstacles appearing and disappearing
+  // and starts moving (along the path or jumping): the repaired field must give, every time,
+  // the path and cost an exhaustive search gives on the map as it is then.
+  core::Rng rng(5);
+  for (int trial = 0; trial < 12; ++trial) {
+    CostmapConfig c;
+    c.resolution = 1.0;
+    c.width = 14;
+    c.height = 10;
+    c.inscribed_radius = trial % 2 == 0 ? 0.0 : 1.0;
+    c.inflation_radius = 2.5;
+    c.cost_scaling_factor = 1.0;
+    Costmap map(c);
+    GlobalPlanner planner({});
+    const CellIndex goal{13, static_cast<int>(rng.uniform01() * 10)};
+    CellIndex start{0, static_cast<int>(rng.uniform01() * 10)};
+    for (int step = 0; step < 25; ++step) {
+      const int changes = static_cast<int>(rng.uniform01() * 4);
+      for (int k = 0; k < changes; ++k) {
+        const Eigen::Vector2d p(rng.uniform01() * 14, rng.uniform01() * 10);
+        if ((p - map.cellCentre(goal)).norm() < 1.0) continue;
+        if (rng.uniform01() < 0.7) map.markObstacle(p);
+        else map.clearPolygon({p + Eigen::Vector2d(-1.5, -1.5), p + Eigen::Vector2d(1.5, -1.5),
+                               p + Eigen::Vector2d(1.5, 1.5), p + Eigen::Vector2d(-1.5, 1.5)});
+      }
+      const Plan plan = planner.plan(map, map.cellCentre(start), map.cellCentre(goal));
+      const std::vector<CellIndex> expected =
+          planner.stepCost(map.cost(goal.x, goal.y), false) < 0 ? std::vector<CellIndex>{} : bruteForceDescent(planner, map, start, goal);
+      ASSERT_EQ(plan.found, !expected.empty()) << "trial " << trial << " step " << step;
+      ASSERT_EQ(plan.path.size(), expected.size()) << "trial " << trial << " step " << step;
+      for (std::size_t k = 0; k < expected.size(); ++k)
+        ASSERT_EQ(plan.path[k], map.cellCentre(expected[k])) << "trial " << trial << " step " << step << " point " << k;
+      // Next start: a step or two along the path, or somewhere else.
+      if (expected.size() > 3 && rng.uniform01() < 0.7) start = expected[1 + static_cast<std::size_t>(rng.uniform01() * 2)];
+      else start = {static_cast<int>(rng.uniform01() * 14), static_cast<int>(rng.uniform01() * 10)};
+    }
+  }
+}
+
 TEST(GlobalPlanner, StraightLineInAnEmptyMap) {
   const Costmap map = pictureMap({"......", "......", "......"});
   GlobalPlanner planner({});

@@ -3,29 +3,14 @@
 ///  - navfn: ROS NavFn as move_base runs it (navfn.hpp): a potential field grown from the
 ///    robot with NavFn's interpolated 4-neighbour update, and a path by gradient descent, so
 ///    paths are not quantised to 45 degrees. Recomputed in full at every plan.
-///  - dijkstra (default): the 8-connected cell Dijkstra below. Its paths follow parent cells
+///  - dijkstra (default): the 8-connected cell search below. Its paths follow cells
 ///    (45-degree steps) and, at a fork around an obstacle cluster, can flip between two
 ///    near-equal routes from one plan to the next.
 /// neutral_cost and cost_factor are NavFn's COST_NEUTRAL and COST_FACTOR for both;
 /// smoothing_window applies to dijkstra only.
 ///
-/// dijkstra:
-/// Each cell costs neutral_cost + cost_factor * (its costmap cost) to enter (NavFn's
-/// COST_NEUTRAL 50 and COST_FACTOR 0.8), times the step length (1 or sqrt 2 cells), so paths
-/// keep away from obstacles as much as the inflation says. Inscribed and lethal cells are
-/// impassable; unknown cells too unless allow_unknown. Moves are 8-connected without cutting
-/// the corner of an impassable cell. The start cell may be impassable (a robot brushing an
-/// obstacle must still be able to leave); the goal may not.
-///
-/// Unlike NavFn (whose field is rooted at the robot), the search runs from the goal and yields
-/// a cost-to-goal field; the path from the start follows it downhill (steepest descent with a
-/// fixed tie-break, so the path does not depend on the order cells were settled in). The
-/// search is A* toward the start with the octile distance at the cheapest step costs (so it
-/// covers the band between goal and start, not the disc around the goal) and stops once the
-/// start's cost is final. The field is reused while the costmap and the goal are unchanged and
-/// the new start is settled, so replanning at 20 Hz between 10 Hz map updates mostly costs only
-/// the path extraction. Edge costs are rounded to integers (tenths of the NavFn unit) so the
-/// open list is a bucket queue (Dial's algorithm): exact on those integer costs.
+/// dijkstra: the 8-connected cell search of nav::GoalField (goal_field.hpp): a cost-to-goal
+/// field kept up to date incrementally and its steepest descent from the start.
 
 #include <cstdint>
 #include <string>
@@ -35,6 +20,7 @@
 
 #include "barn/core/errors.hpp"
 #include "barn/nav/costmap.hpp"
+#include "barn/nav/goal_field.hpp"
 #include "barn/nav/navfn.hpp"
 
 namespace barn::nav {
@@ -72,43 +58,21 @@ class GlobalPlanner {
   Plan plan(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal);
 
   /// Integer cost of stepping into a cell of costmap cost `c` (straight or diagonal step);
-  /// negative if the cell cannot be entered. round(10 (neutral + factor c) length).
-  int stepCost(std::uint8_t c, bool diagonal) const;
+  /// negative if the cell cannot be entered (dijkstra).
+  int stepCost(std::uint8_t c, bool diagonal) const { return field_.stepCost(c, diagonal); }
 
-  /// Cells settled by the last field computation (dijkstra), or cell updates of the last
+  /// Cells expanded by the last field update (dijkstra), or cell updates of the last
   /// propagation (navfn) (for reports).
-  std::size_t lastExpanded() const { return last_expanded_; }
+  std::size_t lastExpanded() const { return use_navfn_ ? last_expanded_ : field_.lastExpanded(); }
 
  private:
-  void computeField(const Costmap& costmap, CellIndex goal, CellIndex start);
-  /// Steepest descent on the field from the start to the goal into descent_ (padded flat
-  /// indices): each step to the neighbour with the least step cost + cost-to-goal; among
-  /// equals, the one nearest the goal (the dearer step: a diagonal before a straight one, so a
-  /// sideways shift comes early, as Dijkstra's first-settled parent has it), then the one
-  /// pointing most nearly at the goal, then the first in kSteps order. The path is a function
-  /// of the costs, start and goal alone, not of the search order.
-  bool descend(int start_index, int goal_index, int w);
-  /// A cell's flat index on the padded grid `padded_width` wide.
-  static int paddedIndex(CellIndex cell, int padded_width) { return (cell.y + 1) * padded_width + cell.x + 1; }
   Plan planNavFn(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal);
 
   PlannerConfig config_;
   bool use_navfn_ = false;
   NavFn navfn_;
   std::vector<Eigen::Vector2f> navfn_points_;  // scratch: the descent's points
-  std::vector<int> straight_cost_;  // by costmap cost (256 entries), -1 impassable
-  std::vector<int> diagonal_cost_;
-  // The cost-to-goal field and where it was computed.
-  std::vector<std::int64_t> field_;
-  std::vector<char> settled_;       // cells whose field value is final
-  std::vector<int> descent_;        // scratch: the last descent's cells
-  std::vector<int> heuristic_;      // scratch: A*'s h of every cell for the current start
-  std::vector<std::uint8_t> padded_cost_;  // scratch: the costs, padded by a lethal border
-  std::vector<std::vector<int>> buckets_;  // scratch: Dial's bucket ring
-  std::vector<std::uint64_t> occupied_buckets_;  // scratch: a bit per non-empty bucket
-  std::uint64_t field_version_ = 0;
-  const Costmap* field_map_ = nullptr;
-  CellIndex field_goal_{-1, -1};
+  GoalField field_;
   std::size_t last_expanded_ = 0;
 };
 

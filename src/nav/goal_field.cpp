@@ -1,0 +1,340 @@
+#include "barn/nav/goal_field.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <functional>
+#include <limits>
+
+#include <Eigen/Core>
+
+namespace barn::nav {
+
+namespace {
+constexpr std::int64_t kInfinite = std::numeric_limits<std::int64_t>::max();
+constexpr std::size_t kMaxRepairedCells = 32;
+// The fixed direction order: straight +x, -x, +y, -y, then the diagonals.
+constexpr int kSteps[8][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {1, -1}, {-1, 1}, {-1, -1}};
+}  // namespace
+
+GoalField::GoalField(double neutral_cost, double cost_factor, bool allow_unknown) {
+  straight_cost_.resize(256);
+  diagonal_cost_.resize(256);
+  for (int c = 0; c < 256; ++c) {
+    double enter = neutral_cost + cost_factor * c;
+    bool open = c < kInscribedCost;
+    if (c == kUnknownCost) {
+      open = allow_unknown;
+      enter = neutral_cost;
+    }
+    straight_cost_[static_cast<std::size_t>(c)] = open ? static_cast<int>(std::lround(10.0 * enter)) : -1;
+    diagonal_cost_[static_cast<std::size_t>(c)] = open ? static_cast<int>(std::lround(10.0 * enter * std::sqrt(2.0))) : -1;
+  }
+}
+
+bool GoalField::canMove(int i, int dir) const {
+  if (!passable(i + offset_[dir])) return false;
+  return dir < 4 || (passable(i + kSteps[dir][0]) && passable(i + kSteps[dir][1] * width_));
+}
+
+int GoalField::heuristic(int cell) const {
+  const int dx = std::abs(cell % width_ - start_ % width_);
+  const int dy = std::abs(cell / width_ - start_ / width_);
+  return straight_cost_[0] * std::abs(dx - dy) + diagonal_cost_[0] * std::min(dx, dy);
+}
+
+bool GoalField::update(const Costmap& costmap, CellIndex start, CellIndex goal) {
+  path_.clear();
+  if (straight_cost_[costmap.cost(goal.x, goal.y)] < 0) return false;
+  const int w = costmap.widthCells() + 2;
+  const int h = costmap.heightCells() + 2;
+  const int goal_index = (goal.y + 1) * w + goal.x + 1;
+  const int start_index = (start.y + 1) * w + start.x + 1;
+  if (map_ != &costmap || w != width_ || h != height_ || goal_index != goal_ ||
+      (costmap.version() != map_version_ && !applyCostChanges(costmap))) {
+    startOver(costmap, start, goal);
+  } else {
+    last_expanded_ = 0;
+    if (start_index != start_) {
+      // D* Lite: keys already queued stay valid lower bounds once k_m grows by the
+      // heuristic distance the start moved.
+      const int old_start = start_;
+      start_ = start_index;
+      k_m_ += heuristic(old_start);
+    }
+    repair();
+  }
+  map_version_ = costmap.version();
+  if (g_[static_cast<std::size_t>(start_)] == kInfinite) return false;
+  path_cost_ = g_[static_cast<std::size_t>(start_)];
+  return descend();
+}
+
+void GoalField::startOver(const Costmap& costmap, CellIndex start, CellIndex goal) {
+  map_ = &costmap;
+  width_ = costmap.widthCells() + 2;
+  height_ = costmap.heightCells() + 2;
+  goal_ = (goal.y + 1) * width_ + goal.x + 1;
+  start_ = (start.y + 1) * width_ + start.x + 1;
+  for (int k = 0; k < 8; ++k) offset_[k] = kSteps[k][1] * width_ + kSteps[k][0];
+  const std::size_t n = static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_);
+  cost_.assign(n, kLethalCost);
+  const std::uint8_t* costs = costmap.costs();
+  for (int y = 0; y < costmap.heightCells(); ++y)
+    std::copy_n(costs + static_cast<std::ptrdiff_t>(y) * costmap.widthCells(), costmap.widthCells(),
+                cost_.begin() + static_cast<std::ptrdiff_t>(y + 1) * width_ + 1);
+  g_.assign(n, kInfinite);
+  rhs_.assign(n, kInfinite);
+  queued_.assign(n, 0);
+  queued_k1_.assign(n, 0);
+  queue_.clear();
+  touched_round_.assign(n, 0);
+  round_ = 0;
+  k_m_ = 0;
+  search();
+  // The cells the search reached but did not settle are D* Lite's open list (a start that
+  // cannot be entered among them: it is never expanded).
+  for (std::size_t i = 0; i < n; ++i)
+    if (rhs_[i] != g_[i]) enqueue(static_cast<int>(i));
+  repair();
+}
+
+void GoalField::search() {
+  // A* from the goal: settles cells in order of f = g + h. A settled cell has g = rhs; a
+  // reached one holds its best candidate in rhs.
+  const int w = width_;
+  const int start_x = start_ % w, start_y = start_ / w;
+  const int h_straight = straight_cost_[0], h_diagonal = diagonal_cost_[0];
+  const auto h = [&](int x, int y) {
+    const int dx = std::abs(x - start_x), dy = std::abs(y - start_y);
+    return h_straight * std::abs(dx - dy) + h_diagonal * std::min(dx, dy);
+  };
+  const int* straight_cost = straight_cost_.data();
+  const int* diagonal_cost = diagonal_cost_.data();
+  const std::uint8_t* cost = cost_.data();
+  // Dial's algorithm on f: a ring of buckets, one per integer f modulo (largest f increase
+  // + 1), and a bitmap of the non-empty ones so the scan jumps over the (many) empty values.
+  const int ring = diagonal_cost_[kInscribedCost - 1] + h_diagonal + 1;
+  buckets_.resize(static_cast<std::size_t>(ring));
+  for (auto& b : buckets_) b.clear();
+  occupied_buckets_.assign(static_cast<std::size_t>(ring + 63) / 64, 0);
+  std::vector<std::uint64_t>& occupied = occupied_buckets_;
+  const auto push = [&](int slot, int ahead, int cell) {  // `ahead` (< ring) past slot's key
+    int target = slot + ahead;
+    if (target >= ring) target -= ring;
+    buckets_[static_cast<std::size_t>(target)].push_back(cell);
+    occupied[static_cast<std::size_t>(target) / 64] |= std::uint64_t{1} << (target % 64);
+  };
+  const auto nextOccupied = [&](int slot) {  // first non-empty slot at or after `slot`, cyclically
+    std::size_t word = static_cast<std::size_t>(slot) / 64;
+    std::uint64_t bits = occupied[word] & (~std::uint64_t{0} << (slot % 64));
+    while (bits == 0) {
+      word = (word + 1) % occupied.size();
+      bits = occupied[word];
+    }
+    return static_cast<int>(word * 64 + static_cast<std::size_t>(__builtin_ctzll(bits)));
+  };
+  const auto inside = [&](int x, int y) { return x > 0 && y > 0 && x < w - 1 && y < height_ - 1; };
+  const auto start = static_cast<std::size_t>(start_);
+  rhs_[static_cast<std::size_t>(goal_)] = 0;
+  push(0, 0, goal_);
+  std::size_t pending = 1;
+  std::size_t expanded = 0;
+  std::int64_t key = h(goal_ % w, goal_ / w);  // the key of the bucket being scanned
+  int slot = 0;
+  // Stop once every cell with f up to the start's g is settled (h is 0 at the start): then
+  // the start's g is final, and so is every cell the descent compares.
+  while (pending > 0) {
+    const int next = nextOccupied(slot);
+    const std::int64_t next_key = key + (next - slot + ring) % ring;
+    if (next_key > rhs_[start]) break;
+    key = next_key;
+    slot = next;
+    std::vector<int>& bucket = buckets_[static_cast<std::size_t>(slot)];
+    // Entries are appended to this bucket while it is scanned when a step leaves f unchanged
+    // (a free step straight toward the start); the loop re-reads the size for them.
+    for (std::size_t k = 0; k < bucket.size(); ++k) {
+      const int i = bucket[k];
+      --pending;
+      const auto ui = static_cast<std::size_t>(i);
+      if (g_[ui] != kInfinite) continue;  // settled already: a stale entry
+      const int x = i % w, y = i / w;
+      const int h_here = h(x, y);
+      if (rhs_[ui] + h_here != key) continue;  // a stale entry
+      g_[ui] = rhs_[ui];
+      ++expanded;
+      // Backward: a neighbour p reaches this cell by entering it.
+      const std::uint8_t here = cost[i];
+      for (int dir = 0; dir < 8; ++dir) {
+        const int px = x + kSteps[dir][0], py = y + kSteps[dir][1];
+        if (!inside(px, py)) continue;
+        const int p = i + offset_[dir];
+        const bool diagonal = dir >= 4;
+        if (diagonal && (!passable(i + kSteps[dir][0]) || !passable(i + kSteps[dir][1] * w))) continue;  // no corner cutting
+        const int step = diagonal ? diagonal_cost[here] : straight_cost[here];
+        const std::int64_t candidate = g_[ui] + step;
+        if (candidate >= rhs_[static_cast<std::size_t>(p)]) continue;
+        rhs_[static_cast<std::size_t>(p)] = candidate;
+        // A cell that cannot be entered gets a candidate (a start may sit there) but is never
+        // expanded: nothing passes through it.
+        if (!passable(p)) continue;
+        push(slot, step + h(px, py) - h_here, p);
+        ++pending;
+      }
+    }
+    bucket.clear();
+    occupied[static_cast<std::size_t>(slot) / 64] &= ~(std::uint64_t{1} << (slot % 64));
+  }
+  last_expanded_ = expanded;
+}
+
+bool GoalField::applyCostChanges(const Costmap& costmap) {
+  const int cw = costmap.widthCells();
+  const std::uint8_t* costs = costmap.costs();
+  changed_.clear();
+  for (int y = 0; y < costmap.heightCells(); ++y) {
+    std::uint8_t* row = cost_.data() + static_cast<std::ptrdiff_t>(y + 1) * width_ + 1;
+    const std::uint8_t* now = costs + static_cast<std::ptrdiff_t>(y) * cw;
+    if (std::memcmp(row, now, static_cast<std::size_t>(cw)) == 0) continue;
+    for (int x = 0; x < cw; ++x)
+      if (row[x] != now[x]) {
+        row[x] = now[x];
+        changed_.push_back((y + 1) * width_ + x + 1);
+      }
+  }
+  // A repair costs about as much as the cells whose g it changes, and a cost rise near the
+  // start spreads to everything behind it; past a few dozen changed cells that the search had
+  // reached, a new search is cheaper.
+  std::size_t reached = 0;
+  for (const int u : changed_)
+    if (rhs_[static_cast<std::size_t>(u)] != kInfinite) ++reached;
+  if (reached > kMaxRepairedCells) return false;
+  // A cell's cost enters the moves into it and the diagonal moves around its corner: all
+  // from its eight neighbours, whose best way on must be looked at again.
+  if (++round_ == 0) {
+    std::fill(touched_round_.begin(), touched_round_.end(), 0);
+    round_ = 1;
+  }
+  for (const int u : changed_)
+    for (int dir = 0; dir < 8; ++dir) {
+      const int p = u + offset_[dir];
+      const int px = p % width_, py = p / width_;
+      if (px <= 0 || py <= 0 || px >= width_ - 1 || py >= height_ - 1) continue;  // the closed border
+      if (touched_round_[static_cast<std::size_t>(p)] == round_) continue;
+      touched_round_[static_cast<std::size_t>(p)] = round_;
+      updateCell(p);
+    }
+  return true;
+}
+
+std::int64_t GoalField::bestThroughNeighbours(int cell) const {
+  std::int64_t best = kInfinite;
+  for (int dir = 0; dir < 8; ++dir) {
+    if (!canMove(cell, dir)) continue;
+    const int nb = cell + offset_[dir];
+    const std::int64_t g = g_[static_cast<std::size_t>(nb)];
+    if (g != kInfinite) best = std::min(best, g + stepCost(cost_[static_cast<std::size_t>(nb)], dir >= 4));
+  }
+  return best;
+}
+
+void GoalField::enqueue(int cell) {
+  const auto i = static_cast<std::size_t>(cell);
+  const std::int64_t k2 = std::min(g_[i], rhs_[i]);
+  const std::int64_t k1 = k2 == kInfinite ? kInfinite : k2 + heuristic(cell) + k_m_;
+  queued_[i] = 1;
+  queued_k1_[i] = k1;
+  queue_.push_back({k1, k2, cell});
+  std::push_heap(queue_.begin(), queue_.end(), std::greater<>());
+}
+
+void GoalField::updateCell(int cell) {
+  const auto i = static_cast<std::size_t>(cell);
+  if (cell != goal_) rhs_[i] = bestThroughNeighbours(cell);
+  if (g_[i] != rhs_[i]) enqueue(cell);
+  else queued_[i] = 0;
+}
+
+void GoalField::repair() {
+  const auto start = static_cast<std::size_t>(start_);
+  const auto live = [&](const QueueEntry& e) {
+    const auto i = static_cast<std::size_t>(e.cell);
+    return queued_[i] && queued_k1_[i] == e.k1 && std::min(g_[i], rhs_[i]) == e.k2;
+  };
+  while (!queue_.empty()) {
+    const QueueEntry top = queue_.front();
+    std::pop_heap(queue_.begin(), queue_.end(), std::greater<>());
+    queue_.pop_back();
+    if (!live(top)) continue;
+    // Stop once the start is consistent and every key left is above its own: unlike D* Lite,
+    // cells whose key equals the start's are expanded too, so the descent's ties are exact.
+    const std::int64_t start_k2 = std::min(g_[start], rhs_[start]);
+    const QueueEntry start_key{start_k2 == kInfinite ? kInfinite : start_k2 + k_m_, start_k2, start_};
+    if (top > start_key && g_[start] == rhs_[start]) {
+      queue_.push_back(top);
+      std::push_heap(queue_.begin(), queue_.end(), std::greater<>());
+      break;
+    }
+    const int u = top.cell;
+    const auto ui = static_cast<std::size_t>(u);
+    queued_[ui] = 0;
+    const std::int64_t k2 = std::min(g_[ui], rhs_[ui]);
+    const QueueEntry now{k2 == kInfinite ? kInfinite : k2 + heuristic(u) + k_m_, k2, u};
+    if (now > top) {  // its key grew since it was queued (the start moved): queue it again
+      enqueue(u);
+      continue;
+    }
+    ++last_expanded_;
+    if (g_[ui] > rhs_[ui]) {
+      g_[ui] = rhs_[ui];
+    } else {
+      g_[ui] = kInfinite;
+      updateCell(u);
+    }
+    // The cells that may enter u: nothing enters a cell that cannot be entered.
+    if (!passable(u)) continue;
+    for (int dir = 0; dir < 8; ++dir) {
+      const int p = u - offset_[dir];
+      const int px = p % width_, py = p / width_;
+      if (px <= 0 || py <= 0 || px >= width_ - 1 || py >= height_ - 1) continue;  // the closed border
+      if (dir >= 4 && (!passable(p + kSteps[dir][0]) || !passable(p + kSteps[dir][1] * width_))) continue;
+      updateCell(p);
+    }
+  }
+}
+
+bool GoalField::descend() {
+  const int w = width_;
+  const Eigen::Vector2d goal_xy(goal_ % w, goal_ / w);
+  for (int i = start_;;) {
+    path_.push_back({i % w - 1, i / w - 1});
+    if (i == goal_) return true;
+    const Eigen::Vector2d to_goal_dir = (goal_xy - Eigen::Vector2d(i % w, i / w)).normalized();
+    int best = -1;
+    std::int64_t best_cost = kInfinite;
+    std::int64_t best_g = kInfinite;
+    double best_alignment = -2.0;
+    for (int dir = 0; dir < 8; ++dir) {
+      if (!canMove(i, dir)) continue;
+      const int nb = i + offset_[dir];
+      const std::int64_t g = g_[static_cast<std::size_t>(nb)];
+      if (g == kInfinite || g != rhs_[static_cast<std::size_t>(nb)]) continue;  // not final
+      const std::int64_t through = g + stepCost(cost_[static_cast<std::size_t>(nb)], dir >= 4);
+      const double alignment = Eigen::Vector2d(kSteps[dir][0], kSteps[dir][1]).normalized().dot(to_goal_dir);
+      if (through < best_cost ||
+          (through == best_cost && (g < best_g || (g == best_g && alignment > best_alignment)))) {
+        best_cost = through;
+        best_g = g;
+        best_alignment = alignment;
+        best = nb;
+      }
+    }
+    if (best < 0) {  // cannot happen for a reached start; no path rather than a loop
+      path_.clear();
+      return false;
+    }
+    i = best;
+  }
+}
+
+}  // namespace barn::nav
