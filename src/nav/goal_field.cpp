@@ -86,16 +86,24 @@ void GoalField::startOver(const Costmap& costmap, CellIndex start, CellIndex goa
   g_.assign(n, kInfinite);
   rhs_.assign(n, kInfinite);
   queued_.assign(n, 0);
-  queued_k1_.assign(n, 0);
+  queued_k1_.resize(n);  // read only where queued_ is set
   queue_.clear();
-  touched_round_.assign(n, 0);
-  round_ = 0;
+  if (touched_round_.size() != n) {
+    touched_round_.assign(n, 0);
+    round_ = 0;
+  }
   k_m_ = 0;
   search();
   // The cells the search reached but did not settle are D* Lite's open list (a start that
-  // cannot be entered among them: it is never expanded).
+  // cannot be entered among them: it is never expanded); heaped at once.
   for (std::size_t i = 0; i < n; ++i)
-    if (rhs_[i] != g_[i]) enqueue(static_cast<int>(i));
+    if (rhs_[i] != g_[i]) {
+      const std::int64_t k1 = rhs_[i] + heuristic(static_cast<int>(i));
+      queued_[i] = 1;
+      queued_k1_[i] = k1;
+      queue_.push_back({k1, rhs_[i], static_cast<int>(i)});
+    }
+  std::make_heap(queue_.begin(), queue_.end(), std::greater<>());
   repair();
 }
 
