@@ -476,9 +476,10 @@ void drawRobotOutline(cairo_t* cr, const core::Pose2& pose, const std::vector<co
 // ---------------------------------------------------------------------------
 // Heat map
 
-void renderHeatMap(const HeatMap& map, const std::filesystem::path& output) {
-  const std::string where = output.string();
-  imageFormatFor(output);  // an unknown extension fails before any drawing
+namespace {
+
+/// Rejects a heat map that cannot be drawn (ragged rows, a bad format or scale), naming the file.
+ValueFormat checkHeatMap(const HeatMap& map, const std::string& where) {
   const std::size_t rows = map.values.size();
   const std::size_t cols = map.x_ticks.size();
   if (rows == 0) throw core::InputError(where + ": heat map has no rows (values is empty)");
@@ -506,7 +507,34 @@ void renderHeatMap(const HeatMap& map, const std::filesystem::path& output) {
                            detail::formatNumber(map.scale_max, std::chars_format::general, 6) +
                            " must have finite ends (or NaN for the data's) and a top above its bottom");
   }
+  return *format;
+}
 
+/// What a heat map's drawing needs to know: its colour scale and where everything goes.
+struct HeatMapLayout {
+  ValueFormat format;
+  std::size_t rows = 0, cols = 0;
+  bool any_finite = false;   // some cell has a value
+  bool any_missing = false;  // some cell has none
+  double best = 0.0;         // the best value (every cell attaining it is marked)
+  double lo = 0.0, hi = 0.0; // the colour scale's ends
+  std::vector<ScaleTick> scale_ticks;
+  double bar_label_width = 0.0;
+  double cell_w = 0.0, cell_h = 0.0;
+  double gx = 0.0, gy = 0.0;          // top-left corner of the grid
+  double grid_w = 0.0, grid_h = 0.0;
+  int width = 0, height = 0;          // the image
+
+  Rgb colourOf(double v) const { return viridis(hi > lo ? (v - lo) / (hi - lo) : 0.5); }
+  double cellX(std::size_t c) const { return gx + static_cast<double>(c) * cell_w; }
+  double cellY(std::size_t r) const { return gy + static_cast<double>(r) * cell_h; }
+};
+
+HeatMapLayout layoutHeatMap(const HeatMap& map, const ValueFormat& format, const std::string& where) {
+  HeatMapLayout l;
+  l.format = format;
+  l.rows = map.values.size();
+  l.cols = map.x_ticks.size();
   // Range and best value over the finite cells; the colour scale is fixed where the map says.
   double data_lo = std::numeric_limits<double>::infinity();
   double data_hi = -data_lo;
@@ -517,130 +545,128 @@ void renderHeatMap(const HeatMap& map, const std::filesystem::path& output) {
       data_hi = std::max(data_hi, v);
     }
   }
-  const bool any_finite = std::isfinite(data_lo);
-  const double best = map.higher_is_better ? data_hi : data_lo;
-  const double lo = std::isnan(map.scale_min) ? data_lo : map.scale_min;
-  const double hi = std::isnan(map.scale_max) ? data_hi : map.scale_max;
-  const bool any_scale = std::isfinite(lo) && std::isfinite(hi);
-  const std::vector<ScaleTick> scale_ticks =
-      any_scale ? scaleTicks(lo, hi, [&](double v) { return formatValue(*format, v); }) : std::vector<ScaleTick>{};
-  bool any_missing = false;
+  l.any_finite = std::isfinite(data_lo);
+  l.best = map.higher_is_better ? data_hi : data_lo;
+  l.lo = std::isnan(map.scale_min) ? data_lo : map.scale_min;
+  l.hi = std::isnan(map.scale_max) ? data_hi : map.scale_max;
+  const bool any_scale = std::isfinite(l.lo) && std::isfinite(l.hi);
+  if (any_scale) l.scale_ticks = scaleTicks(l.lo, l.hi, [&](double v) { return formatValue(format, v); });
 
-  // Layout: widths of the texts decide the cell width and the side bands.
+  // The widths of the texts decide the cell width and the side bands.
   double widest_cell = 0.0;
   for (const std::string& tick : map.x_ticks)
     widest_cell = std::max(widest_cell, textWidth(tick, kTickSize));
   for (const std::vector<double>& row : map.values) {
     for (double v : row) {
       if (std::isfinite(v))
-        widest_cell = std::max(widest_cell, textWidth(formatValue(*format, v), kTickSize));
+        widest_cell = std::max(widest_cell, textWidth(formatValue(format, v), kTickSize));
       else
-        any_missing = true;
+        l.any_missing = true;
     }
   }
   double widest_y_tick = 0.0;
   for (const std::string& tick : map.y_ticks)
     widest_y_tick = std::max(widest_y_tick, textWidth(tick, kTickSize));
-  double bar_label_width = 0.0;
-  for (const ScaleTick& tick : scale_ticks) bar_label_width = std::max(bar_label_width, textWidth(tick.text, kSmallSize));
+  for (const ScaleTick& tick : l.scale_ticks) l.bar_label_width = std::max(l.bar_label_width, textWidth(tick.text, kSmallSize));
 
-  const double cell_w =
-      std::max({kCellMinWidth, widest_cell + kCellPadding, kGridMinWidth / static_cast<double>(cols)});
-  const double cell_h = std::max(kCellMinHeight, kGridMinHeight / static_cast<double>(rows));
+  l.cell_w = std::max({kCellMinWidth, widest_cell + kCellPadding, kGridMinWidth / static_cast<double>(l.cols)});
+  l.cell_h = std::max(kCellMinHeight, kGridMinHeight / static_cast<double>(l.rows));
   const double left_band = kYLabelBand + std::max(kYTickMinBand, widest_y_tick + 16.0);
-  const double right_band = kBarBandFixed + std::max(kBarLabelMinWidth, bar_label_width) +
+  const double right_band = kBarBandFixed + std::max(kBarLabelMinWidth, l.bar_label_width) +
                             (map.scale_label.empty() ? 0.0 : kScaleLabelBand);
-  const double grid_w = static_cast<double>(cols) * cell_w;
-  const double grid_h = static_cast<double>(rows) * cell_h;
-  const int width =
-      imageSide(std::max(left_band + grid_w + right_band, textWidth(map.title, kTitleSize) + 48.0),
-                "heat map width", where);
-  const int height = imageSide(kHeatTop + grid_h + kHeatBottom, "heat map height", where);
+  l.grid_w = static_cast<double>(l.cols) * l.cell_w;
+  l.grid_h = static_cast<double>(l.rows) * l.cell_h;
+  l.width = imageSide(std::max(left_band + l.grid_w + right_band, textWidth(map.title, kTitleSize) + 48.0),
+                      "heat map width", where);
+  l.height = imageSide(kHeatTop + l.grid_h + kHeatBottom, "heat map height", where);
+  l.gx = left_band;
+  l.gy = kHeatTop;
+  return l;
+}
 
-  detail::OutputCanvas image = detail::createOutputCanvas(width, height, output);
-  cairo_t* cr = image.cr();
-  const double gx = left_band, gy = kHeatTop;  // top-left corner of the grid
-  const auto scaleColour = [&](double v) { return viridis(hi > lo ? (v - lo) / (hi - lo) : 0.5); };
-
-  // Cells, value texts, then thin white separators.
-  for (std::size_t r = 0; r < rows; ++r) {
-    for (std::size_t c = 0; c < cols; ++c) {
-      const double x = gx + static_cast<double>(c) * cell_w;
-      const double y = gy + static_cast<double>(r) * cell_h;
+/// Cells, value texts, then thin white separators.
+void drawHeatCells(cairo_t* cr, const HeatMap& map, const HeatMapLayout& l) {
+  for (std::size_t r = 0; r < l.rows; ++r) {
+    for (std::size_t c = 0; c < l.cols; ++c) {
+      const double x = l.cellX(c);
+      const double y = l.cellY(r);
       const double v = map.values[r][c];
       if (!std::isfinite(v)) {
-        drawMissing(cr, x, y, cell_w, cell_h);
+        drawMissing(cr, x, y, l.cell_w, l.cell_h);
         continue;
       }
-      const Rgb colour = scaleColour(v);
+      const Rgb colour = l.colourOf(v);
       setColour(cr, colour);
-      cairo_rectangle(cr, x, y, cell_w, cell_h);
+      cairo_rectangle(cr, x, y, l.cell_w, l.cell_h);
       cairo_fill(cr);
       // Black on light cells, white on dark ones: 0.18 is where both contrast ratios match.
       if (luminance(colour) > 0.18)
         cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
       else
         cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
-      drawCentred(cr, formatValue(*format, v), x + 0.5 * cell_w,
-                  centredBaseline(y + 0.5 * cell_h, kTickSize), kTickSize);
+      drawCentred(cr, formatValue(l.format, v), x + 0.5 * l.cell_w,
+                  centredBaseline(y + 0.5 * l.cell_h, kTickSize), kTickSize);
     }
   }
   cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
   cairo_set_line_width(cr, 1.5);
-  for (std::size_t c = 1; c < cols; ++c) {
-    cairo_move_to(cr, gx + static_cast<double>(c) * cell_w, gy);
-    cairo_line_to(cr, gx + static_cast<double>(c) * cell_w, gy + grid_h);
+  for (std::size_t c = 1; c < l.cols; ++c) {
+    cairo_move_to(cr, l.cellX(c), l.gy);
+    cairo_line_to(cr, l.cellX(c), l.gy + l.grid_h);
   }
-  for (std::size_t r = 1; r < rows; ++r) {
-    cairo_move_to(cr, gx, gy + static_cast<double>(r) * cell_h);
-    cairo_line_to(cr, gx + grid_w, gy + static_cast<double>(r) * cell_h);
+  for (std::size_t r = 1; r < l.rows; ++r) {
+    cairo_move_to(cr, l.gx, l.cellY(r));
+    cairo_line_to(cr, l.gx + l.grid_w, l.cellY(r));
   }
   cairo_stroke(cr);
+}
 
-  // Best cells (every cell attaining the best value): a thick ink outline inside the cell,
-  // lined in white so it also reads on the darkest cells, and a star in the top-right corner.
-  if (any_finite) {
-    for (std::size_t r = 0; r < rows; ++r) {
-      for (std::size_t c = 0; c < cols; ++c) {
-        if (map.values[r][c] != best) continue;
-        const double x = gx + static_cast<double>(c) * cell_w;
-        const double y = gy + static_cast<double>(r) * cell_h;
-        cairo_set_line_join(cr, CAIRO_LINE_JOIN_MITER);
-        cairo_rectangle(cr, x + 4.5, y + 4.5, cell_w - 9.0, cell_h - 9.0);
-        cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
-        cairo_set_line_width(cr, 1.5);
-        cairo_stroke(cr);
-        cairo_rectangle(cr, x + 2.0, y + 2.0, cell_w - 4.0, cell_h - 4.0);
-        setColour(cr, kInk);
-        cairo_set_line_width(cr, 4.0);
-        cairo_stroke(cr);
-        drawStar(cr, x + cell_w - 14.0, y + 14.0, 6.0);
-      }
+/// Best cells (every cell attaining the best value): a thick ink outline inside the cell,
+/// lined in white so it also reads on the darkest cells, and a star in the top-right corner.
+void drawBestCells(cairo_t* cr, const HeatMap& map, const HeatMapLayout& l) {
+  if (!l.any_finite) return;
+  for (std::size_t r = 0; r < l.rows; ++r) {
+    for (std::size_t c = 0; c < l.cols; ++c) {
+      if (map.values[r][c] != l.best) continue;
+      const double x = l.cellX(c);
+      const double y = l.cellY(r);
+      cairo_set_line_join(cr, CAIRO_LINE_JOIN_MITER);
+      cairo_rectangle(cr, x + 4.5, y + 4.5, l.cell_w - 9.0, l.cell_h - 9.0);
+      cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
+      cairo_set_line_width(cr, 1.5);
+      cairo_stroke(cr);
+      cairo_rectangle(cr, x + 2.0, y + 2.0, l.cell_w - 4.0, l.cell_h - 4.0);
+      setColour(cr, kInk);
+      cairo_set_line_width(cr, 4.0);
+      cairo_stroke(cr);
+      drawStar(cr, x + l.cell_w - 14.0, y + 14.0, 6.0);
     }
   }
+}
 
-  // Ticks and axis labels.
+/// Ticks, axis labels and the title.
+void drawHeatAxes(cairo_t* cr, const HeatMap& map, const HeatMapLayout& l) {
   setColour(cr, kInk);
-  for (std::size_t c = 0; c < cols; ++c) {
-    drawCentred(cr, map.x_ticks[c], gx + (static_cast<double>(c) + 0.5) * cell_w,
-                gy + grid_h + 22.0, kTickSize);
-  }
-  for (std::size_t r = 0; r < rows; ++r) {
-    drawRightAligned(cr, map.y_ticks[r], gx - 10.0,
-                     centredBaseline(gy + (static_cast<double>(r) + 0.5) * cell_h, kTickSize),
-                     kTickSize);
+  for (std::size_t c = 0; c < l.cols; ++c)
+    drawCentred(cr, map.x_ticks[c], l.gx + (static_cast<double>(c) + 0.5) * l.cell_w, l.gy + l.grid_h + 22.0, kTickSize);
+  for (std::size_t r = 0; r < l.rows; ++r) {
+    drawRightAligned(cr, map.y_ticks[r], l.gx - 10.0,
+                     centredBaseline(l.gy + (static_cast<double>(r) + 0.5) * l.cell_h, kTickSize), kTickSize);
   }
   const double x_label_width = textWidth(map.x_label, kLabelSize);
   drawText(cr, map.x_label,
-           std::clamp(gx + 0.5 * grid_w - 0.5 * x_label_width, 8.0,
-                      std::max(8.0, width - 8.0 - x_label_width)),
-           gy + grid_h + 56.0, kLabelSize);
-  drawVertical(cr, map.y_label, 28.0, gy + 0.5 * grid_h, kLabelSize);
-  drawTitle(cr, map.title, gx, gx + grid_w, width, 36.0);
+           std::clamp(l.gx + 0.5 * l.grid_w - 0.5 * x_label_width, 8.0, std::max(8.0, l.width - 8.0 - x_label_width)),
+           l.gy + l.grid_h + 56.0, kLabelSize);
+  drawVertical(cr, map.y_label, 28.0, l.gy + 0.5 * l.grid_h, kLabelSize);
+  drawTitle(cr, map.title, l.gx, l.gx + l.grid_w, l.width, 36.0);
+}
 
-  // Colour bar: the same anchors as a Cairo gradient (also linear in sRGB), the scale's top at
-  // the top, so a fixed scale shows where the data sit within it.
-  const double bx = gx + grid_w + 24.0, bw = 18.0;
+/// Colour bar: the same anchors as a Cairo gradient (also linear in sRGB), the scale's top at
+/// the top, so a fixed scale shows where the data sit within it; below it the key (the
+/// best-cell star, and the missing-value look if there is one).
+void drawColourBar(cairo_t* cr, const HeatMap& map, const HeatMapLayout& l) {
+  const double gy = l.gy, grid_h = l.grid_h;
+  const double bx = l.gx + l.grid_w + 24.0, bw = 18.0;
   cairo_pattern_t* gradient = cairo_pattern_create_linear(0.0, gy + grid_h, 0.0, gy);
   for (std::size_t i = 0; i < kViridis.size(); ++i) {
     cairo_pattern_add_color_stop_rgb(gradient, static_cast<double>(i) / (kViridis.size() - 1),
@@ -654,9 +680,9 @@ void renderHeatMap(const HeatMap& map, const std::filesystem::path& output) {
   cairo_set_line_width(cr, 1.0);
   cairo_rectangle(cr, bx + 0.5, gy + 0.5, bw - 1.0, grid_h - 1.0);
   cairo_stroke(cr);
-  for (const ScaleTick& tick : scale_ticks) {
+  for (const ScaleTick& tick : l.scale_ticks) {
     // On pixel centres, so the 1 px marks are crisp; the ends half a pixel inside the bar.
-    const double t = hi > lo ? (tick.value - lo) / (hi - lo) : (tick.value >= hi ? 1.0 : 0.0);
+    const double t = l.hi > l.lo ? (tick.value - l.lo) / (l.hi - l.lo) : (tick.value >= l.hi ? 1.0 : 0.0);
     const double y = std::clamp(std::floor(gy + grid_h - t * grid_h) + 0.5, gy + 0.5, gy + grid_h - 0.5);
     cairo_move_to(cr, bx + bw, y);
     cairo_line_to(cr, bx + bw + 4.0, y);
@@ -668,21 +694,32 @@ void renderHeatMap(const HeatMap& map, const std::filesystem::path& output) {
     const double room = grid_h;
     const double size = std::min(kSmallSize, kSmallSize * room / std::max(1.0, textWidth(map.scale_label, kSmallSize)));
     setColour(cr, kInk);
-    drawVertical(cr, map.scale_label, bx + bw + 8.0 + bar_label_width + 10.0 + 0.75 * size, gy + 0.5 * grid_h, size);
+    drawVertical(cr, map.scale_label, bx + bw + 8.0 + l.bar_label_width + 10.0 + 0.75 * size, gy + 0.5 * grid_h, size);
   }
-
-  // Key below the colour bar: the best-cell star, and the missing-value look if there is one.
-  if (any_finite) {
+  if (l.any_finite) {
     drawStar(cr, bx + 7.0, gy + grid_h + 17.0, 6.5);
     setColour(cr, kInk);
     drawText(cr, "best", bx + 20.0, centredBaseline(gy + grid_h + 17.0, kSmallSize), kSmallSize);
   }
-  if (any_missing) {
+  if (l.any_missing) {
     drawMissing(cr, bx, gy + grid_h + 33.0, 14.0, 14.0);
     setColour(cr, kInk);
     drawText(cr, "missing", bx + 20.0, centredBaseline(gy + grid_h + 40.0, kSmallSize), kSmallSize);
   }
+}
 
+}  // namespace
+
+void renderHeatMap(const HeatMap& map, const std::filesystem::path& output) {
+  const std::string where = output.string();
+  imageFormatFor(output);  // an unknown extension fails before any drawing
+  const HeatMapLayout layout = layoutHeatMap(map, checkHeatMap(map, where), where);
+  detail::OutputCanvas image = detail::createOutputCanvas(layout.width, layout.height, output);
+  cairo_t* cr = image.cr();
+  drawHeatCells(cr, map, layout);
+  drawBestCells(cr, map, layout);
+  drawHeatAxes(cr, map, layout);
+  drawColourBar(cr, map, layout);
   detail::finishImage(image);
 }
 
