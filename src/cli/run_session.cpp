@@ -96,93 +96,124 @@ void printRecordSummary(const fs::path& dir, const bench::RunManifest& m, const 
                 left_out, kMinWorldsPerBucket, dir.c_str());
 }
 
-int executeSessions(const std::vector<Session*>& sessions, const SessionOptions& options, bool print_summaries) {
-  const int threads = options.jobs > 0 ? options.jobs : static_cast<int>(std::max(1L, ::sysconf(_SC_NPROCESSORS_ONLN)));
-  std::vector<std::size_t> running;  // the sessions with episodes to run, in order
-  for (std::size_t b = 0; b < sessions.size(); ++b) {
-    const bench::RecordSession& record = sessions[b]->record;
+namespace {
+
+/// The sessions with episodes left to run, in order; the complete ones are reported.
+std::vector<Session*> sessionsToRun(const std::vector<Session*>& sessions, bool print_summaries) {
+  std::vector<Session*> running;
+  for (Session* session : sessions) {
+    const bench::RecordSession& record = session->record;
     if (!record.manifest.complete) {
-      running.push_back(b);
+      running.push_back(session);
       continue;
     }
     std::printf("%s is already complete\n", record.dir.c_str());
     if (print_summaries) printRecordSummary(record.dir, record.manifest, record.worlds);
   }
-  if (running.empty()) return 0;
+  return running;
+}
 
-  std::vector<const bench::BatchSpec*> specs;
+/// Fills each session's batch from its record (the episodes still pending) and opens its
+/// journal; prints what is about to run (`one_record`: the run is a single record's).
+std::vector<std::unique_ptr<bench::RecordJournal>> prepareBatches(const std::vector<Session*>& running, bool one_record,
+                                                                  const SessionOptions& options, int threads,
+                                                                  std::size_t& total, std::size_t& already) {
   std::vector<std::unique_ptr<bench::RecordJournal>> journals;
-  std::size_t total = 0, already = 0;
-  for (std::size_t b : running) {
-    Session& session = *sessions[b];
-    bench::RunManifest& m = session.record.manifest;
-    session.spec.worlds = session.record.worlds;
-    session.spec.trials = m.trials;
-    session.spec.seed = m.seed;
-    session.spec.jobs = options.jobs;
-    session.spec.record_trajectories = options.trajectories;
-    session.spec.selected = bench::pendingEpisodes(session.record);
-    journals.push_back(std::make_unique<bench::RecordJournal>(session.record, session.spec.selected->size(), threads));
+  total = already = 0;
+  for (Session* session : running) {
+    bench::RunManifest& m = session->record.manifest;
+    session->spec.worlds = session->record.worlds;
+    session->spec.trials = m.trials;
+    session->spec.seed = m.seed;
+    session->spec.jobs = options.jobs;
+    session->spec.record_trajectories = options.trajectories;
+    session->spec.selected = bench::pendingEpisodes(session->record);
+    journals.push_back(std::make_unique<bench::RecordJournal>(session->record, session->spec.selected->size(), threads));
     total += m.episodes_total;
-    already += session.record.previous.size();
-    specs.push_back(&session.spec);
+    already += session->record.previous.size();
   }
-
-  if (sessions.size() == 1) {
-    const bench::RecordSession& s = sessions.front()->record;
+  if (one_record) {
+    const bench::RecordSession& s = running.front()->record;
     const bench::RunManifest& m = s.manifest;
     std::printf("running %s: %zu worlds x %d trials = %zu episodes%s on %d threads -> %s\n", m.controller.c_str(),
                 s.worlds.size(), m.trials, m.episodes_total,
                 m.shard_count ? (" (shard " + std::to_string(m.shard_index) + "/" + std::to_string(m.shard_count) + ")").c_str() : "",
                 threads, s.dir.c_str());
   } else {
-    std::printf("running %zu records, %zu episodes in one pool on %d threads\n", specs.size(), total, threads);
+    std::printf("running %zu records, %zu episodes in one pool on %d threads\n", running.size(), total, threads);
   }
   if (already > 0) std::printf("resuming: %zu episodes already finished\n", already);
   std::fflush(stdout);
+  return journals;
+}
 
+/// What one pool of batches produced, per batch.
+struct PoolOutput {
+  std::vector<std::vector<bench::EpisodeResult>> results;
+  std::vector<std::vector<core::FileContent>> trajectories;
+  double wall = 0.0;  // [s]
+};
+
+/// Runs every batch in one pool, journaling each episode as it ends; Ctrl-C, SIGTERM,
+/// --stop-after or a failed journal write stop it between episodes.
+PoolOutput runPool(const std::vector<Session*>& running, std::vector<std::unique_ptr<bench::RecordJournal>>& journals,
+                   const SessionOptions& options, std::size_t total, std::size_t already) {
+  std::vector<const bench::BatchSpec*> specs;
+  for (Session* session : running) specs.push_back(&session->spec);
   g_interrupted.store(false);
   std::signal(SIGINT, onInterrupt);
   std::signal(SIGTERM, onInterrupt);  // Slurm's time limit and preemption
-  const_cast<bench::BatchSpec*>(specs.front())->stop = &g_interrupted;
+  running.front()->spec.stop = &g_interrupted;
   ProgressReporter progress(total, already, ::isatty(STDOUT_FILENO));
-  std::vector<std::vector<core::FileContent>> trajectories(specs.size());
+  PoolOutput out;
+  out.trajectories.resize(specs.size());
   const auto t0 = std::chrono::steady_clock::now();
   std::size_t finished_here = 0;
   std::string journal_error;  // the first failed journal write: the run stops there
-  std::vector<std::vector<bench::EpisodeResult>> results =
-      bench::runBatches(specs, [&](std::size_t batch, const bench::EpisodeResult& r, std::size_t, std::size_t) {
-        if (!journals[batch]->append(r) && journal_error.empty()) {
-          journal_error = (sessions[running[batch]]->record.dir / bench::kJournalFile).string() + ": write failed: " +
-                          std::strerror(errno);
-          g_interrupted.store(true);  // nothing more can be kept: start no new episode
-        }
-        if (options.trajectories)
-          trajectories[batch].push_back({"world_" + std::to_string(r.world_id) + "_trial_" + std::to_string(r.trial) + ".csv",
+  out.results = bench::runBatches(specs, [&](std::size_t batch, const bench::EpisodeResult& r, std::size_t, std::size_t) {
+    if (!journals[batch]->append(r) && journal_error.empty()) {
+      journal_error = (running[batch]->record.dir / bench::kJournalFile).string() + ": write failed: " + std::strerror(errno);
+      g_interrupted.store(true);  // nothing more can be kept: start no new episode
+    }
+    if (options.trajectories)
+      out.trajectories[batch].push_back({"world_" + std::to_string(r.world_id) + "_trial_" + std::to_string(r.trial) + ".csv",
                                          bench::trajectoryCsv(r)});
-        progress.update(r.outcome == bench::Outcome::Success, r.sim_time);
-        if (options.stop_after > 0 && ++finished_here >= options.stop_after) g_interrupted.store(true);
-      });
+    progress.update(r.outcome == bench::Outcome::Success, r.sim_time);
+    if (options.stop_after > 0 && ++finished_here >= options.stop_after) g_interrupted.store(true);
+  });
   progress.finish();
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
   if (!journal_error.empty()) throw core::IoError(journal_error + " (the episodes journaled before it are kept; --resume when the disk has room)");
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  out.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
 
+}  // namespace
+
+int executeSessions(const std::vector<Session*>& sessions, const SessionOptions& options, bool print_summaries) {
+  const int threads = options.jobs > 0 ? options.jobs : static_cast<int>(std::max(1L, ::sysconf(_SC_NPROCESSORS_ONLN)));
+  const std::vector<Session*> running = sessionsToRun(sessions, print_summaries);
+  if (running.empty()) return 0;
+  std::size_t total = 0, already = 0;
+  std::vector<std::unique_ptr<bench::RecordJournal>> journals = prepareBatches(running, sessions.size() == 1, options, threads, total, already);
+  PoolOutput pool = runPool(running, journals, options, total, already);
+
+  // Each record is written whole (or, interrupted, left to --resume).
   int status = 0;
   double sim_time_here = 0.0;
   bool interrupted = false;
-  for (std::size_t batch = 0; batch < specs.size(); ++batch) {
-    bench::RecordSession& record = sessions[running[batch]]->record;
+  for (std::size_t batch = 0; batch < running.size(); ++batch) {
+    bench::RecordSession& record = running[batch]->record;
     bool episode_error = false;
-    for (const auto& r : results[batch]) {
+    for (const auto& r : pool.results[batch]) {
       sim_time_here += r.sim_time;
       episode_error = episode_error || r.outcome == bench::Outcome::Error;
     }
     for (const auto& r : record.previous) episode_error = episode_error || r.outcome == bench::Outcome::Error;
     std::optional<std::vector<core::FileContent>> written;
-    if (options.trajectories) written = std::move(trajectories[batch]);
-    if (!journals[batch]->finish(std::move(results[batch]), wall / static_cast<double>(specs.size()), written)) {
+    if (options.trajectories) written = std::move(pool.trajectories[batch]);
+    if (!journals[batch]->finish(std::move(pool.results[batch]), pool.wall / static_cast<double>(running.size()), written)) {
       interrupted = true;
       continue;
     }
@@ -190,7 +221,7 @@ int executeSessions(const std::vector<Session*>& sessions, const SessionOptions&
     if (episode_error) status = 1;
   }
   std::printf("  performance: wall %.2f s, simulated %.1f s, %.0f simulated s per wall s (%.0f per core, %d threads)\n",
-              wall, sim_time_here, sim_time_here / wall, sim_time_here / wall / threads, threads);
+              pool.wall, sim_time_here, sim_time_here / pool.wall, sim_time_here / pool.wall / threads, threads);
   if (interrupted) {
     for (Session* s : sessions)
       if (!s->record.manifest.complete && fs::exists(s->record.dir / bench::kJournalFile))
