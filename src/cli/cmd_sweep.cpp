@@ -67,6 +67,79 @@ void checkSweepKeys(const bench::SweepGrid& grid, const core::ConfigNode& base) 
 
 }  // namespace
 
+namespace {
+
+/// A sweep about to run: its grid, folder and one session per cell.
+struct SweepSessions {
+  bench::SweepGrid grid;
+  fs::path dir;
+  std::vector<Session> sessions;
+};
+
+/// sweep --merge: every cell merged from its shards, then run (a no-op) as a complete sweep.
+SweepSessions mergedSweep(const SweepOptions& options) {
+  if (options.out.empty()) throw core::InputError("sweep --merge: --out is required");
+  SweepSessions sweep;
+  sweep.dir = options.out;
+  sweep.grid = bench::readSweepFile(options.merge.front());
+  for (const auto& name : sweep.grid.cells) {
+    std::vector<fs::path> parts;
+    for (const auto& shard_dir : options.merge) parts.push_back(fs::path(shard_dir) / name);
+    bench::mergeShardRecords(parts, sweep.dir / name);
+    sweep.sessions.push_back(resumedSession(sweep.dir / name));
+  }
+  core::writeFilesAtomic(sweep.dir, {{bench::kSweepFile, bench::formatSweepFile(sweep.grid)}});
+  return sweep;
+}
+
+/// A new sweep (or one shard of it): every cell's config validated before anything runs.
+SweepSessions newSweep(const SweepOptions& options, int shard_index, int shard_count) {
+  if (options.controller.empty()) throw core::InputError("sweep: --controller is required (or --resume DIR)");
+  if (options.params.empty()) throw core::InputError("sweep: give at least one --param KEY=V1,V2,...");
+  std::vector<bench::SweepParameter> parameters;
+  for (const auto& text : options.params) parameters.push_back(bench::parseSweepParameter(text));
+  SweepSessions sweep;
+  sweep.grid = bench::makeSweepGrid(options.controller, std::move(parameters));
+  sweep.dir = options.out.empty() ? repoPath("results") / ("sweep_" + options.controller) : fs::path(options.out);
+  if (!options.shard.empty() && options.out.empty())
+    sweep.dir += "_shard" + std::to_string(shard_index) + "of" + std::to_string(shard_count);
+  if (fs::exists(sweep.dir / bench::kSweepFile))
+    throw core::InputError(sweep.dir.string() + ": already holds a sweep; finish it with --resume or choose another --out");
+  // A key the controller does not have is the --param's fault, not the config file's.
+  const core::ConfigNode base = controllerConfigFor(options.controller, options.config);
+  checkSweepKeys(sweep.grid, base);
+  const bench::EpisodeConfig episode = episodeConfigFor(options.sim_config, options.protocol);
+  const bench::LoadedWorlds loaded =
+      bench::loadWorlds(options.worlds, options.world_dir.empty() ? repoPath("worlds") : fs::path(options.world_dir));
+  for (std::size_t c = 0; c < sweep.grid.cells.size(); ++c)
+    sweep.sessions.push_back(newSession(options.controller, bench::cellConfig(sweep.grid, base, c), episode, loaded,
+                                        options.worlds, options.trials, options.seed, shard_index, shard_count,
+                                        sweep.dir / sweep.grid.cells[c]));
+  core::writeFilesAtomic(sweep.dir, {{bench::kSweepFile, bench::formatSweepFile(sweep.grid)}});
+  return sweep;
+}
+
+/// sweep --resume DIR: every cell from its record.
+SweepSessions resumedSweep(const fs::path& dir) {
+  SweepSessions sweep;
+  sweep.dir = dir;
+  sweep.grid = bench::readSweepFile(dir);
+  for (const auto& name : sweep.grid.cells) sweep.sessions.push_back(resumedSession(dir / name));
+  return sweep;
+}
+
+/// sweep.csv and the figures. Units come from the controller's config file (a resumed or
+/// merged sweep reads the default one, configs/controllers/NAME.yaml).
+void writeSweepResults(const SweepSessions& sweep, const std::string& config, const std::string& figures) {
+  const SweepTable table = readSweepTable(sweep.dir, controllerConfigFile(sweep.grid.controller, config));
+  core::writeFileAtomic(sweep.dir / "sweep.csv", sweepCsv(table));
+  std::printf("%s", sweepSummary(table).c_str());
+  for (const auto& figure : writeSweepPlots(table, sweep.dir, "." + figures)) std::printf("wrote %s\n", figure.c_str());
+  std::printf("wrote %s\n", (sweep.dir / "sweep.csv").c_str());
+}
+
+}  // namespace
+
 void addSweepCommand(CLI::App& app, CommandContext& context) {
   auto options = std::make_shared<SweepOptions>();
   CLI::App* cmd = app.add_subcommand("sweep", "Run a controller over a grid of config values, all cells in one pool");
@@ -92,77 +165,31 @@ void addSweepCommand(CLI::App& app, CommandContext& context) {
       ->check(CLI::IsMember({"png", "pdf", "svg"}))
       ->capture_default_str();
   cmd->callback([options, &context] {
-    bench::SweepGrid grid;
-    fs::path dir;
-    std::vector<Session> sessions;
     int shard_index = 0, shard_count = 0;
     if (!options->shard.empty()) parseShard(options->shard, shard_index, shard_count);
-    if (!options->merge.empty()) {
-      // Every cell merged from its shards; then the table as for a single-machine sweep.
-      if (options->out.empty()) throw core::InputError("sweep --merge: --out is required");
-      dir = options->out;
-      grid = bench::readSweepFile(options->merge.front());
-      for (const auto& name : grid.cells) {
-        std::vector<fs::path> parts;
-        for (const auto& shard_dir : options->merge) parts.push_back(fs::path(shard_dir) / name);
-        bench::mergeShardRecords(parts, dir / name);
-        sessions.push_back(resumedSession(dir / name));
-      }
-      core::writeFilesAtomic(dir, {{bench::kSweepFile, bench::formatSweepFile(grid)}});
-    } else if (options->resume.empty()) {
-      if (options->controller.empty()) throw core::InputError("sweep: --controller is required (or --resume DIR)");
-      if (options->params.empty()) throw core::InputError("sweep: give at least one --param KEY=V1,V2,...");
-      std::vector<bench::SweepParameter> parameters;
-      for (const auto& text : options->params) parameters.push_back(bench::parseSweepParameter(text));
-      grid = bench::makeSweepGrid(options->controller, std::move(parameters));
-      dir = options->out.empty() ? repoPath("results") / ("sweep_" + options->controller) : fs::path(options->out);
-      if (!options->shard.empty() && options->out.empty())
-        dir += "_shard" + std::to_string(shard_index) + "of" + std::to_string(shard_count);
-      if (fs::exists(dir / bench::kSweepFile))
-        throw core::InputError(dir.string() + ": already holds a sweep; finish it with --resume or choose another --out");
-      // Validate every cell's config before anything runs; a key the controller does not have
-      // is the --param's fault, not the config file's.
-      const core::ConfigNode base = controllerConfigFor(options->controller, options->config);
-      checkSweepKeys(grid, base);
-      const bench::EpisodeConfig episode = episodeConfigFor(options->sim_config, options->protocol);
-      const bench::LoadedWorlds loaded =
-          bench::loadWorlds(options->worlds, options->world_dir.empty() ? repoPath("worlds") : fs::path(options->world_dir));
-      for (std::size_t c = 0; c < grid.cells.size(); ++c)
-        sessions.push_back(newSession(options->controller, bench::cellConfig(grid, base, c), episode, loaded, options->worlds,
-                                      options->trials, options->seed, shard_index, shard_count, dir / grid.cells[c]));
-      core::writeFilesAtomic(dir, {{bench::kSweepFile, bench::formatSweepFile(grid)}});
-    } else {
-      dir = options->resume;
-      grid = bench::readSweepFile(dir);
-      for (const auto& name : grid.cells) sessions.push_back(resumedSession(dir / name));
-    }
+    SweepSessions sweep = !options->merge.empty()  ? mergedSweep(*options)
+                          : options->resume.empty() ? newSweep(*options, shard_index, shard_count)
+                                                    : resumedSweep(options->resume);
     std::vector<Session*> pointers;
-    for (auto& s : sessions) pointers.push_back(&s);
+    for (auto& s : sweep.sessions) pointers.push_back(&s);
     SessionOptions session;
     session.jobs = options->jobs;
     session.stop_after = options->stop_after;
     const int status = executeSessions(pointers, session, false);
-    if (status != 0 && !std::all_of(sessions.begin(), sessions.end(), [](const Session& s) {
+    if (status != 0 && !std::all_of(sweep.sessions.begin(), sweep.sessions.end(), [](const Session& s) {
           return std::filesystem::exists(s.record.dir / bench::kEpisodesFile);
         })) {
-      std::printf("interrupted: finish with: barn sweep --resume %s\n", dir.c_str());
+      std::printf("interrupted: finish with: barn sweep --resume %s\n", sweep.dir.c_str());
       context.exit_code = 1;
       return;
     }
-    if (!sessions.empty() && sessions.front().record.manifest.shard_count > 0) {
-      const bench::RunManifest& m = sessions.front().record.manifest;
+    if (!sweep.sessions.empty() && sweep.sessions.front().record.manifest.shard_count > 0) {
+      const bench::RunManifest& m = sweep.sessions.front().record.manifest;
       std::printf("shard %d/%d of the sweep done; combine the shards with: barn sweep --merge DIR... --out DIR\n",
                   m.shard_index, m.shard_count);
       return;
     }
-    // sweep.csv and the figures. Units come from the controller's config file (a resumed or
-    // merged sweep reads the default one, configs/controllers/NAME.yaml).
-    const SweepTable table = readSweepTable(dir, controllerConfigFile(grid.controller, options->config));
-    core::writeFileAtomic(dir / "sweep.csv", sweepCsv(table));
-    std::printf("%s", sweepSummary(table).c_str());
-    for (const auto& figure : writeSweepPlots(table, dir, "." + options->figures))
-      std::printf("wrote %s\n", figure.c_str());
-    std::printf("wrote %s\n", (dir / "sweep.csv").c_str());
+    writeSweepResults(sweep, options->config, options->figures);
     if (status != 0) context.exit_code = 1;
   });
 }
