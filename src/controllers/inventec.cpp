@@ -6,6 +6,11 @@
 
 namespace barn::controllers {
 
+std::span<const std::string_view> enumNames(SafetyCheck) {
+  static constexpr std::string_view kNames[] = {"front", "fi", "mpc", "none"};
+  return kNames;
+}
+
 namespace {
 double degrees(double d) { return d * std::numbers::pi / 180.0; }
 constexpr std::uint64_t kWiggleStream = 0x57169;  // sub-stream of the episode seed for the Wiggle
@@ -40,8 +45,6 @@ void validate(const InventecConfig& c, core::Errors& errors, const std::string& 
   errors.check(c.min_turn_rate > 0.0, prefix + ".min_turn_rate", "must be > 0 (an alignment must always turn)");
   errors.check(c.footprint_length > 0.0 && c.footprint_width > 0.0, prefix + ".footprint_length", "the footprint must be > 0");
   const InventecSafetyConfig& s = c.safety;
-  errors.check(s.type == "front" || s.type == "fi" || s.type == "mpc" || s.type == "none", prefix + ".safety.type",
-               "must be front, fi, mpc or none");
   errors.check(s.front_angle_deg > 0.0 && s.front_angle_deg <= 180.0, prefix + ".safety.front_angle_deg",
                "must be in (0, 180]");
   errors.check(s.front_pad_x >= 0.0 && s.front_pad_y >= 0.0, prefix + ".safety.front_pad_x", "pads must be >= 0");
@@ -164,7 +167,7 @@ core::Twist InventecController::turnToward(double error) const {
 bool InventecController::commandUnsafe(const std::vector<Eigen::Vector2d>& points, const core::LaserScan& scan,
                                        const core::Twist& command) const {
   const InventecSafetyConfig& s = config_.safety;
-  if (s.type == "front") {
+  if (s.type == SafetyCheck::Front) {
     // The code's final-pose rollout compared, for each of 40 points on the 0.42 x 0.33
     // rectangle at the final pose, the range of the beam toward that point with the point's
     // |x| + |y| (an L1 "distance", larger than the Euclidean one) plus 0.02 m, ignoring the
@@ -174,11 +177,11 @@ bool InventecController::commandUnsafe(const std::vector<Eigen::Vector2d>& point
     return rolloutHit(points, final_box, command, s.rollout_dt, s.rollout_steps, RolloutPoses::Final) ||
            frontCheckHit(scan, info_.lidar, command, front_);
   }
-  if (s.type == "mpc") {
+  if (s.type == SafetyCheck::Mpc) {
     return rolloutHit(points, footprintBox(config_.footprint_length, config_.footprint_width, s.mpc_offset), command,
                       s.mpc_dt, s.mpc_steps, RolloutPoses::Every);
   }
-  if (s.type == "fi") {
+  if (s.type == SafetyCheck::Fi) {
     // The paper's static check: nothing inside the grown rectangle, all around.
     return footprintInflationHit(points, footprintBox(config_.footprint_length, config_.footprint_width, s.fi_offset));
   }
@@ -188,21 +191,21 @@ bool InventecController::commandUnsafe(const std::vector<Eigen::Vector2d>& point
 bool InventecController::frontUnsafe(const std::vector<Eigen::Vector2d>& points, const core::LaserScan& scan,
                                      const core::Twist& command) const {
   // The code's Forward looks at the front check only (simulation) or the rollout (real world).
-  if (config_.safety.type == "front") return frontCheckHit(scan, info_.lidar, command, front_);
+  if (config_.safety.type == SafetyCheck::Front) return frontCheckHit(scan, info_.lidar, command, front_);
   return commandUnsafe(points, scan, command);
 }
 
 bool InventecController::rotationUnsafe(const std::vector<Eigen::Vector2d>& points, const core::Twist& turn) const {
   const InventecSafetyConfig& s = config_.safety;
-  if (s.type == "front") {
+  if (s.type == SafetyCheck::Front) {
     return rolloutHit(points, footprintBox(s.rollout_length, s.rollout_width, s.rollout_tolerance), turn, s.rollout_dt,
                       s.rollout_steps, RolloutPoses::Final);
   }
-  if (s.type == "mpc") {
+  if (s.type == SafetyCheck::Mpc) {
     return rolloutHit(points, footprintBox(config_.footprint_length, config_.footprint_width, s.mpc_offset), turn,
                       s.mpc_dt, s.mpc_steps, RolloutPoses::Every);
   }
-  if (s.type == "fi") {
+  if (s.type == SafetyCheck::Fi) {
     return rolloutHit(points, footprint_, turn, s.rollout_dt, s.rollout_steps, RolloutPoses::Every);
   }
   return false;
@@ -256,7 +259,7 @@ core::Twist InventecController::act(const Observation& obs) {
   nav_.update(obs.time, scan, info_.lidar.sensorPose(pose), pose);
   const std::vector<Eigen::Vector2d> points = scanPoints(scan, info_.lidar);
   const bool code = config_.codeVariant();
-  const bool checks = config_.safety.type != "none";
+  const bool checks = config_.safety.type != SafetyCheck::None;
 
   InventecInputs in;
   in.has_path = nav_.hasPath();

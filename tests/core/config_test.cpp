@@ -25,6 +25,17 @@ struct Outer {
   }
 };
 
+enum class Shape { Box, Disc };
+std::span<const std::string_view> enumNames(Shape) {
+  static constexpr std::string_view kNames[] = {"box", "disc"};
+  return kNames;
+}
+
+struct WithEnum {
+  Shape shape = Shape::Box;
+  template <class V> void visit(V& v) { v("shape", shape); }
+};
+
 std::string errorOf(const std::string& yaml) {
   try {
     readConfig<Outer>(ConfigNode::parseString(yaml, "test.yaml"));
@@ -132,6 +143,27 @@ TEST(Config, WritingAndReadingBackGivesTheSameStruct) {
   EXPECT_EQ(back.safety.offset, 1.0 / 3.0);  // exact: shortest round-trip formatting
   EXPECT_FALSE(back.safety.enabled);
   EXPECT_EQ(writeConfig(back), text);
+}
+
+}  // namespace
+}  // namespace barn::core
+
+namespace barn::core {
+namespace {
+
+TEST(Config, AnEnumIsReadAndWrittenByName) {
+  const WithEnum read = readConfig<WithEnum>(ConfigNode::parseString("shape: disc", "test.yaml"));
+  EXPECT_EQ(read.shape, Shape::Disc);
+  EXPECT_EQ(enumName(read.shape), "disc");
+  EXPECT_EQ(writeConfig(read), writeConfig(readConfig<WithEnum>(ConfigNode::parseString(writeConfig(read), "back.yaml"))));
+  EXPECT_EQ(readConfig<WithEnum>(ConfigNode::parseString(writeConfig(read), "back.yaml")).shape, Shape::Disc);
+  try {
+    readConfig<WithEnum>(ConfigNode::parseString("shape: cube", "test.yaml"));
+    FAIL() << "an unknown name must be an error";
+  } catch (const InputError& e) {
+    EXPECT_THAT(std::string(e.what()), HasSubstr("test.yaml: shape"));
+    EXPECT_THAT(std::string(e.what()), HasSubstr("expected one of box, disc"));
+  }
 }
 
 }  // namespace

@@ -33,6 +33,7 @@
 /// the code.
 
 #include <memory>
+#include <span>
 #include <string>
 
 #include "barn/controllers/controller.hpp"
@@ -48,10 +49,14 @@ namespace barn::controllers {
 enum class InventecState { Initial, Lflh, HardTurn, BackTrack, Wiggle, Forward };
 std::string_view toString(InventecState state);
 
+/// What the Inventec controller checks a command against. front: the simulation code's front
+/// check + final-pose rollout; mpc: the real-world code's rollout checking every pose; fi: the
+/// paper's static footprint inflation; none.
+enum class SafetyCheck { Front, Fi, Mpc, None };
+std::span<const std::string_view> enumNames(SafetyCheck);
+
 struct InventecSafetyConfig {
-  /// front: the simulation code's front check + final-pose rollout; mpc: the real-world code's
-  /// rollout checking every pose; fi: the paper's static footprint inflation; none.
-  std::string type = "front";
+  SafetyCheck type = SafetyCheck::Front;
   // front (code, simulation branch)
   double front_angle_deg = 47.0;   // code: lidar.front_angle
   double front_pad_x = 0.01;       // [m] code: front_pad_x_m, lateral, each side

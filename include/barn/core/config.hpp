@@ -13,10 +13,17 @@
 /// key path, missing keys keep the struct default) and writing back (ConfigWriter, for the
 /// effective config in a run's manifest). yaml-cpp stays inside config.cpp: ConfigNode is an
 /// opaque handle.
+///
+/// An enum field is read and written by name. Its namespace declares the names, in the
+/// enum's order (the first for value 0, ...):
+///
+///     enum class SafetyCheck { Front, Fi };
+///     std::span<const std::string_view> enumNames(SafetyCheck);
 
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <span>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -25,6 +32,30 @@
 #include "barn/core/errors.hpp"
 
 namespace barn::core {
+
+/// An enum with names for config files (see the header comment).
+template <class E>
+concept NamedEnum = std::is_enum_v<E> && requires(E e) {
+  { enumNames(e) } -> std::convertible_to<std::span<const std::string_view>>;
+};
+
+/// The name of `value`, e.g. for messages and labels.
+template <NamedEnum E>
+std::string_view enumName(E value) {
+  return enumNames(value)[static_cast<std::size_t>(value)];
+}
+
+/// The value named `name`, if any.
+template <NamedEnum E>
+bool enumFromName(std::string_view name, E& value) {
+  const std::span<const std::string_view> names = enumNames(value);
+  for (std::size_t i = 0; i < names.size(); ++i)
+    if (names[i] == name) {
+      value = static_cast<E>(i);
+      return true;
+    }
+  return false;
+}
 
 /// A node of a parsed YAML document, remembering its key path ("controller.fi.offset") and
 /// the file it came from.
@@ -96,6 +127,13 @@ class ConfigReader {
       ConfigReader nested(child, errors_);
       value.visit(nested);
       nested.finish();
+    } else if constexpr (NamedEnum<T>) {
+      std::string name;
+      if (!child.read(name) || !enumFromName(name, value)) {
+        std::string names;
+        for (std::string_view n : enumNames(value)) names += (names.empty() ? "" : ", ") + std::string(n);
+        errors_.add(child.where(), "expected one of " + names);
+      }
     } else {
       if (!child.read(value)) errors_.add(child.where(), std::string("expected ") + typeName(value));
     }
@@ -130,6 +168,8 @@ class ConfigWriter {
       ConfigWriter nested(indent_ + 2);
       const_cast<T&>(value).visit(nested);
       text_ += nested.text_;
+    } else if constexpr (NamedEnum<T>) {
+      line(key, scalar(std::string(enumName(value))));
     } else {
       line(key, scalar(value));
     }
