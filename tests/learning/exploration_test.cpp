@@ -125,6 +125,9 @@ TEST(LflhConfig, UnknownKeysAndBadValuesAreReportedWithTheirPath) {
   EXPECT_THAT(errorOf("collect: {max_speed: 3.0}\n"), HasSubstr("collect.max_speed: must be in"));
   EXPECT_THAT(errorOf("hallucination: {clearance_min: 0.2, clearance_max: 0.1}\n"), HasSubstr("hallucination.clearance_max"));
   EXPECT_THAT(errorOf("train: {batch_size: 0}\n"), HasSubstr("train.batch_size"));
+  EXPECT_EQ(errorOf("train: {activation: leaky_relu, leaky_slope: 0.01}\n"), "no error");
+  EXPECT_THAT(errorOf("train: {activation: tanh}\n"), HasSubstr("train.activation: must be relu or leaky_relu"));
+  EXPECT_THAT(errorOf("train: {leaky_slope: 1.0}\n"), HasSubstr("train.leaky_slope: must be in (0, 1)"));
 }
 
 TEST(LflhConfig, ShippedConfigsLoadAndDifferInSpeed) {

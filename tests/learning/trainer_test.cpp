@@ -3,6 +3,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace barn::learning {
 namespace {
 
@@ -53,6 +55,32 @@ TEST(Trainer, SameSeedGivesIdenticalWeightsAnotherSeedDoesNot) {
   EXPECT_EQ(a.history.back().validation, b.history.back().validation);
   config.seed = 4;
   EXPECT_NE(trainPolicy(tinyData(), config).weights.w1, a.weights.w1);
+}
+
+TEST(Trainer, TrainsTheActivationItsConfigNames) {
+  // leaky_relu trains too, reproducibly, and to other weights than relu from the same seed.
+  TrainConfig config = tinyTraining();
+  config.epochs = 3;
+  const TrainingResult relu = trainPolicy(tinyData(), config);
+  config.activation = "leaky_relu";
+  const TrainingResult a = trainPolicy(tinyData(), config);
+  const TrainingResult b = trainPolicy(tinyData(), config);
+  EXPECT_EQ(a.weights.w1, b.weights.w1);
+  EXPECT_NE(a.weights.w1, relu.weights.w1);
+  EXPECT_LT(a.history.back().train, a.history.front().train);
+  // Its validation loss is the leaky network's (evaluating the same weights as relu differs).
+  std::vector<std::size_t> train, validation;
+  splitDataset(tinyData(), config.validation_share, train, validation);
+  Eigen::MatrixXf x(tinyData().inputs.rows(), static_cast<Eigen::Index>(validation.size()));
+  Eigen::MatrixXf t(2, static_cast<Eigen::Index>(validation.size()));
+  for (std::size_t j = 0; j < validation.size(); ++j) {
+    x.col(static_cast<Eigen::Index>(j)) = tinyData().inputs.col(static_cast<Eigen::Index>(validation[j]));
+    t.col(static_cast<Eigen::Index>(j)) = tinyData().targets.col(static_cast<Eigen::Index>(validation[j]));
+  }
+  Mlp<float> leaky(a.weights, Activation::LeakyRelu, config.leaky_slope);
+  Mlp<float> as_relu(a.weights);
+  EXPECT_NEAR(leaky.loss(x, t), a.history.back().validation, 1e-5 * a.history.back().validation);
+  EXPECT_GT(std::abs(as_relu.loss(x, t) - a.history.back().validation), 1e-4 * a.history.back().validation);
 }
 
 TEST(Trainer, ValidationIsTheLastTenthInTimeAndTrainingNeverLooksIntoIt) {

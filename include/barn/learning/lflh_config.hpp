@@ -10,6 +10,7 @@
 #include <string>
 
 #include "barn/core/errors.hpp"
+#include "barn/learning/mlp.hpp"
 
 namespace barn::learning {
 
@@ -83,9 +84,11 @@ struct HallucinationConfig {
   }
 };
 
-/// The policy network and its training (research notes §2.4; hidden layers are ReLU).
+/// The policy network and its training (research notes §2.4).
 struct TrainConfig {
   int hidden = 256;                 // [-] units in each of the two hidden layers
+  std::string activation = "relu";  // hidden layers: relu | leaky_relu (the published network: leaky_relu)
+  double leaky_slope = 0.01;        // [-] leaky_relu's negative slope (the published network: 0.01)
   double range_clip = 2.0;          // [m] ranges are clipped to [0, range_clip]; +inf -> range_clip
   double learning_rate = 3e-4;      // [-] Adam step size
   int batch_size = 32;              // [samples]
@@ -95,8 +98,10 @@ struct TrainConfig {
   double range_noise = 0.03;        // [m] Gaussian noise on clipped ranges (training only)
   std::uint64_t seed = 3;           // [-] initial weights, shuffling, augmentation
 
+  Activation activationKind() const { return activation == "leaky_relu" ? Activation::LeakyRelu : Activation::Relu; }
+
   template <class V> void visit(V& v) {
-    v("hidden", hidden); v("range_clip", range_clip); v("learning_rate", learning_rate);
+    v("hidden", hidden); v("activation", activation); v("leaky_slope", leaky_slope); v("range_clip", range_clip); v("learning_rate", learning_rate);
     v("batch_size", batch_size); v("epochs", epochs); v("validation_share", validation_share);
     v("flip_probability", flip_probability); v("range_noise", range_noise); v("seed", seed);
   }
