@@ -65,19 +65,35 @@ void runCollect(const LflhOptions& options) {
 void runTrain(const LflhOptions& options) {
   learning::LflhConfig config = learning::readLflhConfig(options.config);
   if (options.epochs > 0) config.train.epochs = options.epochs;
-  const fs::path recording_path = learning::recordingPath(options.data, config.name);
-  const learning::Recording recording = learning::readRecording(recording_path);
-  if (recording.name != config.name || recording.collect_hash != learning::collectHash(config.collect))
-    throw core::InputError(recording_path.string() + ": recorded by '" + recording.name +
-                           "' with other collect settings than " + options.config +
-                           " (collect_hash differs); run `barn lflh collect` with this config again");
+  // This config's recording, then those of the configs it also trains on, each checked against
+  // the collect settings of its own config.
+  const auto readChecked = [&](const learning::LflhConfig& c, const std::string& config_path) {
+    const fs::path recording_path = learning::recordingPath(options.data, c.name);
+    learning::Recording recording = learning::readRecording(recording_path);
+    if (recording.name != c.name || recording.collect_hash != learning::collectHash(c.collect))
+      throw core::InputError(recording_path.string() + ": recorded by '" + recording.name +
+                             "' with other collect settings than " + config_path +
+                             " (collect_hash differs); run `barn lflh collect` with that config again");
+    return recording;
+  };
+  const learning::Recording recording = readChecked(config, options.config);
 
   const auto start = std::chrono::steady_clock::now();
-  const learning::Dataset data = learning::buildDataset(recording, config.hallucination, config.train.range_clip);
+  learning::Dataset data = learning::buildDataset(recording, config.hallucination, config.train.range_clip);
+  std::size_t record_count = recording.records.size();
+  for (const std::string& other_file : config.also_train_on) {
+    const fs::path other_path = fs::path(options.config).parent_path() / other_file;
+    const learning::LflhConfig other = learning::readLflhConfig(other_path);
+    const learning::Recording other_recording = readChecked(other, other_path.string());
+    // The other recording hallucinated with its own settings, encoded with this policy's clip.
+    learning::appendDataset(data, learning::buildDataset(other_recording, other.hallucination, config.train.range_clip));
+    record_count += other_recording.records.size();
+    std::printf("joined %s (%zu records)\n", other.name.c_str(), other_recording.records.size());
+  }
   std::vector<std::size_t> train_columns, validation_columns;
   learning::splitDataset(data, config.train.validation_share, train_columns, validation_columns);
   std::printf("hallucinated %zu demonstrations from %zu records in %.1f s: %zu training, %zu validation\n", data.size(),
-              recording.records.size(), secondsSince(start), train_columns.size(), validation_columns.size());
+              record_count, secondsSince(start), train_columns.size(), validation_columns.size());
 
   const auto train_start = std::chrono::steady_clock::now();
   const learning::TrainingResult result =

@@ -31,6 +31,7 @@ void validate(const LflhConfig& c, core::Errors& errors, const std::string& pref
   errors.check(c.local_goal_distance > 0.0, prefix + ".local_goal_distance", "must be > 0");
   errors.check(c.max_speed > 0.0, prefix + ".max_speed", "must be > 0");
   errors.check(c.max_turn_rate > 0.0, prefix + ".max_turn_rate", "must be > 0");
+  errors.check(c.range_clip >= 0.0, prefix + ".range_clip", "must be >= 0 (0: the policy file's)");
   errors.check(c.hard_turn_exit_deg >= 0.0 && c.hard_turn_exit_deg <= c.hard_turn_enter_deg,
                prefix + ".hard_turn_exit_deg", "must be in [0, hard_turn_enter_deg]");
   errors.check(c.hard_turn_enter_deg <= 180.0, prefix + ".hard_turn_enter_deg", "must be <= 180");
@@ -121,7 +122,7 @@ core::Twist LflhController::act(const Observation& obs) {
   const Eigen::Vector2d goal = localGoalDirection(path, obs.odom_pose, config_.local_goal_distance);
   core::Twist command;
   if (!config_.deployed) {
-    command = policy_->act(*obs.scan, goal);
+    command = policy_->act(*obs.scan, goal, config_.range_clip);
   } else {
     // The published deployment: the heading error is the local goal's bearing.
     const double heading_error = std::atan2(goal.y(), goal.x());
@@ -132,7 +133,7 @@ core::Twist LflhController::act(const Observation& obs) {
     } else {
       // The check looks at the policy's own command, as the original did (it published that
       // command unclipped); what is sent is clipped below.
-      command = deployedCommand(policy_->act(*obs.scan, goal), heading_error, scanPoints(*obs.scan, info_.lidar),
+      command = deployedCommand(policy_->act(*obs.scan, goal, config_.range_clip), heading_error, scanPoints(*obs.scan, info_.lidar),
                                 config_, &action_);
     }
   }

@@ -258,14 +258,15 @@ Policy Policy::parse(const std::string& file, const std::string& source_name) {
   return Policy(std::move(info), std::move(weights));
 }
 
-core::Twist Policy::act(const core::LaserScan& scan, const Eigen::Vector2d& goal_direction_robot_frame) const {
+core::Twist Policy::act(const core::LaserScan& scan, const Eigen::Vector2d& goal_direction_robot_frame,
+                        double range_clip) const {
   const int beams = info_.beams;
   if (scan.ranges.size() != static_cast<std::size_t>(beams))
     throw core::InputError("policy '" + info_.name + "' expects " + std::to_string(beams) + " beams, the scan has " +
                            std::to_string(scan.ranges.size()));
   // The same arithmetic as encodeInput() in training: clip in double, then round to float.
   Eigen::VectorXf x(beams + 2);
-  const double clip = info_.range_clip;
+  const double clip = range_clip > 0.0 ? range_clip : info_.range_clip;
   for (int i = 0; i < beams; ++i) {
     const double r = scan.ranges[static_cast<std::size_t>(i)];
     x[i] = static_cast<float>(std::isnan(r) ? clip : std::clamp(r, 0.0, clip));

@@ -120,6 +120,25 @@ TEST_F(BarnLflh, ActPrintsThePolicysCommandForEachScanOnStdin) {
   EXPECT_THAT(short_scan.output, HasSubstr("stdin line 1: 3 ranges, the policy takes 720"));
 }
 
+TEST_F(BarnLflh, AlsoTrainOnJoinsAnotherConfigsRecording) {
+  barn::core::writeFileAtomic(dir_ / "joined.yaml",
+                              "name: joined\ncollect: {duration: 20.0}\nhallucination: {stride: 4}\n"
+                              "train: {hidden: 16, epochs: 2, batches_per_epoch: 5}\nalso_train_on: [tiny.yaml]\n");
+  ASSERT_EQ(run("lflh collect --config " + path("joined.yaml") + " --out " + path("data")).exit_code, 0);
+  // Without the other config's recording: exit 2 naming it.
+  const RunResult missing =
+      run("lflh train --config " + path("joined.yaml") + " --data " + path("data") + " --out " + path("j.policy"));
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_THAT(missing.output, HasSubstr("exploration_tiny.csv"));
+  ASSERT_EQ(run("lflh collect --config " + path("tiny.yaml") + " --out " + path("data")).exit_code, 0);
+  const RunResult train =
+      run("lflh train --config " + path("joined.yaml") + " --data " + path("data") + " --out " + path("j.policy"));
+  ASSERT_EQ(train.exit_code, 0) << train.output;
+  EXPECT_THAT(train.output, HasSubstr("joined tiny (1501 records)"));
+  EXPECT_THAT(train.output, HasSubstr("from 2502 records"));  // 1001 + 1501
+  EXPECT_THAT(train.output, HasSubstr("epoch    2/2"));
+}
+
 TEST_F(BarnLflh, BadConfigIsExitTwoNamingTheKey) {
   barn::core::writeFileAtomic(dir_ / "bad.yaml", "name: tiny\ntrain: {epochz: 3}\n");
   const RunResult result = run("lflh collect --config " + path("bad.yaml") + " --out " + path("data"));

@@ -247,6 +247,13 @@ TEST(Policy, ActClipsLikeTrainingAndMatchesTheNetwork) {
   std::vector<double> farther = ranges;
   farther[1] = 25.0;  // was +inf: both read as 2.0
   EXPECT_EQ(policy.act(scanOf(farther), {1.0, 2.0}).linear, twist.linear);
+  // A clip given by the caller replaces the file's: the network on the input clipped at 2.5.
+  encodeInput(ranges, {1.0, 2.0}, 2.5, x.data());
+  const Eigen::MatrixXf& y25 = net.forward(x);
+  const core::Twist at25 = policy.act(scanOf(ranges), {1.0, 2.0}, 2.5);
+  EXPECT_NEAR(at25.linear, y25(0, 0), 1e-6);
+  EXPECT_NEAR(at25.angular, y25(1, 0), 1e-6);
+  EXPECT_NE(at25.linear, twist.linear);
 }
 
 TEST(Policy, ScanWithTheWrongBeamCountIsAnInputError) {

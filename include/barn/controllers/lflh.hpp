@@ -34,6 +34,7 @@ struct LflhConfig {
   double local_goal_distance = 1.5;  // [m] along the global path
   double max_speed = 1.0;        // [m/s] |v| clip (the policy's own speed)
   double max_turn_rate = 4.0;    // [rad/s] |w| clip (the Jackal's limit)
+  double range_clip = 0.0;       // [m] scan clip for the policy; 0: the policy file's (published deployment: 2.0 for both models)
   bool deployed = true;          // published deployment: hard turn + safety check + fallbacks; false = bare policy
   double hard_turn_enter_deg = 60.0;  // published deployment: hard turn when |heading error| > pi/3
   double hard_turn_exit_deg = 10.0;   // published deployment: ... until |heading error| < pi/18
@@ -48,7 +49,7 @@ struct LflhConfig {
 
   template <class V> void visit(V& v) {
     v("policy", policy); v("rate", rate); v("local_goal_distance", local_goal_distance); v("max_speed", max_speed);
-    v("max_turn_rate", max_turn_rate); v("deployed", deployed); v("hard_turn_enter_deg", hard_turn_enter_deg);
+    v("max_turn_rate", max_turn_rate); v("range_clip", range_clip); v("deployed", deployed); v("hard_turn_enter_deg", hard_turn_enter_deg);
     v("hard_turn_exit_deg", hard_turn_exit_deg); v("turn_gain", turn_gain); v("backup_speed", backup_speed);
     v("safety_length", safety_length); v("safety_width", safety_width); v("safety_tolerance", safety_tolerance);
     v("safety_steps", safety_steps); v("safety_dt", safety_dt); v("nav", nav);

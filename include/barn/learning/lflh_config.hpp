@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "barn/core/errors.hpp"
 #include "barn/learning/mlp.hpp"
@@ -92,7 +93,9 @@ struct TrainConfig {
   double range_clip = 2.0;          // [m] ranges are clipped to [0, range_clip]; +inf -> range_clip
   double learning_rate = 3e-4;      // [-] Adam step size
   int batch_size = 32;              // [samples]
-  int epochs = 50;                  // [-] full passes over the training split
+  int epochs = 50;                  // [-] epochs (the published training: 1000)
+  int batches_per_epoch = 0;        // [-] batches per epoch, drawn on through a reshuffled order (the
+                                    //     published training: 100); 0: an epoch is a full pass over the training split
   double validation_share = 0.1;    // [-] the last share of the recording (in time) is held out
   double flip_probability = 0.5;    // [-] mirror augmentation per presented sample
   double range_noise = 0.03;        // [m] Gaussian noise on clipped ranges (training only)
@@ -102,7 +105,7 @@ struct TrainConfig {
 
   template <class V> void visit(V& v) {
     v("hidden", hidden); v("activation", activation); v("leaky_slope", leaky_slope); v("range_clip", range_clip); v("learning_rate", learning_rate);
-    v("batch_size", batch_size); v("epochs", epochs); v("validation_share", validation_share);
+    v("batch_size", batch_size); v("epochs", epochs); v("batches_per_epoch", batches_per_epoch); v("validation_share", validation_share);
     v("flip_probability", flip_probability); v("range_noise", range_noise); v("seed", seed);
   }
 };
@@ -112,9 +115,14 @@ struct LflhConfig {
   CollectConfig collect;
   HallucinationConfig hallucination;
   TrainConfig train;
+  /// Other LfLH config files (relative to this one's folder) whose recordings, from the same
+  /// data folder and hallucinated with their own settings, join the training data (the
+  /// published 2 m/s policy was trained on the 1 m/s and the 2 m/s data).
+  std::vector<std::string> also_train_on;
 
   template <class V> void visit(V& v) {
     v("name", name); v("collect", collect); v("hallucination", hallucination); v("train", train);
+    v("also_train_on", also_train_on);
   }
 };
 

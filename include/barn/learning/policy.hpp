@@ -66,8 +66,11 @@ class Policy {
 
   /// The command for one scan and the goal direction in the robot frame (x forward, y left;
   /// normalised here, any length > 0). Ranges are clipped exactly as in training; +inf and NaN
-  /// read as range_clip. Throws InputError if the scan does not have info().beams ranges.
-  core::Twist act(const core::LaserScan& scan, const Eigen::Vector2d& goal_direction_robot_frame) const;
+  /// read as range_clip. `range_clip` > 0 clips at that distance instead of the file's (the
+  /// published deployment clipped at 2.0 m a model trained at 2.5 m). Throws InputError if the
+  /// scan does not have info().beams ranges.
+  core::Twist act(const core::LaserScan& scan, const Eigen::Vector2d& goal_direction_robot_frame,
+                  double range_clip = 0.0) const;
 
   const PolicyInfo& info() const { return info_; }
   const MlpParameters<float>& weights() const { return weights_; }
