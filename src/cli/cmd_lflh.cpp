@@ -1,9 +1,13 @@
-// barn lflh collect|train: the LfLH pipeline (exploration logs, hallucinated demonstrations,
+// barn lflh collect|train|act: the LfLH pipeline (exploration logs, hallucinated demonstrations,
 // behaviour cloning into a policy file).
 
 #include <chrono>
 #include <cstdio>
+#include <iostream>
 #include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "barn/bench/record_session.hpp"
 #include "barn/core/text_io.hpp"
@@ -26,6 +30,8 @@ struct LflhOptions {
   std::string out;
   std::string data;
   int epochs = 0;  // 0: the config's
+  std::string policy;
+  std::vector<double> goal = {1.0, 0.0};
 };
 
 double secondsSince(std::chrono::steady_clock::time_point start) {
@@ -59,19 +65,35 @@ void runCollect(const LflhOptions& options) {
 void runTrain(const LflhOptions& options) {
   learning::LflhConfig config = learning::readLflhConfig(options.config);
   if (options.epochs > 0) config.train.epochs = options.epochs;
-  const fs::path recording_path = learning::recordingPath(options.data, config.name);
-  const learning::Recording recording = learning::readRecording(recording_path);
-  if (recording.name != config.name || recording.collect_hash != learning::collectHash(config.collect))
-    throw core::InputError(recording_path.string() + ": recorded by '" + recording.name +
-                           "' with other collect settings than " + options.config +
-                           " (collect_hash differs); run `barn lflh collect` with this config again");
+  // This config's recording, then those of the configs it also trains on, each checked against
+  // the collect settings of its own config.
+  const auto readChecked = [&](const learning::LflhConfig& c, const std::string& config_path) {
+    const fs::path recording_path = learning::recordingPath(options.data, c.name);
+    learning::Recording recording = learning::readRecording(recording_path);
+    if (recording.name != c.name || recording.collect_hash != learning::collectHash(c.collect))
+      throw core::InputError(recording_path.string() + ": recorded by '" + recording.name +
+                             "' with other collect settings than " + config_path +
+                             " (collect_hash differs); run `barn lflh collect` with that config again");
+    return recording;
+  };
+  const learning::Recording recording = readChecked(config, options.config);
 
   const auto start = std::chrono::steady_clock::now();
-  const learning::Dataset data = learning::buildDataset(recording, config.hallucination, config.train.range_clip);
+  learning::Dataset data = learning::buildDataset(recording, config.hallucination, config.train.range_clip);
+  std::size_t record_count = recording.records.size();
+  for (const std::string& other_file : config.also_train_on) {
+    const fs::path other_path = fs::path(options.config).parent_path() / other_file;
+    const learning::LflhConfig other = learning::readLflhConfig(other_path);
+    const learning::Recording other_recording = readChecked(other, other_path.string());
+    // The other recording hallucinated with its own settings, encoded with this policy's clip.
+    learning::appendDataset(data, learning::buildDataset(other_recording, other.hallucination, config.train.range_clip));
+    record_count += other_recording.records.size();
+    std::printf("joined %s (%zu records)\n", other.name.c_str(), other_recording.records.size());
+  }
   std::vector<std::size_t> train_columns, validation_columns;
   learning::splitDataset(data, config.train.validation_share, train_columns, validation_columns);
   std::printf("hallucinated %zu demonstrations from %zu records in %.1f s: %zu training, %zu validation\n", data.size(),
-              recording.records.size(), secondsSince(start), train_columns.size(), validation_columns.size());
+              record_count, secondsSince(start), train_columns.size(), validation_columns.size());
 
   const auto train_start = std::chrono::steady_clock::now();
   const learning::TrainingResult result =
@@ -87,6 +109,8 @@ void runTrain(const LflhOptions& options) {
   info.beams = data.beams;
   info.range_clip = config.train.range_clip;
   info.hidden = config.train.hidden;
+  info.activation = config.train.activationKind();
+  info.slope = config.train.leaky_slope;
   info.name = config.name;
   info.config_hash = learning::configHash(config);
   info.trained = bench::utcNow();
@@ -125,6 +149,35 @@ void runTrain(const LflhOptions& options) {
   std::printf("wrote %s, %s, %s\n", out.string().c_str(), csv.string().c_str(), png.string().c_str());
 }
 
+// One command per scan read from stdin: a line of the policy's beams ranges [m] in ROS order,
+// separated by spaces or commas ("inf" for no return), gives the line "v w".
+void runAct(const LflhOptions& options) {
+  const learning::Policy policy = learning::Policy::load(options.policy);
+  const Eigen::Vector2d goal(options.goal.at(0), options.goal.at(1));
+  if (!(goal.norm() > 0.0)) throw core::InputError("--goal: must not be (0, 0)");
+  std::string line;
+  int number = 0;
+  while (std::getline(std::cin, line)) {
+    ++number;
+    for (char& c : line)
+      if (c == ',' || c == '\t' || c == '\r') c = ' ';
+    core::LaserScan scan;
+    std::istringstream fields(line);
+    std::string field;
+    while (fields >> field) {
+      double r = 0.0;
+      if (!core::parseDouble(field, r)) throw core::InputError("stdin line " + std::to_string(number) + ": '" + field + "' is not a number");
+      scan.ranges.push_back(r);
+    }
+    if (scan.ranges.empty()) continue;
+    if (scan.ranges.size() != static_cast<std::size_t>(policy.info().beams))
+      throw core::InputError("stdin line " + std::to_string(number) + ": " + std::to_string(scan.ranges.size()) +
+                             " ranges, the policy takes " + std::to_string(policy.info().beams));
+    const core::Twist command = policy.act(scan, goal);
+    std::printf("%.9g %.9g\n", command.linear, command.angular);
+  }
+}
+
 }  // namespace
 
 void addLflhCommand(CLI::App& app, CommandContext&) {
@@ -145,6 +198,14 @@ void addLflhCommand(CLI::App& app, CommandContext&) {
   train->add_option("--epochs", options->epochs, "Override train.epochs (part of the recorded config hash)")
       ->check(CLI::Range(1, 100000));
   train->callback([options] { runTrain(*options); });
+
+  CLI::App* act = cmd->add_subcommand(
+      "act", "Run a policy file on scans from stdin (one line of ranges each, ROS beam order) and print \"v w\" per scan");
+  act->add_option("--policy", options->policy, "Policy file, e.g. configs/policies/lflh_1ms.policy")->required();
+  act->add_option("--goal", options->goal, "Local goal direction in the robot frame, x forward, y left (default 1,0)")
+      ->expected(2)
+      ->delimiter(',');
+  act->callback([options] { runAct(*options); });
 }
 
 }  // namespace barn::cli

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <numbers>
+
+#include "barn/controllers/safety_checks.hpp"
 
 namespace barn::controllers {
 
@@ -28,6 +31,17 @@ void validate(const LflhConfig& c, core::Errors& errors, const std::string& pref
   errors.check(c.local_goal_distance > 0.0, prefix + ".local_goal_distance", "must be > 0");
   errors.check(c.max_speed > 0.0, prefix + ".max_speed", "must be > 0");
   errors.check(c.max_turn_rate > 0.0, prefix + ".max_turn_rate", "must be > 0");
+  errors.check(c.range_clip >= 0.0, prefix + ".range_clip", "must be >= 0 (0: the policy file's)");
+  errors.check(c.hard_turn_exit_deg >= 0.0 && c.hard_turn_exit_deg <= c.hard_turn_enter_deg,
+               prefix + ".hard_turn_exit_deg", "must be in [0, hard_turn_enter_deg]");
+  errors.check(c.hard_turn_enter_deg <= 180.0, prefix + ".hard_turn_enter_deg", "must be <= 180");
+  errors.check(c.turn_gain > 0.0, prefix + ".turn_gain", "must be > 0");
+  errors.check(c.backup_speed >= 0.0, prefix + ".backup_speed", "must be >= 0");
+  errors.check(c.safety_length > 0.0, prefix + ".safety_length", "must be > 0");
+  errors.check(c.safety_width > 0.0, prefix + ".safety_width", "must be > 0");
+  errors.check(c.safety_tolerance >= 0.0, prefix + ".safety_tolerance", "must be >= 0");
+  errors.check(c.safety_steps >= 1 && c.safety_steps <= 10000, prefix + ".safety_steps", "must be in [1, 10000]");
+  errors.check(c.safety_dt > 0.0, prefix + ".safety_dt", "must be > 0");
   nav::validate(c.nav, errors, prefix + ".nav");
 }
 
@@ -50,21 +64,76 @@ Eigen::Vector2d localGoalDirection(const nav::Path& path, const core::Pose2& pos
   return local.norm() > 1e-9 ? Eigen::Vector2d(local.normalized()) : Eigen::Vector2d(1.0, 0.0);
 }
 
+std::string_view toString(LflhAction action) {
+  switch (action) {
+    case LflhAction::Policy: return "Policy";
+    case LflhAction::HardTurn: return "HardTurn";
+    case LflhAction::SafetyTurn: return "SafetyTurn";
+    case LflhAction::BackUp: return "BackUp";
+  }
+  return "?";
+}
+
+bool nextHardTurn(bool turning, double heading_error, const LflhConfig& config) {
+  constexpr double kDeg = std::numbers::pi / 180.0;
+  if (turning) return !(std::abs(heading_error) < config.hard_turn_exit_deg * kDeg);
+  return std::abs(heading_error) > config.hard_turn_enter_deg * kDeg;
+}
+
+core::Twist deployedCommand(const core::Twist& policy_command, double heading_error,
+                            const std::vector<Eigen::Vector2d>& points, const LflhConfig& config, LflhAction* action) {
+  const Box box = footprintBox(config.safety_length, config.safety_width, config.safety_tolerance);
+  const auto unsafe = [&](const core::Twist& command) {
+    return rolloutHit(points, box, command, config.safety_dt, config.safety_steps, RolloutPoses::Final);
+  };
+  LflhAction chosen = LflhAction::Policy;
+  core::Twist command = policy_command;
+  if (unsafe(command)) {
+    chosen = LflhAction::SafetyTurn;
+    command = {0.0, config.turn_gain * heading_error};
+    if (unsafe(command)) {
+      chosen = LflhAction::BackUp;
+      command = {-config.backup_speed, 0.0};
+    }
+  }
+  if (action) *action = chosen;
+  return command;
+}
+
 LflhController::LflhController(const LflhConfig& config, std::shared_ptr<const learning::Policy> policy)
     : config_(config), policy_(std::move(policy)), nav_(config.nav) {}
 
 void LflhController::reset(const EpisodeInfo& info) {
   info_ = info;
   nav_.reset(info.goal);
+  hard_turn_ = false;
+  action_ = LflhAction::Policy;
 }
 
 core::Twist LflhController::act(const Observation& obs) {
   nav_.update(obs.time, *obs.scan, info_.lidar.sensorPose(obs.odom_pose), obs.odom_pose);
   // Until the first plan (and if planning never succeeds) the goal itself is the target.
   const nav::Path path = nav_.hasPath() ? nav_.path() : nav::Path{obs.odom_pose.position(), obs.goal};
-  const core::Twist raw = policy_->act(*obs.scan, localGoalDirection(path, obs.odom_pose, config_.local_goal_distance));
-  return {std::clamp(raw.linear, -config_.max_speed, config_.max_speed),
-          std::clamp(raw.angular, -config_.max_turn_rate, config_.max_turn_rate)};
+  const Eigen::Vector2d goal = localGoalDirection(path, obs.odom_pose, config_.local_goal_distance);
+  core::Twist command;
+  if (!config_.deployed) {
+    command = policy_->act(*obs.scan, goal, config_.range_clip);
+  } else {
+    // The published deployment: the heading error is the local goal's bearing.
+    const double heading_error = std::atan2(goal.y(), goal.x());
+    hard_turn_ = nextHardTurn(hard_turn_, heading_error, config_);
+    if (hard_turn_) {
+      action_ = LflhAction::HardTurn;
+      command = {0.0, config_.turn_gain * heading_error};
+    } else {
+      // The check looks at the policy's own command, as the original did (it published that
+      // command unclipped); what is sent is clipped below.
+      command = deployedCommand(policy_->act(*obs.scan, goal, config_.range_clip), heading_error, scanPoints(*obs.scan, info_.lidar),
+                                config_, &action_);
+    }
+  }
+  return {std::clamp(command.linear, -config_.max_speed, config_.max_speed),
+          std::clamp(command.angular, -config_.max_turn_rate, config_.max_turn_rate)};
 }
 
 }  // namespace barn::controllers

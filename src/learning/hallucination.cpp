@@ -6,6 +6,7 @@
 #include <numbers>
 #include <optional>
 
+#include "barn/core/errors.hpp"
 #include "barn/sim/obstacle_field.hpp"
 
 namespace barn::learning {
@@ -329,6 +330,20 @@ Dataset buildDataset(const Recording& recording, const HallucinationConfig& conf
   data.inputs = Eigen::Map<const Eigen::MatrixXf>(inputs.data(), rows, n);
   data.targets = Eigen::Map<const Eigen::MatrixXf>(targets.data(), 2, n);
   return data;
+}
+
+void appendDataset(Dataset& into, const Dataset& more) {
+  if (more.beams != into.beams || more.inputs.rows() != into.inputs.rows())
+    throw core::InputError("joining datasets of " + std::to_string(into.beams) + " and " + std::to_string(more.beams) + " beams");
+  const Eigen::Index before = into.inputs.cols();
+  into.inputs.conservativeResize(into.inputs.rows(), before + more.inputs.cols());
+  into.inputs.rightCols(more.inputs.cols()) = more.inputs;
+  into.targets.conservativeResize(2, before + more.targets.cols());
+  into.targets.rightCols(more.targets.cols()) = more.targets;
+  for (std::size_t r : more.records) into.records.push_back(into.record_count + r);
+  for (std::size_t start : more.recording_starts) into.recording_starts.push_back(into.record_count + start);
+  into.record_count += more.record_count;
+  into.lookahead = std::max(into.lookahead, more.lookahead);
 }
 
 }  // namespace barn::learning

@@ -53,10 +53,13 @@ void validate(const HallucinationConfig& c, core::Errors& e, const std::string& 
 
 void validate(const TrainConfig& c, core::Errors& e, const std::string& p) {
   e.check(c.hidden >= 1 && c.hidden <= 4096, p + ".hidden", "must be in [1, 4096]");
+  e.check(c.activation == "relu" || c.activation == "leaky_relu", p + ".activation", "must be relu or leaky_relu");
+  e.check(c.leaky_slope > 0.0 && c.leaky_slope < 1.0, p + ".leaky_slope", "must be in (0, 1)");
   e.check(c.range_clip > 0.0 && c.range_clip <= 30.0, p + ".range_clip", "must be in (0, 30] m");
   e.check(c.learning_rate > 0.0 && c.learning_rate < 1.0, p + ".learning_rate", "must be in (0, 1)");
   e.check(c.batch_size >= 1 && c.batch_size <= 4096, p + ".batch_size", "must be in [1, 4096]");
   e.check(c.epochs >= 1 && c.epochs <= 100000, p + ".epochs", "must be in [1, 100000]");
+  e.check(c.batches_per_epoch >= 0 && c.batches_per_epoch <= 1000000, p + ".batches_per_epoch", "must be in [0, 1000000]");
   e.check(c.validation_share > 0.0 && c.validation_share < 1.0, p + ".validation_share", "must be in (0, 1)");
   e.check(c.flip_probability >= 0.0 && c.flip_probability <= 1.0, p + ".flip_probability", "must be in [0, 1]");
   e.check(c.range_noise >= 0.0, p + ".range_noise", "must be >= 0");
@@ -68,6 +71,8 @@ void validate(const LflhConfig& c, core::Errors& e) {
   validate(c.collect, e);
   validate(c.hallucination, e);
   validate(c.train, e);
+  for (std::size_t i = 0; i < c.also_train_on.size(); ++i)
+    e.check(!c.also_train_on[i].empty(), "also_train_on[" + std::to_string(i) + "]", "must name an LfLH config file");
 }
 
 LflhConfig readLflhConfig(const std::filesystem::path& path) {

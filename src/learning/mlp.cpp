@@ -22,10 +22,32 @@ std::size_t MlpParameters<Scalar>::count() const {
 }
 
 template <class Scalar>
-Mlp<Scalar>::Mlp(int inputs, int hidden, int outputs) : p_(Parameters::zeros(inputs, hidden, outputs)) {}
+Mlp<Scalar>::Mlp(int inputs, int hidden, int outputs, Activation activation, double slope)
+    : p_(Parameters::zeros(inputs, hidden, outputs)), activation_(activation), slope_(static_cast<Scalar>(slope)) {}
 
 template <class Scalar>
-Mlp<Scalar>::Mlp(Parameters parameters) : p_(std::move(parameters)) {}
+Mlp<Scalar>::Mlp(Parameters parameters, Activation activation, double slope)
+    : p_(std::move(parameters)), activation_(activation), slope_(static_cast<Scalar>(slope)) {}
+
+namespace {
+
+// The activation in place. relu keeps its original form (cwiseMax) so that relu networks give
+// the same bits as before leaky_relu existed.
+template <class Matrix, class Scalar>
+void activate(Matrix& h, Activation activation, Scalar slope) {
+  if (activation == Activation::Relu) h = h.cwiseMax(Scalar(0));
+  else h = (h.array() > Scalar(0)).select(h, slope * h);
+}
+
+// delta through the activation, from its output h: relu passes where h > 0; leaky_relu passes
+// there and scales by the slope elsewhere (h > 0 exactly where its input is > 0).
+template <class Matrix, class Scalar>
+void activateBackward(Matrix& delta, const Matrix& h, Activation activation, Scalar slope) {
+  if (activation == Activation::Relu) delta = (h.array() > Scalar(0)).select(delta, Scalar(0));
+  else delta = (h.array() > Scalar(0)).select(delta, slope * delta);
+}
+
+}  // namespace
 
 template <class Scalar>
 void Mlp<Scalar>::initialise(core::Rng& rng) {
@@ -45,10 +67,10 @@ template <class Scalar>
 const typename Mlp<Scalar>::Matrix& Mlp<Scalar>::forward(const Matrix& x) {
   h1_.noalias() = p_.w1 * x;
   h1_.colwise() += p_.b1;
-  h1_ = h1_.cwiseMax(Scalar(0));
+  activate(h1_, activation_, slope_);
   h2_.noalias() = p_.w2 * h1_;
   h2_.colwise() += p_.b2;
-  h2_ = h2_.cwiseMax(Scalar(0));
+  activate(h2_, activation_, slope_);
   y_.noalias() = p_.w3 * h2_;
   y_.colwise() += p_.b3;
   return y_;
@@ -63,16 +85,17 @@ double Mlp<Scalar>::backward(const Matrix& x, const Matrix& target, Parameters& 
   loss /= static_cast<double>(x.cols());
 
   // dL/dy = 2 (y - t) / B; through each layer: dW = delta a^T, db = row sums of delta,
-  // delta_below = (W^T delta) masked by the ReLU's active units (h > 0).
+  // delta_below = (W^T delta) through the activation's derivative (relu: 1 where h > 0, else
+  // 0; leaky_relu: 1 where h > 0, else the slope).
   const Matrix dy = (Scalar(2) / batch) * error;
   grad.w3.noalias() = dy * h2_.transpose();
   grad.b3 = dy.rowwise().sum();
   Matrix d2 = p_.w3.transpose() * dy;
-  d2 = (h2_.array() > Scalar(0)).select(d2, Scalar(0));
+  activateBackward(d2, h2_, activation_, slope_);
   grad.w2.noalias() = d2 * h1_.transpose();
   grad.b2 = d2.rowwise().sum();
   Matrix d1 = p_.w2.transpose() * d2;
-  d1 = (h1_.array() > Scalar(0)).select(d1, Scalar(0));
+  activateBackward(d1, h1_, activation_, slope_);
   grad.w1.noalias() = d1 * x.transpose();
   grad.b1 = d1.rowwise().sum();
   return loss;

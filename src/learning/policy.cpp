@@ -18,11 +18,13 @@ namespace barn::learning {
 namespace {
 
 constexpr const char* kFormat = "barnbench-lflh-policy";
-constexpr int kVersion = 1;
+constexpr int kVersion = 2;  // written; versions 1 and 2 are read
 constexpr const char* kEndHeader = "end_header";
 // Fixed descriptions: part of the contract, so a file written for another input or output
 // convention fails to load instead of driving the robot backwards.
-constexpr const char* kActivation = "relu";
+constexpr const char* kRelu = "relu";              // version 1: the only activation
+constexpr const char* kLeakyRelu = "leaky_relu";   // version 2: "leaky_relu <slope>"
+constexpr const char* kUnknown = "unknown";        // a loss not known (an imported policy)
 constexpr const char* kInput = "ranges[beams] clipped to [0, range_clip] (+inf -> range_clip), goal_x, goal_y";
 constexpr const char* kGoal = "unit vector to the local goal in the robot frame, x forward, y left";
 constexpr const char* kOutput = "v [m/s], w [rad/s]";
@@ -43,6 +45,13 @@ std::string hex(std::uint64_t value) {
   return out.str();
 }
 
+std::string activationText(const PolicyInfo& info) {
+  if (info.activation == Activation::Relu) return kRelu;
+  return std::string(kLeakyRelu) + " " + core::formatDouble(info.slope);
+}
+
+std::string lossText(double loss) { return std::isnan(loss) ? std::string(kUnknown) : core::formatDouble(loss); }
+
 std::uint32_t toLittle(std::uint32_t bits) {
   if constexpr (std::endian::native == std::endian::little) return bits;
   else return ((bits & 0xFFu) << 24) | ((bits & 0xFF00u) << 8) | ((bits >> 8) & 0xFF00u) | (bits >> 24);
@@ -58,7 +67,7 @@ void writePolicyFile(const std::filesystem::path& path, const PolicyInfo& info, 
   line("version", std::to_string(kVersion));
   line("architecture", std::to_string(weights.inputs()) + "-" + std::to_string(weights.hidden()) + "-" +
                            std::to_string(weights.hidden()) + "-" + std::to_string(weights.outputs()));
-  line("activation", kActivation);
+  line("activation", activationText(info));
   line("input", kInput);
   line("beams", std::to_string(info.beams));
   line("range_clip", core::formatDouble(info.range_clip));
@@ -71,9 +80,9 @@ void writePolicyFile(const std::filesystem::path& path, const PolicyInfo& info, 
   line("trained", info.trained);
   line("seed", std::to_string(info.seed));
   line("epochs", std::to_string(info.epochs));
-  line("train_loss", core::formatDouble(info.train_loss));
-  line("validation_loss", core::formatDouble(info.validation_loss));
-  line("mean_predictor_loss", core::formatDouble(info.mean_predictor_loss));
+  line("train_loss", lossText(info.train_loss));
+  line("validation_loss", lossText(info.validation_loss));
+  line("mean_predictor_loss", lossText(info.mean_predictor_loss));
   text += kEndHeader;
   text += '\n';
   const std::size_t header = text.size();
@@ -150,18 +159,36 @@ Policy Policy::parse(const std::string& file, const std::string& source_name) {
     if (!core::parseDouble(header[key], value) || !std::isfinite(value)) fail("header: " + key + " '" + header[key] + "': expected a number");
     return value;
   };
+  const auto loss = [&](const std::string& key) {
+    return header[key] == kUnknown ? std::numeric_limits<double>::quiet_NaN() : number(key);
+  };
   const auto exact = [&](const std::string& key, const std::string& expected) {
     if (header[key] != expected) fail("header: " + key + " is '" + header[key] + "', expected '" + expected + "'");
   };
-  if (integer("version", 0, 1000000) != kVersion)
-    fail("unsupported version " + header["version"] + " (this build reads version " + std::to_string(kVersion) + ")");
-  exact("activation", kActivation);
+  const long long version = integer("version", 0, 1000000);
+  if (version != 1 && version != 2)
+    fail("unsupported version " + header["version"] + " (this build reads versions 1 and 2)");
+
+  PolicyInfo info;
+  if (version == 1) {
+    exact("activation", kRelu);
+  } else {
+    const std::string& text = header["activation"];
+    const std::string leaky = std::string(kLeakyRelu) + " ";
+    if (text == kRelu) {
+      info.activation = Activation::Relu;
+    } else if (text.rfind(leaky, 0) == 0 && core::parseDouble(text.substr(leaky.size()), info.slope) &&
+               info.slope > 0.0 && info.slope < 1.0) {
+      info.activation = Activation::LeakyRelu;
+    } else {
+      fail("header: activation '" + text + "': expected 'relu' or 'leaky_relu S' with the slope S in (0, 1)");
+    }
+  }
   exact("input", kInput);
   exact("goal", kGoal);
   exact("output", kOutput);
   exact("layout", kLayout);
 
-  PolicyInfo info;
   info.beams = static_cast<int>(integer("beams", 1, 100000));
   info.range_clip = number("range_clip");
   if (!(info.range_clip > 0.0)) fail("header: range_clip must be > 0");
@@ -175,9 +202,9 @@ Policy Policy::parse(const std::string& file, const std::string& source_name) {
   info.trained = header["trained"];
   info.seed = static_cast<std::uint64_t>(integer("seed", 0, std::numeric_limits<long long>::max()));
   info.epochs = static_cast<int>(integer("epochs", 0, 100000000));
-  info.train_loss = number("train_loss");
-  info.validation_loss = number("validation_loss");
-  info.mean_predictor_loss = number("mean_predictor_loss");
+  info.train_loss = loss("train_loss");
+  info.validation_loss = loss("validation_loss");
+  info.mean_predictor_loss = loss("mean_predictor_loss");
 
   // Architecture "inputs-hidden-hidden-outputs" against the input layout.
   int sizes[4] = {0, 0, 0, 0};
@@ -231,14 +258,15 @@ Policy Policy::parse(const std::string& file, const std::string& source_name) {
   return Policy(std::move(info), std::move(weights));
 }
 
-core::Twist Policy::act(const core::LaserScan& scan, const Eigen::Vector2d& goal_direction_robot_frame) const {
+core::Twist Policy::act(const core::LaserScan& scan, const Eigen::Vector2d& goal_direction_robot_frame,
+                        double range_clip) const {
   const int beams = info_.beams;
   if (scan.ranges.size() != static_cast<std::size_t>(beams))
     throw core::InputError("policy '" + info_.name + "' expects " + std::to_string(beams) + " beams, the scan has " +
                            std::to_string(scan.ranges.size()));
   // The same arithmetic as encodeInput() in training: clip in double, then round to float.
   Eigen::VectorXf x(beams + 2);
-  const double clip = info_.range_clip;
+  const double clip = range_clip > 0.0 ? range_clip : info_.range_clip;
   for (int i = 0; i < beams; ++i) {
     const double r = scan.ranges[static_cast<std::size_t>(i)];
     x[i] = static_cast<float>(std::isnan(r) ? clip : std::clamp(r, 0.0, clip));
@@ -247,11 +275,20 @@ core::Twist Policy::act(const core::LaserScan& scan, const Eigen::Vector2d& goal
   const Eigen::Vector2d unit = norm > 0.0 ? Eigen::Vector2d(goal_direction_robot_frame / norm) : Eigen::Vector2d::UnitX();
   x[beams] = static_cast<float>(unit.x());
   x[beams + 1] = static_cast<float>(unit.y());
-  // Same order of operations as Mlp::forward (product, then bias), so the two agree bit for bit.
+  // Same order of operations as Mlp::forward (product, bias, activation), so the two agree bit
+  // for bit.
+  const bool relu = info_.activation == Activation::Relu;
+  const float slope = static_cast<float>(info_.slope);
+  const auto activate = [&](Eigen::VectorXf& h) {
+    if (relu) h = h.cwiseMax(0.0f);
+    else h = (h.array() > 0.0f).select(h, slope * h);
+  };
   Eigen::VectorXf h1 = weights_.w1 * x;
-  h1 = (h1 + weights_.b1).cwiseMax(0.0f);
+  h1 += weights_.b1;
+  activate(h1);
   Eigen::VectorXf h2 = weights_.w2 * h1;
-  h2 = (h2 + weights_.b2).cwiseMax(0.0f);
+  h2 += weights_.b2;
+  activate(h2);
   Eigen::Vector2f y = weights_.w3 * h2;
   y += weights_.b3;
   return {static_cast<double>(y[0]), static_cast<double>(y[1])};

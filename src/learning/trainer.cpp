@@ -38,9 +38,16 @@ void splitDataset(const Dataset& data, double validation_share, std::vector<std:
                   std::vector<std::size_t>& validation) {
   train.clear();
   validation.clear();
-  const auto boundary = static_cast<std::size_t>(std::floor((1.0 - validation_share) * static_cast<double>(data.record_count)));
+  // Per recording [start, end): its last share is held out.
+  const auto boundaryOf = [&](std::size_t record) {
+    const auto next = std::upper_bound(data.recording_starts.begin(), data.recording_starts.end(), record);
+    const std::size_t start = next == data.recording_starts.begin() ? 0 : *(next - 1);
+    const std::size_t end = next == data.recording_starts.end() ? data.record_count : *next;
+    return start + static_cast<std::size_t>(std::floor((1.0 - validation_share) * static_cast<double>(end - start)));
+  };
   for (std::size_t c = 0; c < data.size(); ++c) {
     const std::size_t record = data.records[c];
+    const std::size_t boundary = boundaryOf(record);
     if (record >= boundary) validation.push_back(c);
     else if (record + data.lookahead < boundary) train.push_back(c);
   }
@@ -58,7 +65,7 @@ TrainingResult trainPolicy(const Dataset& data, const TrainConfig& config,
   const int beams = data.beams;
 
   core::Rng rng(config.seed);
-  Mlp<float> net(rows, config.hidden, 2);
+  Mlp<float> net(rows, config.hidden, 2, config.activationKind(), config.leaky_slope);
   net.initialise(rng);
   MlpParameters<float> grad = MlpParameters<float>::zeros(rows, config.hidden, 2);
   Adam<float> adam(net.parameters(), config.learning_rate);
@@ -78,12 +85,31 @@ TrainingResult trainPolicy(const Dataset& data, const TrainConfig& config,
   const std::size_t batch = static_cast<std::size_t>(config.batch_size);
   Matrix x(rows, config.batch_size), t(2, config.batch_size);
   std::vector<std::size_t> order = train;
-  for (int epoch = 1; epoch <= config.epochs; ++epoch) {
-    // Fisher-Yates with the run's own generator: the same order on every platform.
+  // Fisher-Yates with the run's own generator: the same order on every platform.
+  const auto shuffle = [&] {
     for (std::size_t i = order.size() - 1; i > 0; --i) std::swap(order[i], order[static_cast<std::size_t>(rng.below(i + 1))]);
+  };
+  // batches_per_epoch > 0: epochs of that many batches, read on through the order, which is
+  // reshuffled whenever fewer than a batch of it are left (the remainder sits that pass out).
+  std::size_t cursor = order.size();
+  for (int epoch = 1; epoch <= config.epochs; ++epoch) {
+    const bool full_pass = config.batches_per_epoch == 0;
+    if (full_pass) shuffle();
     double loss_sum = 0.0;
     std::size_t batches = 0;
-    for (std::size_t first = 0; first + batch <= order.size(); first += batch) {
+    for (std::size_t next = 0;; next += batch) {
+      std::size_t first = next;
+      if (full_pass) {
+        if (first + batch > order.size()) break;
+      } else {
+        if (batches == static_cast<std::size_t>(config.batches_per_epoch)) break;
+        if (cursor + batch > order.size()) {
+          shuffle();
+          cursor = 0;
+        }
+        first = cursor;
+        cursor += batch;
+      }
       for (std::size_t j = 0; j < batch; ++j) {
         const auto col = static_cast<Eigen::Index>(j);
         x.col(col) = data.inputs.col(static_cast<Eigen::Index>(order[first + j]));

@@ -324,7 +324,7 @@ TEST(Episode, EveryBuiltInControllerObjectReusedGivesWhatAFreshOneGives) {
   const std::string root = BARN_SOURCE_DIR;
   const core::WorldSpec first_world = core::readWorldFile(root + "/worlds/world_000.yaml");
   const core::WorldSpec second_world = core::readWorldFile(root + "/worlds/world_010.yaml");
-  for (const std::string name : {"pure_pursuit", "dwa", "eband", "lflh", "inventec_fi", "inventec_mpc"}) {
+  for (const std::string name : {"pure_pursuit", "dwa", "eband", "lflh", "lflh_raw", "inventec_fi", "inventec_mpc"}) {
     const controllers::ControllerFactory factory =
         controllers::makeControllerFactory(core::ConfigNode::parseFile(root + "/configs/controllers/" + name + ".yaml"));
     const auto reused = factory();

@@ -1,4 +1,4 @@
-// `barn lflh collect|train` end to end on a tiny configuration, and its bad-input exits.
+// `barn lflh collect|train|act` end to end on a tiny configuration, and its bad-input exits.
 //
 // Exit codes (src/cli/main.cpp): 0 ok, 1 the run failed, 2 bad usage or bad input.
 
@@ -8,7 +8,9 @@
 #include <sys/wait.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <filesystem>
 #include <random>
 #include <string>
@@ -27,7 +29,7 @@ const fs::path kBarn = fs::path(BARN_BINARY_DIR) / "barn";
 constexpr char kTinyConfig[] = R"(name: tiny
 collect: {duration: 30.0}
 hallucination: {stride: 4}
-train: {hidden: 16, epochs: 3}
+train: {hidden: 16, epochs: 3, activation: leaky_relu}
 )";
 
 struct RunResult {
@@ -73,10 +75,68 @@ TEST_F(BarnLflh, CollectThenTrainWritesALoadablePolicyWithItsLossCsvAndPlot) {
   EXPECT_EQ(policy.info().name, "tiny");
   EXPECT_EQ(policy.info().hidden, 16);
   EXPECT_EQ(policy.info().epochs, 3);
+  EXPECT_EQ(policy.info().activation, barn::learning::Activation::LeakyRelu);
+  EXPECT_EQ(policy.info().slope, 0.01);
   // Header line + 3 epochs.
   const std::string csv = barn::core::readTextFile(dir_ / "out" / "tiny.loss.csv");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 4);
   EXPECT_EQ(barn::core::readTextFile(dir_ / "out" / "tiny.loss.png").substr(1, 3), "PNG");
+}
+
+TEST_F(BarnLflh, ActPrintsThePolicysCommandForEachScanOnStdin) {
+  barn::learning::Mlp<float> net(722, 8, 2, barn::learning::Activation::LeakyRelu, 0.01);
+  barn::core::Rng rng(9);
+  net.initialise(rng);
+  barn::learning::PolicyInfo info;
+  info.hidden = 8;
+  info.name = "small";
+  info.activation = barn::learning::Activation::LeakyRelu;
+  barn::learning::writePolicyFile(dir_ / "small.policy", info, net.parameters());
+  const barn::learning::Policy policy = barn::learning::Policy::load(dir_ / "small.policy");
+
+  // Two scans: no returns at all, and a ramp (comma separated, as a CSV row).
+  std::string open, ramp;
+  barn::core::LaserScan open_scan, ramp_scan;
+  for (int i = 0; i < 720; ++i) {
+    open += (i ? " " : "") + std::string("inf");
+    open_scan.ranges.push_back(std::numeric_limits<double>::infinity());
+    const double r = 0.25 + 0.0025 * i;
+    ramp += (i ? "," : "") + barn::core::formatDouble(r);
+    ramp_scan.ranges.push_back(r);
+  }
+  barn::core::writeFileAtomic(dir_ / "scans.txt", open + "\n" + ramp + "\n");
+  const RunResult result = run("lflh act --policy " + path("small.policy") + " --goal 1,0.5 < " + path("scans.txt"));
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  const auto line = [](const barn::core::Twist& t) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.9g %.9g\n", t.linear, t.angular);
+    return std::string(text);
+  };
+  EXPECT_EQ(result.output, line(policy.act(open_scan, {1.0, 0.5})) + line(policy.act(ramp_scan, {1.0, 0.5})));
+
+  barn::core::writeFileAtomic(dir_ / "short.txt", "1 2 3\n");
+  const RunResult short_scan = run("lflh act --policy " + path("small.policy") + " < " + path("short.txt"));
+  EXPECT_EQ(short_scan.exit_code, 2);
+  EXPECT_THAT(short_scan.output, HasSubstr("stdin line 1: 3 ranges, the policy takes 720"));
+}
+
+TEST_F(BarnLflh, AlsoTrainOnJoinsAnotherConfigsRecording) {
+  barn::core::writeFileAtomic(dir_ / "joined.yaml",
+                              "name: joined\ncollect: {duration: 20.0}\nhallucination: {stride: 4}\n"
+                              "train: {hidden: 16, epochs: 2, batches_per_epoch: 5}\nalso_train_on: [tiny.yaml]\n");
+  ASSERT_EQ(run("lflh collect --config " + path("joined.yaml") + " --out " + path("data")).exit_code, 0);
+  // Without the other config's recording: exit 2 naming it.
+  const RunResult missing =
+      run("lflh train --config " + path("joined.yaml") + " --data " + path("data") + " --out " + path("j.policy"));
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_THAT(missing.output, HasSubstr("exploration_tiny.csv"));
+  ASSERT_EQ(run("lflh collect --config " + path("tiny.yaml") + " --out " + path("data")).exit_code, 0);
+  const RunResult train =
+      run("lflh train --config " + path("joined.yaml") + " --data " + path("data") + " --out " + path("j.policy"));
+  ASSERT_EQ(train.exit_code, 0) << train.output;
+  EXPECT_THAT(train.output, HasSubstr("joined tiny (1501 records)"));
+  EXPECT_THAT(train.output, HasSubstr("from 2502 records"));  // 1001 + 1501
+  EXPECT_THAT(train.output, HasSubstr("epoch    2/2"));
 }
 
 TEST_F(BarnLflh, BadConfigIsExitTwoNamingTheKey) {

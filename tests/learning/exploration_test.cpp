@@ -125,6 +125,9 @@ TEST(LflhConfig, UnknownKeysAndBadValuesAreReportedWithTheirPath) {
   EXPECT_THAT(errorOf("collect: {max_speed: 3.0}\n"), HasSubstr("collect.max_speed: must be in"));
   EXPECT_THAT(errorOf("hallucination: {clearance_min: 0.2, clearance_max: 0.1}\n"), HasSubstr("hallucination.clearance_max"));
   EXPECT_THAT(errorOf("train: {batch_size: 0}\n"), HasSubstr("train.batch_size"));
+  EXPECT_EQ(errorOf("train: {activation: leaky_relu, leaky_slope: 0.01}\n"), "no error");
+  EXPECT_THAT(errorOf("train: {activation: tanh}\n"), HasSubstr("train.activation: must be relu or leaky_relu"));
+  EXPECT_THAT(errorOf("train: {leaky_slope: 1.0}\n"), HasSubstr("train.leaky_slope: must be in (0, 1)"));
 }
 
 TEST(LflhConfig, ShippedConfigsLoadAndDifferInSpeed) {
@@ -135,6 +138,31 @@ TEST(LflhConfig, ShippedConfigsLoadAndDifferInSpeed) {
   EXPECT_EQ(slow.collect.max_speed, 1.0);
   EXPECT_EQ(fast.collect.max_speed, 2.0);
   EXPECT_NE(configHash(slow), configHash(fast));
+}
+
+TEST(LflhConfig, ThePublishedTrainingConfigsFollowThePublishedPipeline) {
+  const std::string dir = std::string(BARN_SOURCE_DIR) + "/configs/lflh/";
+  const LflhConfig slow = readLflhConfig(dir + "1ms_published.yaml");
+  const LflhConfig fast = readLflhConfig(dir + "2ms_published.yaml");
+  for (const LflhConfig* c : {&slow, &fast}) {
+    EXPECT_EQ(c->train.activation, "leaky_relu");
+    EXPECT_EQ(c->train.leaky_slope, 0.01);
+    EXPECT_EQ(c->train.learning_rate, 3e-4);
+    EXPECT_EQ(c->train.batch_size, 32);
+    EXPECT_EQ(c->train.epochs, 1000);
+    EXPECT_EQ(c->train.batches_per_epoch, 100);
+    EXPECT_EQ(c->train.flip_probability, 0.5);
+    EXPECT_EQ(c->train.range_noise, 0.03);
+  }
+  EXPECT_EQ(slow.train.range_clip, 2.0);
+  EXPECT_EQ(fast.train.range_clip, 2.5);
+  EXPECT_TRUE(slow.also_train_on.empty());
+  // The 2 m/s policy also learns from the 1 m/s data; the file it names exists and differs.
+  ASSERT_EQ(fast.also_train_on, (std::vector<std::string>{"1ms_published.yaml"}));
+  EXPECT_EQ(readLflhConfig(dir + fast.also_train_on[0]).name, slow.name);
+  // Exploration and hallucination are the shipped configs'.
+  const LflhConfig ours = readLflhConfig(dir + "1ms.yaml");
+  EXPECT_EQ(collectHash(slow.collect), collectHash(ours.collect));
 }
 
 }  // namespace

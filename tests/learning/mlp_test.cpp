@@ -11,9 +11,9 @@ using MatrixD = Eigen::MatrixXd;
 
 // A small network in double precision with random weights and a batch of 5 examples.
 struct Problem {
-  Mlp<double> net{6, 5, 2};
+  Mlp<double> net;
   MatrixD x, t;
-  Problem() {
+  explicit Problem(Activation activation = Activation::Relu, double slope = 0.01) : net(6, 5, 2, activation, slope) {
     core::Rng rng(7);
     net.initialise(rng);
     x.resize(6, 5);
@@ -23,8 +23,8 @@ struct Problem {
   }
 };
 
-TEST(Mlp, EveryGradientBlockMatchesCentralFiniteDifferences) {
-  Problem p;
+// The analytic gradient against central finite differences, block by block.
+void expectGradientMatchesFiniteDifferences(Problem& p) {
   MlpParameters<double> grad = MlpParameters<double>::zeros(6, 5, 2);
   p.net.lossAndGradient(p.x, p.t, grad);
 
@@ -56,6 +56,40 @@ TEST(Mlp, EveryGradientBlockMatchesCentralFiniteDifferences) {
     }
     EXPECT_GT(largest, 1e-4) << names[b] << ": the check must see a non-zero gradient";
   }
+}
+
+TEST(Mlp, EveryGradientBlockMatchesCentralFiniteDifferences) {
+  Problem p;
+  expectGradientMatchesFiniteDifferences(p);
+}
+
+TEST(Mlp, LeakyReluGradientMatchesCentralFiniteDifferencesToo) {
+  // A large slope makes the negative side's share of the gradient plain to see.
+  Problem leaky(Activation::LeakyRelu, 0.01);
+  expectGradientMatchesFiniteDifferences(leaky);
+  Problem steep(Activation::LeakyRelu, 0.3);
+  expectGradientMatchesFiniteDifferences(steep);
+  // Some hidden units are negative, so relu and leaky_relu gradients differ there.
+  MlpParameters<double> g_relu = MlpParameters<double>::zeros(6, 5, 2), g_leaky = g_relu;
+  Problem relu;
+  relu.net.lossAndGradient(relu.x, relu.t, g_relu);
+  steep.net.lossAndGradient(steep.x, steep.t, g_leaky);
+  EXPECT_GT((g_relu.w1 - g_leaky.w1).cwiseAbs().maxCoeff(), 1e-6);
+}
+
+TEST(Mlp, LeakyReluForwardKeepsPositivesAndScalesNegatives) {
+  // One input, two hidden units with pre-activations +2 and -3 in both layers (identity-ish
+  // weights), output = sum of the second layer.
+  Mlp<double> net(1, 2, 1, Activation::LeakyRelu, 0.01);
+  auto& p = net.parameters();
+  p.w1 << 2.0, -3.0;                  // h1 = (f(2), f(-3)) = (2, -0.03)
+  p.w2 << 1.0, 0.0,
+          0.0, 100.0;                 // z2 = (2, -3), h2 = (2, -0.03)
+  p.w3 << 1.0, 1.0;                   // y = 2 - 0.03
+  const MatrixD x = MatrixD::Ones(1, 1);
+  EXPECT_DOUBLE_EQ(net.forward(x)(0, 0), 2.0 - 0.03);
+  Mlp<double> relu(p);                // relu by default: y = 2
+  EXPECT_DOUBLE_EQ(relu.forward(x)(0, 0), 2.0);
 }
 
 TEST(Mlp, LossIsTheBatchMeanOfTheSummedSquaredErrors) {

@@ -122,12 +122,66 @@ TEST_F(PolicyLoadErrors, WrongShape) {
 }
 
 TEST_F(PolicyLoadErrors, HeaderContractFields) {
-  EXPECT_THAT(errorOf(replaced("version: 1", "version: 2")), HasSubstr("unsupported version 2"));
-  EXPECT_THAT(errorOf(replaced("activation: relu", "activation: tanh")), HasSubstr("activation is 'tanh', expected 'relu'"));
+  EXPECT_THAT(errorOf(replaced("version: 2", "version: 3")), HasSubstr("unsupported version 3 (this build reads versions 1 and 2)"));
+  EXPECT_THAT(errorOf(replaced("activation: relu", "activation: tanh")),
+              HasSubstr("activation 'tanh': expected 'relu' or 'leaky_relu S' with the slope S in (0, 1)"));
+  EXPECT_THAT(errorOf(replaced("activation: relu", "activation: leaky_relu")), HasSubstr("activation 'leaky_relu'"));
+  EXPECT_THAT(errorOf(replaced("activation: relu", "activation: leaky_relu 1.5")), HasSubstr("activation 'leaky_relu 1.5'"));
+  EXPECT_THAT(errorOf(replaced("activation: relu", "activation: leaky_relu 0")), HasSubstr("activation 'leaky_relu 0'"));
   EXPECT_THAT(errorOf(replaced("output: v [m/s], w [rad/s]", "output: w, v")), HasSubstr("header: output"));
   EXPECT_THAT(errorOf(replaced("seed: 3\n", "")), HasSubstr("missing key 'seed'"));
   EXPECT_THAT(errorOf(replaced("seed: 3\n", "seed: 3\ncolour: red\n")), HasSubstr("unknown key 'colour'"));
   EXPECT_THAT(errorOf(replaced("range_clip: 2", "range_clip: two")), HasSubstr("range_clip 'two': expected a number"));
+  EXPECT_THAT(errorOf(replaced("train_loss: 0.125", "train_loss: lots")), HasSubstr("train_loss 'lots': expected a number"));
+}
+
+// ---- Format versions: 1 (relu only) still loads; 2 records the activation ----
+
+TEST_F(PolicyLoadErrors, VersionOneLoadsAsRelu) {
+  // A version 1 file is this one with "version: 1" (its activation line was always "relu").
+  const fs::path path = dir_ / "v1.policy";
+  const std::string v1 = replaced("version: 2", "version: 1");
+  core::writeFileAtomic(path, v1);
+  const Policy policy = Policy::load(path);
+  EXPECT_EQ(policy.info().activation, Activation::Relu);
+  EXPECT_EQ(policy.weights().w2, smallWeights().w2);
+  // Version 1 knew no other activation.
+  std::string leaky = v1;
+  leaky.replace(leaky.find("activation: relu"), 16, "activation: leaky_relu 0.01");
+  EXPECT_THAT(errorOf(leaky), HasSubstr("activation is 'leaky_relu 0.01', expected 'relu'"));
+}
+
+TEST(PolicyFile, VersionTwoRoundTripKeepsTheLeakyReluAndItsSlope) {
+  const fs::path path = tempDir("leaky") / "leaky.policy";
+  PolicyInfo info = smallInfo();
+  info.activation = Activation::LeakyRelu;
+  info.slope = 0.01;
+  info.train_loss = std::numeric_limits<double>::quiet_NaN();  // unknown, as for an imported policy
+  writePolicyFile(path, info, smallWeights());
+  const std::string text = core::readTextFile(path);
+  EXPECT_THAT(text, HasSubstr("\nversion: 2\n"));
+  EXPECT_THAT(text, HasSubstr("\nactivation: leaky_relu 0.01\n"));
+  EXPECT_THAT(text, HasSubstr("\ntrain_loss: unknown\n"));
+  const Policy policy = Policy::load(path);
+  EXPECT_EQ(policy.info().activation, Activation::LeakyRelu);
+  EXPECT_EQ(policy.info().slope, 0.01);
+  EXPECT_TRUE(std::isnan(policy.info().train_loss));
+  EXPECT_EQ(policy.info().validation_loss, 0.25);
+  EXPECT_EQ(policy.weights().w1, smallWeights().w1);
+
+  // act() is the leaky network: bit for bit Mlp's forward pass with the same activation, and
+  // not the relu network's output.
+  std::vector<double> ranges(720, 1.5);
+  for (std::size_t i = 0; i < 720; i += 7) ranges[i] = 0.3;
+  Eigen::MatrixXf x(722, 1);
+  encodeInput(ranges, {1.0, -0.5}, 2.0, x.data());
+  Mlp<float> leaky(smallWeights(), Activation::LeakyRelu, 0.01);
+  Mlp<float> relu(smallWeights());
+  const Eigen::MatrixXf y = leaky.forward(x);
+  const core::Twist twist = policy.act(scanOf(ranges), {1.0, -0.5});
+  EXPECT_EQ(static_cast<float>(twist.linear), y(0, 0));
+  EXPECT_EQ(static_cast<float>(twist.angular), y(1, 0));
+  EXPECT_NE(static_cast<float>(twist.linear), relu.forward(x)(0, 0));
 }
 
 TEST_F(PolicyLoadErrors, NonFiniteWeight) {
@@ -193,6 +247,13 @@ TEST(Policy, ActClipsLikeTrainingAndMatchesTheNetwork) {
   std::vector<double> farther = ranges;
   farther[1] = 25.0;  // was +inf: both read as 2.0
   EXPECT_EQ(policy.act(scanOf(farther), {1.0, 2.0}).linear, twist.linear);
+  // A clip given by the caller replaces the file's: the network on the input clipped at 2.5.
+  encodeInput(ranges, {1.0, 2.0}, 2.5, x.data());
+  const Eigen::MatrixXf& y25 = net.forward(x);
+  const core::Twist at25 = policy.act(scanOf(ranges), {1.0, 2.0}, 2.5);
+  EXPECT_NEAR(at25.linear, y25(0, 0), 1e-6);
+  EXPECT_NEAR(at25.angular, y25(1, 0), 1e-6);
+  EXPECT_NE(at25.linear, twist.linear);
 }
 
 TEST(Policy, ScanWithTheWrongBeamCountIsAnInputError) {

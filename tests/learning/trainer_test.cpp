@@ -3,6 +3,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace barn::learning {
 namespace {
 
@@ -53,6 +55,75 @@ TEST(Trainer, SameSeedGivesIdenticalWeightsAnotherSeedDoesNot) {
   EXPECT_EQ(a.history.back().validation, b.history.back().validation);
   config.seed = 4;
   EXPECT_NE(trainPolicy(tinyData(), config).weights.w1, a.weights.w1);
+}
+
+TEST(Trainer, TrainsTheActivationItsConfigNames) {
+  // leaky_relu trains too, reproducibly, and to other weights than relu from the same seed.
+  TrainConfig config = tinyTraining();
+  config.epochs = 3;
+  const TrainingResult relu = trainPolicy(tinyData(), config);
+  config.activation = "leaky_relu";
+  const TrainingResult a = trainPolicy(tinyData(), config);
+  const TrainingResult b = trainPolicy(tinyData(), config);
+  EXPECT_EQ(a.weights.w1, b.weights.w1);
+  EXPECT_NE(a.weights.w1, relu.weights.w1);
+  EXPECT_LT(a.history.back().train, a.history.front().train);
+  // Its validation loss is the leaky network's (evaluating the same weights as relu differs).
+  std::vector<std::size_t> train, validation;
+  splitDataset(tinyData(), config.validation_share, train, validation);
+  Eigen::MatrixXf x(tinyData().inputs.rows(), static_cast<Eigen::Index>(validation.size()));
+  Eigen::MatrixXf t(2, static_cast<Eigen::Index>(validation.size()));
+  for (std::size_t j = 0; j < validation.size(); ++j) {
+    x.col(static_cast<Eigen::Index>(j)) = tinyData().inputs.col(static_cast<Eigen::Index>(validation[j]));
+    t.col(static_cast<Eigen::Index>(j)) = tinyData().targets.col(static_cast<Eigen::Index>(validation[j]));
+  }
+  Mlp<float> leaky(a.weights, Activation::LeakyRelu, config.leaky_slope);
+  Mlp<float> as_relu(a.weights);
+  EXPECT_NEAR(leaky.loss(x, t), a.history.back().validation, 1e-5 * a.history.back().validation);
+  EXPECT_GT(std::abs(as_relu.loss(x, t) - a.history.back().validation), 1e-4 * a.history.back().validation);
+}
+
+TEST(Trainer, BatchesPerEpochSetsTheEpochsLengthAndStaysReproducible) {
+  // ~1,300 training columns = 40 batches of 32 per full pass; 7 batches per epoch for 12
+  // epochs read on through two passes (84 batches), reshuffling in between.
+  TrainConfig config = tinyTraining();
+  config.epochs = 12;
+  config.batches_per_epoch = 7;
+  const TrainingResult a = trainPolicy(tinyData(), config);
+  const TrainingResult b = trainPolicy(tinyData(), config);
+  ASSERT_EQ(a.history.size(), 12u);
+  EXPECT_EQ(a.weights.w1, b.weights.w1);
+  EXPECT_EQ(a.history.back().validation, b.history.back().validation);
+  EXPECT_LT(a.history.back().train, a.history.front().train);
+  // Not the same as full passes.
+  config.batches_per_epoch = 0;
+  config.epochs = 2;
+  EXPECT_NE(trainPolicy(tinyData(), config).weights.w1, a.weights.w1);
+}
+
+TEST(Trainer, JoinedRecordingsAreEachSplitLastTenthOut) {
+  // Two copies of the tiny data joined: the second's records are numbered on from 6001, and
+  // each copy holds out its own last tenth (records 5400.. and 6001 + 5400..).
+  Dataset joined = tinyData();
+  appendDataset(joined, tinyData());
+  ASSERT_EQ(joined.size(), 2 * tinyData().size());
+  EXPECT_EQ(joined.record_count, 12002u);
+  EXPECT_EQ(joined.recording_starts, (std::vector<std::size_t>{0, 6001}));
+  EXPECT_EQ(joined.records[tinyData().size()], 6001u + tinyData().records[0]);
+  EXPECT_EQ(joined.inputs.col(static_cast<Eigen::Index>(tinyData().size()) + 3), tinyData().inputs.col(3));
+  std::vector<std::size_t> train, validation, train1, validation1;
+  splitDataset(tinyData(), 0.1, train1, validation1);
+  splitDataset(joined, 0.1, train, validation);
+  EXPECT_EQ(train.size(), 2 * train1.size());
+  EXPECT_EQ(validation.size(), 2 * validation1.size());
+  for (std::size_t c : validation) {
+    const std::size_t r = joined.records[c];
+    EXPECT_TRUE((r >= 5400 && r < 6001) || r >= 6001 + 5400) << r;
+  }
+  for (std::size_t c : train) {
+    const std::size_t r = joined.records[c];
+    EXPECT_TRUE(r + joined.lookahead < 5400 || (r >= 6001 && r + joined.lookahead < 6001 + 5400)) << r;
+  }
 }
 
 TEST(Trainer, ValidationIsTheLastTenthInTimeAndTrainingNeverLooksIntoIt) {

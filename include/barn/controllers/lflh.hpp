@@ -1,11 +1,25 @@
 #pragma once
-/// `lflh`: the seed paper's LfLH baseline. A learned policy (learning::Policy, trained by
-/// `barn lflh train`) maps the clipped scan and the unit vector to a local goal 1.5 m along the
-/// global path (nav::NavStack, NavFn-like) to (v, w) at 25 Hz. No state machine, no safety
-/// check: the Inventec controller builds those on top.
+/// `lflh`: the LfLH baseline. A learned policy (learning::Policy, trained by `barn lflh train`)
+/// maps the clipped scan and the unit vector to a local goal 1.5 m along the global path
+/// (nav::NavStack, NavFn-like) to (v, w) at 25 Hz.
+///
+/// deployed: true (configs/controllers/lflh.yaml, lflh_2ms.yaml) — what BARN's LfLH baseline
+/// ran, the published deployment script (LfD_2D/run_policy.py; research notes §2.5), every tick:
+///
+///   heading error e = the angle of the local goal in the robot frame (the policy's goal input)
+///   hard turn: entered when |e| > 60 deg, left when |e| < 10 deg; while in it (0, 2 e)
+///   otherwise the policy's command (v, w), kept if the 0.2 s final-pose rollout check
+///   (safety_checks.hpp rolloutHit, 20 x 0.01 s, the 0.42 x 0.33 rectangle grown by 0.0) clears;
+///   else the turn in place (0, 2 e) if it clears the same check; else the back-up (-0.2, 0).
+///
+/// deployed: false (lflh_raw.yaml, lflh_2ms_raw.yaml) — the bare policy: no hard turn, no
+/// safety check. Either way the command is clipped to max_speed and max_turn_rate.
+/// The Inventec controller builds its own state machine on the same policy.
 
 #include <memory>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "barn/controllers/controller.hpp"
 #include "barn/core/errors.hpp"
@@ -20,11 +34,25 @@ struct LflhConfig {
   double local_goal_distance = 1.5;  // [m] along the global path
   double max_speed = 1.0;        // [m/s] |v| clip (the policy's own speed)
   double max_turn_rate = 4.0;    // [rad/s] |w| clip (the Jackal's limit)
+  double range_clip = 0.0;       // [m] scan clip for the policy; 0: the policy file's (published deployment: 2.0 for both models)
+  bool deployed = true;          // published deployment: hard turn + safety check + fallbacks; false = bare policy
+  double hard_turn_enter_deg = 60.0;  // published deployment: hard turn when |heading error| > pi/3
+  double hard_turn_exit_deg = 10.0;   // published deployment: ... until |heading error| < pi/18
+  double turn_gain = 2.0;        // [1/s] published deployment: w = 2 * heading error (hard turn and fallback turn)
+  double backup_speed = 0.2;     // [m/s] published deployment: v = -0.2, w = 0 when the turn is unsafe too
+  double safety_length = 0.42;   // [m] published deployment: the check's 0.42 x 0.33 rectangle (along x)
+  double safety_width = 0.33;    // [m] published deployment
+  double safety_tolerance = 0.0; // [m] published deployment: tolerance 0.0 (Inventec's code: 0.02)
+  int safety_steps = 20;         // published deployment: 20 Euler steps ...
+  double safety_dt = 0.01;       // [s] published deployment: ... of 0.01 s, final pose only
   nav::NavStackConfig nav = lflhNav();
 
   template <class V> void visit(V& v) {
     v("policy", policy); v("rate", rate); v("local_goal_distance", local_goal_distance); v("max_speed", max_speed);
-    v("max_turn_rate", max_turn_rate); v("nav", nav);
+    v("max_turn_rate", max_turn_rate); v("range_clip", range_clip); v("deployed", deployed); v("hard_turn_enter_deg", hard_turn_enter_deg);
+    v("hard_turn_exit_deg", hard_turn_exit_deg); v("turn_gain", turn_gain); v("backup_speed", backup_speed);
+    v("safety_length", safety_length); v("safety_width", safety_width); v("safety_tolerance", safety_tolerance);
+    v("safety_steps", safety_steps); v("safety_dt", safety_dt); v("nav", nav);
   }
 
   /// The LfLH/Inventec move_base costmaps (the Inventec team's published move_base
@@ -44,18 +72,39 @@ std::string resolvePolicyPath(const std::string& policy, const std::string& conf
 Eigen::Vector2d localGoalDirection(const nav::Path& path, const core::Pose2& pose, double distance);
 
 
+/// What the deployed LfLH sends in a tick (its state label in the trajectory record).
+enum class LflhAction { Policy, HardTurn, SafetyTurn, BackUp };
+std::string_view toString(LflhAction action);
+
+/// The hard turn's hysteresis: whether the robot hard-turns this tick, given whether it did
+/// the last tick and the heading error [rad] now.
+bool nextHardTurn(bool turning, double heading_error, const LflhConfig& config);
+
+/// The deployed command of a tick outside the hard turn: the policy's command if its rollout
+/// clears the points (robot frame, see safety_checks.hpp), else the turn in place
+/// (0, turn_gain * heading_error) if that clears, else the back-up (-backup_speed, 0).
+/// `action` (if set) receives which of the three it is.
+core::Twist deployedCommand(const core::Twist& policy_command, double heading_error,
+                            const std::vector<Eigen::Vector2d>& points, const LflhConfig& config,
+                            LflhAction* action = nullptr);
+
 class LflhController : public Controller {
  public:
   LflhController(const LflhConfig& config, std::shared_ptr<const learning::Policy> policy);
   void reset(const EpisodeInfo& info) override;
   core::Twist act(const Observation& observation) override;
   double period() const override { return 1.0 / config_.rate; }
+  /// The deployed controller's action of the last tick; "" for the bare policy.
+  std::string_view stateLabel() const override { return config_.deployed ? toString(action_) : std::string_view{}; }
+  LflhAction action() const { return action_; }
 
  private:
   LflhConfig config_;
   std::shared_ptr<const learning::Policy> policy_;
   nav::NavStack nav_;
   EpisodeInfo info_;
+  bool hard_turn_ = false;
+  LflhAction action_ = LflhAction::Policy;
 };
 
 }  // namespace barn::controllers

@@ -135,10 +135,18 @@ struct Dataset {
   Eigen::MatrixXf targets;           // 2 x n: v [m/s], w [rad/s]
   std::vector<std::size_t> records;  // source record of each column (time order)
   std::size_t lookahead = 0;         // [records] a column looks this far past its record
-  std::size_t record_count = 0;      // records in the recording
+  std::size_t record_count = 0;      // records in the recording(s)
+  /// Where each recording begins in `records`' numbering: {0} for one recording; appendDataset
+  /// numbers a joined recording's records on after the ones before.
+  std::vector<std::size_t> recording_starts = {0};
 
   std::size_t size() const { return records.size(); }
 };
+
+/// Joins `more` (another recording's demonstrations, the same beams) onto `into`: its columns
+/// follow, its records are numbered on after `into`'s, the lookahead is the larger of the two.
+/// The training split then holds out the last share of each recording (trainer.hpp).
+void appendDataset(Dataset& into, const Dataset& more);
 
 /// Writes one input column from a scan and a goal direction (normalised here).
 void encodeInput(const std::vector<double>& ranges, const Eigen::Vector2d& goal, double range_clip, float* column);

@@ -8,8 +8,10 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "barn/core/errors.hpp"
+#include "barn/learning/mlp.hpp"
 
 namespace barn::learning {
 
@@ -83,21 +85,27 @@ struct HallucinationConfig {
   }
 };
 
-/// The policy network and its training (research notes §2.4; hidden layers are ReLU).
+/// The policy network and its training (research notes §2.4).
 struct TrainConfig {
   int hidden = 256;                 // [-] units in each of the two hidden layers
+  std::string activation = "relu";  // hidden layers: relu | leaky_relu (the published network: leaky_relu)
+  double leaky_slope = 0.01;        // [-] leaky_relu's negative slope (the published network: 0.01)
   double range_clip = 2.0;          // [m] ranges are clipped to [0, range_clip]; +inf -> range_clip
   double learning_rate = 3e-4;      // [-] Adam step size
   int batch_size = 32;              // [samples]
-  int epochs = 50;                  // [-] full passes over the training split
+  int epochs = 50;                  // [-] epochs (the published training: 1000)
+  int batches_per_epoch = 0;        // [-] batches per epoch, drawn on through a reshuffled order (the
+                                    //     published training: 100); 0: an epoch is a full pass over the training split
   double validation_share = 0.1;    // [-] the last share of the recording (in time) is held out
   double flip_probability = 0.5;    // [-] mirror augmentation per presented sample
   double range_noise = 0.03;        // [m] Gaussian noise on clipped ranges (training only)
   std::uint64_t seed = 3;           // [-] initial weights, shuffling, augmentation
 
+  Activation activationKind() const { return activation == "leaky_relu" ? Activation::LeakyRelu : Activation::Relu; }
+
   template <class V> void visit(V& v) {
-    v("hidden", hidden); v("range_clip", range_clip); v("learning_rate", learning_rate);
-    v("batch_size", batch_size); v("epochs", epochs); v("validation_share", validation_share);
+    v("hidden", hidden); v("activation", activation); v("leaky_slope", leaky_slope); v("range_clip", range_clip); v("learning_rate", learning_rate);
+    v("batch_size", batch_size); v("epochs", epochs); v("batches_per_epoch", batches_per_epoch); v("validation_share", validation_share);
     v("flip_probability", flip_probability); v("range_noise", range_noise); v("seed", seed);
   }
 };
@@ -107,9 +115,14 @@ struct LflhConfig {
   CollectConfig collect;
   HallucinationConfig hallucination;
   TrainConfig train;
+  /// Other LfLH config files (relative to this one's folder) whose recordings, from the same
+  /// data folder and hallucinated with their own settings, join the training data (the
+  /// published 2 m/s policy was trained on the 1 m/s and the 2 m/s data).
+  std::vector<std::string> also_train_on;
 
   template <class V> void visit(V& v) {
     v("name", name); v("collect", collect); v("hallucination", hallucination); v("train", train);
+    v("also_train_on", also_train_on);
   }
 };
 

@@ -1,9 +1,10 @@
 #pragma once
 /// The LfLH policy network and its training arithmetic, on Eigen:
 ///
-///     h1 = relu(W1 x + b1),  h2 = relu(W2 h1 + b2),  y = W3 h2 + b3      (no output squashing)
+///     h1 = f(W1 x + b1),  h2 = f(W2 h1 + b2),  y = W3 h2 + b3      (no output squashing)
 ///
-/// with x = 720 clipped ranges + the unit goal (722), 256 hidden units, y = (v, w). Loss of a
+/// f is the hidden layers' activation: relu(z) = max(z, 0), or leaky_relu(z) = z for z > 0 and
+/// slope * z otherwise (the published LfLH network: slope 0.01, PyTorch's default), with x = 720 clipped ranges + the unit goal (722), 256 hidden units, y = (v, w). Loss of a
 /// batch of B columns: L = (1/B) sum_b ||y_b - t_b||^2, the mean over the batch of the summed
 /// squared error of v and w (the original's loss). Instantiated for float (training and
 /// inference) and double (the finite-difference gradient test).
@@ -18,6 +19,9 @@
 #include "barn/core/rng.hpp"
 
 namespace barn::learning {
+
+/// The hidden layers' activation (see the header comment); the slope is leaky_relu's.
+enum class Activation { Relu, LeakyRelu };
 
 template <class Scalar>
 struct MlpParameters {
@@ -53,8 +57,8 @@ class Mlp {
   using Matrix = typename MlpParameters<Scalar>::Matrix;
   using Parameters = MlpParameters<Scalar>;
 
-  Mlp(int inputs, int hidden, int outputs);
-  explicit Mlp(Parameters parameters);
+  Mlp(int inputs, int hidden, int outputs, Activation activation = Activation::Relu, double slope = 0.01);
+  explicit Mlp(Parameters parameters, Activation activation = Activation::Relu, double slope = 0.01);
 
   /// PyTorch's nn.Linear initialisation: every weight and bias U(-k, k), k = 1 / sqrt(fan_in).
   void initialise(core::Rng& rng);
@@ -70,9 +74,13 @@ class Mlp {
 
   Parameters& parameters() { return p_; }
   const Parameters& parameters() const { return p_; }
+  Activation activation() const { return activation_; }
+  double slope() const { return static_cast<double>(slope_); }
 
  private:
   Parameters p_;
+  Activation activation_;
+  Scalar slope_;  // leaky_relu's negative slope
   Matrix h1_, h2_, y_;  // activations of the last forward()
 };
 

@@ -6,11 +6,18 @@
 /// float32, blocks w1 b1 w2 b2 w3 b3, each matrix column-major (Eigen's order):
 ///
 ///     format: barnbench-lflh-policy
-///     version: 1
+///     version: 2
 ///     architecture: 722-256-256-2
+///     activation: leaky_relu 0.01
 ///     ...
 ///     end_header
 ///     <payload_bytes bytes of float32>
+///
+/// Version 2 (written now) records the hidden layers' activation: `relu`, or `leaky_relu S`
+/// with the negative slope S in (0, 1) (the published LfLH network: `leaky_relu 0.01`). Version 1
+/// files had the fixed text `activation: relu` and still load, as relu. Either version may give
+/// `unknown` for train_loss, validation_loss and mean_predictor_loss (a policy not trained here,
+/// e.g. converted by tools/import_lflh_weights.py); they load as NaN.
 ///
 /// Loading checks the magic, the version, every required key, the architecture against the
 /// input layout, the payload size and that every weight is finite, and throws an InputError
@@ -32,17 +39,19 @@ struct PolicyInfo {
   int beams = 720;                 // [-] ranges in the input
   double range_clip = 2.0;         // [m] ranges clipped to [0, range_clip], +inf -> range_clip
   int hidden = 256;                // [-] units per hidden layer
+  Activation activation = Activation::Relu;  // of both hidden layers
+  double slope = 0.01;             // [-] leaky_relu's negative slope (unused for relu)
   std::string name;                // config name, e.g. lflh_1ms
   std::uint64_t config_hash = 0;   // core::fnv1a64 of the effective training config
   std::string trained;             // UTC date and time of training, ISO 8601
   std::uint64_t seed = 0;          // training seed
   int epochs = 0;                  // [-]
-  double train_loss = 0.0;         // final epoch, mean over samples of squared v and w error
-  double validation_loss = 0.0;
-  double mean_predictor_loss = 0.0;  // validation loss of always predicting the mean command
+  double train_loss = 0.0;         // final epoch, mean over samples of squared v and w error (NaN: unknown)
+  double validation_loss = 0.0;    // (NaN: unknown)
+  double mean_predictor_loss = 0.0;  // validation loss of always predicting the mean command (NaN: unknown)
 };
 
-/// Writes a policy file (atomically).
+/// Writes a policy file (atomically), format version 2.
 void writePolicyFile(const std::filesystem::path& path, const PolicyInfo& info, const MlpParameters<float>& weights);
 
 class Policy {
@@ -57,8 +66,11 @@ class Policy {
 
   /// The command for one scan and the goal direction in the robot frame (x forward, y left;
   /// normalised here, any length > 0). Ranges are clipped exactly as in training; +inf and NaN
-  /// read as range_clip. Throws InputError if the scan does not have info().beams ranges.
-  core::Twist act(const core::LaserScan& scan, const Eigen::Vector2d& goal_direction_robot_frame) const;
+  /// read as range_clip. `range_clip` > 0 clips at that distance instead of the file's (the
+  /// published deployment clipped at 2.0 m a model trained at 2.5 m). Throws InputError if the
+  /// scan does not have info().beams ranges.
+  core::Twist act(const core::LaserScan& scan, const Eigen::Vector2d& goal_direction_robot_frame,
+                  double range_clip = 0.0) const;
 
   const PolicyInfo& info() const { return info_; }
   const MlpParameters<float>& weights() const { return weights_; }

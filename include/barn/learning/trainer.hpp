@@ -1,10 +1,13 @@
 #pragma once
 /// LfLH step 3: behaviour cloning of the hallucinated demonstrations (research notes §2.4).
 ///
-/// Split: the last `validation_share` of the recording in time is held out; training columns
+/// Split: the last `validation_share` of the recording in time is held out (of each recording,
+/// for data joined by appendDataset: the published split, 90/10 per demonstration file); training columns
 /// whose look-ahead window reaches into it are dropped, so no motion is seen on both sides.
 /// Each epoch is one pass over the training columns in a seeded shuffled order, in batches of
-/// batch_size (the remainder sits this epoch out). Each presented column is mirrored
+/// batch_size (the remainder sits this epoch out); with batches_per_epoch > 0 an epoch is that
+/// many batches instead, read on through the shuffled order across epochs and reshuffled when
+/// it runs out (the published training: 1000 epochs of 100 batches). Each presented column is mirrored
 /// with probability flip_probability and its ranges get N(0, range_noise^2) noise after
 /// clipping, as in the original; validation uses the columns as they are.
 
