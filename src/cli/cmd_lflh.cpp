@@ -46,7 +46,7 @@ fs::path besidePolicy(const fs::path& policy, const std::string& suffix) {
 }
 
 void runCollect(const LflhOptions& options) {
-  const learning::LflhConfig config = learning::readLflhConfig(options.config);
+  const learning::LflhPipelineConfig config = learning::readLflhPipelineConfig(options.config);
   const auto start = std::chrono::steady_clock::now();
   const learning::Recording recording = learning::collectExploration(config.collect, config.name);
   const fs::path path = learning::recordingPath(options.out, config.name);
@@ -63,11 +63,11 @@ void runCollect(const LflhOptions& options) {
 }
 
 void runTrain(const LflhOptions& options) {
-  learning::LflhConfig config = learning::readLflhConfig(options.config);
+  learning::LflhPipelineConfig config = learning::readLflhPipelineConfig(options.config);
   if (options.epochs > 0) config.train.epochs = options.epochs;
   // This config's recording, then those of the configs it also trains on, each checked against
   // the collect settings of its own config.
-  const auto readChecked = [&](const learning::LflhConfig& c, const std::string& config_path) {
+  const auto readChecked = [&](const learning::LflhPipelineConfig& c, const std::string& config_path) {
     const fs::path recording_path = learning::recordingPath(options.data, c.name);
     learning::Recording recording = learning::readRecording(recording_path);
     if (recording.name != c.name || recording.collect_hash != learning::collectHash(c.collect))
@@ -83,7 +83,7 @@ void runTrain(const LflhOptions& options) {
   std::size_t record_count = recording.records.size();
   for (const std::string& other_file : config.also_train_on) {
     const fs::path other_path = fs::path(options.config).parent_path() / other_file;
-    const learning::LflhConfig other = learning::readLflhConfig(other_path);
+    const learning::LflhPipelineConfig other = learning::readLflhPipelineConfig(other_path);
     const learning::Recording other_recording = readChecked(other, other_path.string());
     // The other recording hallucinated with its own settings, encoded with this policy's clip.
     learning::appendDataset(data, learning::buildDataset(other_recording, other.hallucination, config.train.range_clip));

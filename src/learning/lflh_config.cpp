@@ -65,7 +65,7 @@ void validate(const TrainConfig& c, core::Errors& e, const std::string& p) {
   e.check(c.range_noise >= 0.0, p + ".range_noise", "must be >= 0");
 }
 
-void validate(const LflhConfig& c, core::Errors& e) {
+void validate(const LflhPipelineConfig& c, core::Errors& e) {
   e.check(!c.name.empty() && c.name.find_first_of("/\\ ") == std::string::npos, "name",
           "must be a non-empty file name part (no spaces or slashes)");
   validate(c.collect, e);
@@ -75,15 +75,15 @@ void validate(const LflhConfig& c, core::Errors& e) {
     e.check(!c.also_train_on[i].empty(), "also_train_on[" + std::to_string(i) + "]", "must name an LfLH config file");
 }
 
-LflhConfig readLflhConfig(const std::filesystem::path& path) {
-  LflhConfig config = core::readConfig<LflhConfig>(core::ConfigNode::parseFile(path));
+LflhPipelineConfig readLflhPipelineConfig(const std::filesystem::path& path) {
+  LflhPipelineConfig config = core::readConfig<LflhPipelineConfig>(core::ConfigNode::parseFile(path));
   core::Errors errors(path.string());
   validate(config, errors);
   errors.throwIfAny();
   return config;
 }
 
-std::uint64_t configHash(const LflhConfig& config) { return core::fnv1a64(core::writeConfig(config)); }
+std::uint64_t configHash(const LflhPipelineConfig& config) { return core::fnv1a64(core::writeConfig(config)); }
 std::uint64_t collectHash(const CollectConfig& config) { return core::fnv1a64(core::writeConfig(config)); }
 
 }  // namespace barn::learning

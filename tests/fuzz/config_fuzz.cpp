@@ -1,6 +1,6 @@
 // Fuzz target: the YAML config reader (core::ConfigNode::parseString + core::readConfig) on
 // real config structs: the simulation config (bench::EpisodeConfig, configs/sim/*.yaml) and
-// the LfLH training config (learning::LflhConfig, configs/lflh/*.yaml). Both are header-only
+// the LfLH training config (learning::LflhPipelineConfig, configs/lflh/*.yaml). Both are header-only
 // field lists; the controller configs would pull in the navigation stack's sources.
 //
 // Bad input must end in core::InputError. A config that reads must also write back (the
@@ -50,6 +50,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     return 0;
   }
   readAndRoundTrip<bench::EpisodeConfig>(node);
-  readAndRoundTrip<learning::LflhConfig>(node);
+  readAndRoundTrip<learning::LflhPipelineConfig>(node);
   return 0;
 }

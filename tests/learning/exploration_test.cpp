@@ -108,10 +108,10 @@ TEST(Exploration, MalformedRecordingNamesTheFileAndLine) {
   EXPECT_THAT(errorOf(header + "0,0,0,0,0,0,0,0,0\n"), HasSubstr("fewer than 2 records"));
 }
 
-TEST(LflhConfig, UnknownKeysAndBadValuesAreReportedWithTheirPath) {
+TEST(LflhPipelineConfig, UnknownKeysAndBadValuesAreReportedWithTheirPath) {
   const auto errorOf = [](const std::string& yaml) {
     try {
-      LflhConfig c = core::readConfig<LflhConfig>(core::ConfigNode::parseString(yaml, "lflh.yaml"));
+      LflhPipelineConfig c = core::readConfig<LflhPipelineConfig>(core::ConfigNode::parseString(yaml, "lflh.yaml"));
       core::Errors errors("lflh.yaml");
       validate(c, errors);
       errors.throwIfAny();
@@ -130,9 +130,9 @@ TEST(LflhConfig, UnknownKeysAndBadValuesAreReportedWithTheirPath) {
   EXPECT_THAT(errorOf("train: {leaky_slope: 1.0}\n"), HasSubstr("train.leaky_slope: must be in (0, 1)"));
 }
 
-TEST(LflhConfig, ShippedConfigsLoadAndDifferInSpeed) {
-  const LflhConfig slow = readLflhConfig(std::string(BARN_SOURCE_DIR) + "/configs/lflh/1ms.yaml");
-  const LflhConfig fast = readLflhConfig(std::string(BARN_SOURCE_DIR) + "/configs/lflh/2ms.yaml");
+TEST(LflhPipelineConfig, ShippedConfigsLoadAndDifferInSpeed) {
+  const LflhPipelineConfig slow = readLflhPipelineConfig(std::string(BARN_SOURCE_DIR) + "/configs/lflh/1ms.yaml");
+  const LflhPipelineConfig fast = readLflhPipelineConfig(std::string(BARN_SOURCE_DIR) + "/configs/lflh/2ms.yaml");
   EXPECT_EQ(slow.name, "lflh_1ms");
   EXPECT_EQ(fast.name, "lflh_2ms");
   EXPECT_EQ(slow.collect.max_speed, 1.0);
@@ -140,11 +140,11 @@ TEST(LflhConfig, ShippedConfigsLoadAndDifferInSpeed) {
   EXPECT_NE(configHash(slow), configHash(fast));
 }
 
-TEST(LflhConfig, ThePublishedTrainingConfigsFollowThePublishedPipeline) {
+TEST(LflhPipelineConfig, ThePublishedTrainingConfigsFollowThePublishedPipeline) {
   const std::string dir = std::string(BARN_SOURCE_DIR) + "/configs/lflh/";
-  const LflhConfig slow = readLflhConfig(dir + "1ms_published.yaml");
-  const LflhConfig fast = readLflhConfig(dir + "2ms_published.yaml");
-  for (const LflhConfig* c : {&slow, &fast}) {
+  const LflhPipelineConfig slow = readLflhPipelineConfig(dir + "1ms_published.yaml");
+  const LflhPipelineConfig fast = readLflhPipelineConfig(dir + "2ms_published.yaml");
+  for (const LflhPipelineConfig* c : {&slow, &fast}) {
     EXPECT_EQ(c->train.activation, "leaky_relu");
     EXPECT_EQ(c->train.leaky_slope, 0.01);
     EXPECT_EQ(c->train.learning_rate, 3e-4);
@@ -159,9 +159,9 @@ TEST(LflhConfig, ThePublishedTrainingConfigsFollowThePublishedPipeline) {
   EXPECT_TRUE(slow.also_train_on.empty());
   // The 2 m/s policy also learns from the 1 m/s data; the file it names exists and differs.
   ASSERT_EQ(fast.also_train_on, (std::vector<std::string>{"1ms_published.yaml"}));
-  EXPECT_EQ(readLflhConfig(dir + fast.also_train_on[0]).name, slow.name);
+  EXPECT_EQ(readLflhPipelineConfig(dir + fast.also_train_on[0]).name, slow.name);
   // Exploration and hallucination are the shipped configs'.
-  const LflhConfig ours = readLflhConfig(dir + "1ms.yaml");
+  const LflhPipelineConfig ours = readLflhPipelineConfig(dir + "1ms.yaml");
   EXPECT_EQ(collectHash(slow.collect), collectHash(ours.collect));
 }
 

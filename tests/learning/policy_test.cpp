@@ -266,7 +266,7 @@ TEST(ShippedPolicies, LoadAndMatchTheirTrainingConfigs) {
   for (const std::string name : {"1ms", "2ms"}) {
     const fs::path file = fs::path(BARN_SOURCE_DIR) / "configs" / "policies" / ("lflh_" + name + ".policy");
     const Policy policy = Policy::load(file);
-    const LflhConfig config = readLflhConfig(fs::path(BARN_SOURCE_DIR) / "configs" / "lflh" / (name + ".yaml"));
+    const LflhPipelineConfig config = readLflhPipelineConfig(fs::path(BARN_SOURCE_DIR) / "configs" / "lflh" / (name + ".yaml"));
     EXPECT_EQ(policy.info().config_hash, configHash(config)) << file << " was trained with another config";
     EXPECT_EQ(policy.info().hidden, 256);
     EXPECT_LT(policy.info().validation_loss, policy.info().mean_predictor_loss);

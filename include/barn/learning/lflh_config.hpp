@@ -110,7 +110,7 @@ struct TrainConfig {
   }
 };
 
-struct LflhConfig {
+struct LflhPipelineConfig {
   std::string name = "lflh_1ms";  // names the recording (exploration_<name>.csv) and the policy
   CollectConfig collect;
   HallucinationConfig hallucination;
@@ -129,13 +129,13 @@ struct LflhConfig {
 void validate(const CollectConfig& config, core::Errors& errors, const std::string& prefix = "collect");
 void validate(const HallucinationConfig& config, core::Errors& errors, const std::string& prefix = "hallucination");
 void validate(const TrainConfig& config, core::Errors& errors, const std::string& prefix = "train");
-void validate(const LflhConfig& config, core::Errors& errors);
+void validate(const LflhPipelineConfig& config, core::Errors& errors);
 
 /// Reads and validates an LfLH config file; one InputError lists every problem.
-LflhConfig readLflhConfig(const std::filesystem::path& path);
+LflhPipelineConfig readLflhPipelineConfig(const std::filesystem::path& path);
 
 /// FNV-1a of the effective config text (defaults included): what a policy was trained with.
-std::uint64_t configHash(const LflhConfig& config);
+std::uint64_t configHash(const LflhPipelineConfig& config);
 /// FNV-1a of the effective `collect` section: ties a recording to the settings that made it.
 std::uint64_t collectHash(const CollectConfig& config);
 
