@@ -13,7 +13,7 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${1:-$here/build}"
 worlds="${2:-0:300:10}"
 repeats="${3:-3}"
-controllers=(pure_pursuit inventec_fi inventec_mpc lflh dwa)
+controllers=(pure_pursuit inventec_fi inventec_mpc lflh dwa eband)
 cd "$here"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT

@@ -40,6 +40,17 @@ std::vector<std::vector<EpisodeResult>> runBatches(const std::vector<const Batch
       for (std::size_t i = 0; i < spec.worlds.size() * trials; ++i) jobs.emplace_back(b, i);
     }
   }
+  // A controller that cannot run in this configuration fails the run now, not every episode.
+  // (A factory that throws is reported by every episode, as its error row.)
+  for (const BatchSpec* spec : specs) {
+    std::unique_ptr<controllers::Controller> probe;
+    try {
+      probe = spec->make_controller();
+    } catch (const std::exception&) {
+      continue;
+    }
+    checkControllerFits(*probe, spec->episode);
+  }
   const long total = static_cast<long>(jobs.size());
   std::vector<EpisodeResult> results(jobs.size());
   std::vector<char> ran(jobs.size(), 0);

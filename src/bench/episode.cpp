@@ -95,6 +95,11 @@ void checkControllerPeriod(double controller_period, const EpisodeConfig& config
   }
 }
 
+void checkControllerFits(const controllers::Controller& controller, const EpisodeConfig& config) {
+  checkControllerPeriod(controller.period(), config);
+  controller.checkLidar(config.lidar);
+}
+
 Episode::Episode(const core::WorldSpec& world, const sim::ObstacleField& field, const EpisodeConfig& config,
                  std::uint64_t seed, double controller_period)
     : protocol_(core::protocolPreset(config.protocol)),

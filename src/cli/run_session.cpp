@@ -46,7 +46,7 @@ Session newSession(const std::string& controller_name, const core::ConfigNode& c
   Session session;
   session.spec.make_controller = controllers::makeControllerFactory(controller_config);
   session.spec.episode = episode;
-  bench::checkControllerPeriod(session.spec.make_controller()->period(), episode);  // before any episode
+  bench::checkControllerFits(*session.spec.make_controller(), episode);  // before any episode
   bench::RunManifest manifest = bench::newManifest(controller_name, controllers::effectiveControllerConfig(controller_config),
                                                    episode, loaded, worlds_spec, trials, seed);
   manifest.shard_index = shard_index;

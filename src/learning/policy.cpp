@@ -294,4 +294,11 @@ core::Twist Policy::act(const core::LaserScan& scan, const Eigen::Vector2d& goal
   return {static_cast<double>(y[0]), static_cast<double>(y[1])};
 }
 
+void checkPolicyLidar(const Policy& policy, const core::LidarConfig& lidar) {
+  if (policy.info().beams != lidar.beams)
+    throw core::InputError("policy '" + policy.info().name + "' reads " + std::to_string(policy.info().beams) +
+                           " beams but the LiDAR gives " + std::to_string(lidar.beams) +
+                           " (lidar.beams in the sim config); train or choose a policy for this LiDAR");
+}
+
 }  // namespace barn::learning

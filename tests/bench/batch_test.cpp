@@ -128,6 +128,22 @@ TEST(EpisodeSeed, DependsOnRunSeedWorldAndTrialOnly) {
   EXPECT_EQ(seeds.size(), 3000u);
 }
 
+TEST(Batch, APolicyForAnotherLidarFailsTheRunBeforeAnyEpisode) {
+  BatchSpec spec;
+  spec.worlds = {core::readWorldFile(std::filesystem::path(BARN_SOURCE_DIR) / "worlds" / core::worldFileName(0))};
+  spec.make_controller = controllers::makeControllerFactory(
+      core::ConfigNode::parseFile(std::filesystem::path(BARN_SOURCE_DIR) / "configs" / "controllers" / "lflh.yaml"));
+  spec.episode.lidar.beams = 360;
+  std::size_t episodes = 0;
+  try {
+    runBatch(spec, [&](const EpisodeResult&, std::size_t, std::size_t) { ++episodes; });
+    FAIL() << "a 720-beam policy on a 360-beam LiDAR must be an input error";
+  } catch (const core::InputError& e) {
+    EXPECT_THAT(std::string(e.what()), HasSubstr("reads 720 beams but the LiDAR gives 360"));
+  }
+  EXPECT_EQ(episodes, 0u);
+}
+
 TEST(Batch, FactoryThatThrowsGivesErrorRowsNotACrash) {
   BatchSpec spec;
   spec.worlds = {core::readWorldFile(std::filesystem::path(BARN_SOURCE_DIR) / "worlds" / core::worldFileName(0))};

@@ -77,6 +77,9 @@ EpisodeConfig validatedEpisodeConfig(const core::ConfigNode& node, const std::st
 /// steps (physics.rate a whole multiple of the controller's rate): a rate that is not would be
 /// rounded to another one (30 Hz at 200 Hz physics would run at 28.6 Hz).
 void checkControllerPeriod(double controller_period, const EpisodeConfig& config);
+/// Everything about `controller` that can be checked before a run: its period (above) and
+/// that it can read the configured LiDAR's scans. InputError otherwise.
+void checkControllerFits(const controllers::Controller& controller, const EpisodeConfig& config);
 
 enum class Outcome {
   Success,    ///< reached the goal radius before the timeout, without contact

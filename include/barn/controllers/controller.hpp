@@ -51,6 +51,9 @@ class Controller {
   virtual double period() const = 0;
   /// Current state label for the trajectory record ("" if the controller has no states).
   virtual std::string_view stateLabel() const { return {}; }
+  /// Throws core::InputError if the controller cannot read this LiDAR's scans (a learned
+  /// policy trained on another beam count); checked once before a run starts.
+  virtual void checkLidar(const core::LidarConfig& /*lidar*/) const {}
 };
 
 /// A test fixture that is handed the world's A* path (odom frame) before each reset, by the

@@ -190,6 +190,7 @@ class InventecController : public Controller {
   void reset(const EpisodeInfo& info) override;
   core::Twist act(const Observation& observation) override;
   double period() const override { return 1.0 / config_.rate; }
+  void checkLidar(const core::LidarConfig& lidar) const override { learning::checkPolicyLidar(*policy_, lidar); }
   std::string_view stateLabel() const override { return toString(state_); }
   InventecState state() const { return state_; }
 

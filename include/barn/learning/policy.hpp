@@ -29,6 +29,7 @@
 
 #include <Eigen/Core>
 
+#include "barn/core/lidar_config.hpp"
 #include "barn/core/types.hpp"
 #include "barn/learning/mlp.hpp"
 
@@ -79,5 +80,8 @@ class Policy {
   PolicyInfo info_;
   MlpParameters<float> weights_;
 };
+
+/// InputError unless `policy` reads scans of `lidar`'s beam count (it would fail every call).
+void checkPolicyLidar(const Policy& policy, const core::LidarConfig& lidar);
 
 }  // namespace barn::learning
