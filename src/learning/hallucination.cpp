@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "barn/core/errors.hpp"
+#include "barn/learning/policy.hpp"
 #include "barn/sim/obstacle_field.hpp"
 
 namespace barn::learning {
@@ -286,18 +287,6 @@ std::vector<double> renderScan(const std::vector<Obstacle>& obstacles, const cor
 
 // ---------------------------------------------------------------------------
 // Dataset
-
-void encodeInput(const std::vector<double>& ranges, const Eigen::Vector2d& goal, double range_clip, float* column) {
-  for (std::size_t i = 0; i < ranges.size(); ++i) {
-    const double r = ranges[i];
-    // +inf (no return) and NaN read as "free up to the clip"; noise cannot make a range negative.
-    column[i] = static_cast<float>(std::isnan(r) ? range_clip : std::clamp(r, 0.0, range_clip));
-  }
-  const double norm = goal.norm();
-  const Eigen::Vector2d unit = norm > 0.0 ? Eigen::Vector2d(goal / norm) : Eigen::Vector2d::UnitX();
-  column[ranges.size()] = static_cast<float>(unit.x());
-  column[ranges.size() + 1] = static_cast<float>(unit.y());
-}
 
 void mirrorExample(float* input, float* target, int beams) {
   std::reverse(input, input + beams);

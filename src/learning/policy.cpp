@@ -264,17 +264,8 @@ core::Twist Policy::act(const core::LaserScan& scan, const Eigen::Vector2d& goal
   if (scan.ranges.size() != static_cast<std::size_t>(beams))
     throw core::InputError("policy '" + info_.name + "' expects " + std::to_string(beams) + " beams, the scan has " +
                            std::to_string(scan.ranges.size()));
-  // The same arithmetic as encodeInput() in training: clip in double, then round to float.
   Eigen::VectorXf x(beams + 2);
-  const double clip = range_clip > 0.0 ? range_clip : info_.range_clip;
-  for (int i = 0; i < beams; ++i) {
-    const double r = scan.ranges[static_cast<std::size_t>(i)];
-    x[i] = static_cast<float>(std::isnan(r) ? clip : std::clamp(r, 0.0, clip));
-  }
-  const double norm = goal_direction_robot_frame.norm();
-  const Eigen::Vector2d unit = norm > 0.0 ? Eigen::Vector2d(goal_direction_robot_frame / norm) : Eigen::Vector2d::UnitX();
-  x[beams] = static_cast<float>(unit.x());
-  x[beams + 1] = static_cast<float>(unit.y());
+  encodeInput(scan.ranges, goal_direction_robot_frame, range_clip > 0.0 ? range_clip : info_.range_clip, x.data());
   // Same order of operations as Mlp::forward (product, bias, activation), so the two agree bit
   // for bit.
   const bool relu = info_.activation == Activation::Relu;
@@ -292,6 +283,18 @@ core::Twist Policy::act(const core::LaserScan& scan, const Eigen::Vector2d& goal
   Eigen::Vector2f y = weights_.w3 * h2;
   y += weights_.b3;
   return {static_cast<double>(y[0]), static_cast<double>(y[1])};
+}
+
+void encodeInput(const std::vector<double>& ranges, const Eigen::Vector2d& goal, double range_clip, float* column) {
+  for (std::size_t i = 0; i < ranges.size(); ++i) {
+    const double r = ranges[i];
+    // +inf (no return) and NaN read as "free up to the clip"; noise cannot make a range negative.
+    column[i] = static_cast<float>(std::isnan(r) ? range_clip : std::clamp(r, 0.0, range_clip));
+  }
+  const double norm = goal.norm();
+  const Eigen::Vector2d unit = norm > 0.0 ? Eigen::Vector2d(goal / norm) : Eigen::Vector2d::UnitX();
+  column[ranges.size()] = static_cast<float>(unit.x());
+  column[ranges.size() + 1] = static_cast<float>(unit.y());
 }
 
 void checkPolicyLidar(const Policy& policy, const core::LidarConfig& lidar) {

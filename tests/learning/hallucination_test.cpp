@@ -1,4 +1,5 @@
 #include "barn/learning/hallucination.hpp"
+#include "barn/learning/policy.hpp"
 
 #include <cmath>
 #include <limits>

@@ -148,8 +148,6 @@ struct Dataset {
 /// The training split then holds out the last share of each recording (trainer.hpp).
 void appendDataset(Dataset& into, const Dataset& more);
 
-/// Writes one input column from a scan and a goal direction (normalised here).
-void encodeInput(const std::vector<double>& ranges, const Eigen::Vector2d& goal, double range_clip, float* column);
 /// Mirrors an input column and its target in place: beam order reversed, goal y and w negated.
 /// Valid because the beams are symmetric about the x axis (angle_min = -angle_max, mount_y = 0).
 void mirrorExample(float* input, float* target, int beams);

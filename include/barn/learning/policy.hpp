@@ -26,6 +26,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -80,6 +81,11 @@ class Policy {
   PolicyInfo info_;
   MlpParameters<float> weights_;
 };
+
+/// Writes the policy's input for one scan and goal direction (normalised here; x forward, y
+/// left) into `column` (ranges.size() + 2 floats): ranges clipped to [0, range_clip] in double
+/// and then rounded to float, +inf and NaN read as range_clip. Training and acting both use it.
+void encodeInput(const std::vector<double>& ranges, const Eigen::Vector2d& goal, double range_clip, float* column);
 
 /// InputError unless `policy` reads scans of `lidar`'s beam count (it would fail every call).
 void checkPolicyLidar(const Policy& policy, const core::LidarConfig& lidar);
