@@ -116,14 +116,13 @@ void BM_CostmapUpdate(benchmark::State& state) {
 // Args: local map, read a cost after each scan.
 BENCHMARK(BM_CostmapUpdate)->Args({0, 1})->Args({1, 1})->Args({1, 0})->Unit(benchmark::kMicrosecond);
 
-// One global plan (a full Dijkstra field, as after every costmap update) on the default
-// global costmap with every cylinder of a dense world marked: the planner's worst case.
-void BM_GlobalPlan(benchmark::State& state) {
+// The default global costmap with every cylinder of a world marked.
+nav::Costmap worldCostmap(int world_id, bool lflh_inflation) {
   const core::WorldSpec world = core::readWorldFile(std::string(BARN_SOURCE_DIR) + "/worlds/world_" +
-                                                    std::to_string(state.range(0)) + ".yaml");
+                                                    std::to_string(world_id) + ".yaml");
   const sim::ObstacleField field = sim::ObstacleField::fromWorld(world);
   nav::CostmapConfig config = nav::NavStackConfig::defaultGlobalCostmap();
-  if (state.range(1) > 0) {  // the LfLH / Inventec inflation
+  if (lflh_inflation) {  // the LfLH / Inventec inflation
     config.inscribed_radius = 0.24;
     config.inflation_radius = 1.0;
     config.cost_scaling_factor = 3.0;
@@ -131,6 +130,12 @@ void BM_GlobalPlan(benchmark::State& state) {
   nav::Costmap costmap(config);
   const Eigen::Vector2d odom_origin(-2.0, 3.0);
   for (const auto& c : field.centres) costmap.markObstacle(c - odom_origin);
+  return costmap;
+}
+
+// One global plan from scratch (a new field) on a dense world: the planner's worst case.
+void BM_GlobalPlan(benchmark::State& state) {
+  const nav::Costmap costmap = worldCostmap(static_cast<int>(state.range(0)), state.range(1) > 0);
   nav::PlannerConfig planner_config;
   if (state.range(2) > 0) planner_config.algorithm = "navfn";  // a full propagation every plan
   nav::GlobalPlanner planner(planner_config);
@@ -157,18 +162,7 @@ BENCHMARK(BM_GlobalPlan)
 // scan does): the dijkstra planner repairs its field (or, past a few dozen changed cells,
 // searches again) instead of recomputing it.
 void BM_GlobalReplan(benchmark::State& state) {
-  const core::WorldSpec world = core::readWorldFile(std::string(BARN_SOURCE_DIR) + "/worlds/world_" +
-                                                    std::to_string(state.range(0)) + ".yaml");
-  const sim::ObstacleField field = sim::ObstacleField::fromWorld(world);
-  nav::CostmapConfig config = nav::NavStackConfig::defaultGlobalCostmap();
-  if (state.range(1) > 0) {  // the LfLH / Inventec inflation
-    config.inscribed_radius = 0.24;
-    config.inflation_radius = 1.0;
-    config.cost_scaling_factor = 3.0;
-  }
-  nav::Costmap costmap(config);
-  const Eigen::Vector2d odom_origin(-2.0, 3.0);
-  for (const auto& c : field.centres) costmap.markObstacle(c - odom_origin);
+  nav::Costmap costmap = worldCostmap(static_cast<int>(state.range(0)), state.range(1) > 0);
   nav::GlobalPlanner planner({});
   const Eigen::Vector2d start(0.0, 0.0), goal(0.0, 10.0), flip(0.05, 0.6);
   planner.plan(costmap, start, goal);
