@@ -5,7 +5,10 @@
 //   BM_CostmapUpdate/{global,local}/{read,unread}  one scan folded into a costmap as a robot drives
 //                     through a dense world, with or without reading a cost afterwards (the
 //                     inflation is brought up to date only when read)
-//   BM_GlobalPlan     one full planner field on a dense world
+//   BM_GlobalPlan     one global plan from scratch on a dense world (dijkstra: a new A* field;
+//                     navfn: a full propagation)
+//   BM_GlobalReplan   one dijkstra replan after a one-cell costmap change on the path (the field
+//                     repaired, or searched again past a few dozen changed cells)
 // Run: build-bench/tests/perf/barn_sim_benchmark --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 
 #include <benchmark/benchmark.h>
