@@ -129,7 +129,7 @@ TEST(ReferencePathLength, EmptyPathIsStartToGoal) {
 }
 
 TEST(ReferencePathLength, ReproducesBarnWorld108) {
-  // barn_facts §3.4: run.py's OT for world 108 of the original dataset has L = 10.66037 m
+  // run.py's OT for world 108 of the original dataset has L = 10.66037 m
   // (start x = -2), confirmed against the 2022 dwa_out.txt AT/OT column.
   const fs::path file = kDatasetDir / "path_files" / "path_108.npy";
   if (!fs::exists(file)) GTEST_SKIP() << "BARN dataset not found at " << kDatasetDir << " (needs path_files/path_108.npy)";

@@ -177,7 +177,7 @@ TEST(FieldCylinders, ThickWallBandsAreHollowInside) {
 }
 
 TEST(FieldCylinders, BarnDatasetWorld0Has209CylindersInAll) {
-  // barn_facts §1.8: world 0 = 156 wall cylinders (96 containment + 60 in rows 0 and 29)
+  // The official world 0: 156 wall cylinders (96 containment + 60 in rows 0 and 29)
   // + 53 obstacle cylinders = 209.
   const fs::path file = kDatasetDir / "grid_files" / "grid_0.npy";
   if (!fs::exists(file)) GTEST_SKIP() << "BARN dataset not found at " << kDatasetDir << " (needs grid_files/grid_0.npy)";

@@ -41,7 +41,7 @@ TEST_F(BarnDataset, RecomputesEveryPathMetricAndCspaceExactly) {
 }
 
 TEST_F(BarnDataset, OptimalTimeFollowsRunPy) {
-  // barn_facts.md 3.4: world 108's reference polyline is 10.66037 m under INIT x = -2.
+  // The official harness: world 108's reference polyline is 10.66037 m under INIT x = -2.
   const auto worlds = importDataset(dataset_);
   const core::Protocol barn2023 = core::protocolPreset("barn2023");
   EXPECT_NEAR(core::referencePathLength(worlds[108].path, barn2023), 10.66037, 5e-6);

@@ -2,7 +2,7 @@
 /// One BARN episode as the official run.py runs it: spawn at the protocol's start, drive
 /// until success, collision or timeout, and score.
 ///
-/// Protocol (run.py, barn_facts.md 3.2): the timer starts when the robot is first 0.1 m from
+/// Protocol (the official harness, run.py): the timer starts when the robot is first 0.1 m from
 /// the start; the status is checked every 0.1 s of simulated time after that; success when the
 /// robot centre is within 1 m of the goal; timeout at 100 s; any contact is a collision (here
 /// detected at physics rate and ending the episode at once). AT is the elapsed time at the

@@ -4,7 +4,7 @@
 /// (nav::NavStack, NavFn-like) to (v, w) at 25 Hz.
 ///
 /// deployed: true (configs/controllers/lflh.yaml, lflh_2ms.yaml) — what BARN's LfLH baseline
-/// ran, the published deployment script (LfD_2D/run_policy.py; research notes §2.5), every tick:
+/// ran, the published deployment script (LfD_2D/run_policy.py), every tick:
 ///
 ///   heading error e = the angle of the local goal in the robot frame (the policy's goal input)
 ///   hard turn: entered when |e| > 60 deg, left when |e| < 10 deg; while in it (0, 2 e)

@@ -1,6 +1,6 @@
 #pragma once
 /// LfLH step 1: drive the simulated Jackal with random smooth commands in empty space and log
-/// its motion, as the original explorer did on the real robot (research notes §2.1).
+/// its motion, as the original explorer did on the real robot.
 ///
 /// The recording file (`exploration_<name>.csv` in the data folder) is plain CSV:
 ///
@@ -52,7 +52,7 @@ void writeRecording(const std::filesystem::path& path, const Recording& recordin
 /// Reads a recording; InputError naming the file and line for anything malformed.
 Recording readRecording(const std::filesystem::path& path);
 
-/// Statistics of the commands, to compare with the original logs (§2.1).
+/// Statistics of the commands, to compare with the original logs.
 struct ExplorationStats {
   std::size_t records = 0;
   double duration = 0.0;          // [s]

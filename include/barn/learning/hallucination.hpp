@@ -1,7 +1,7 @@
 #pragma once
 /// LfLH step 2: obstacles hallucinated around recorded motions, and the scans they produce.
 ///
-/// Method (a geometric stand-in for the original's learned hallucination model, §2.2–2.3).
+/// Method (a geometric stand-in for the original's learned hallucination model).
 /// For a record at pose P, in P's frame:
 ///  1. The swept footprint S is the union of the robot's planning footprint (0.508 x 0.430 m,
 ///     core::RobotConfig::footprint_*) at the poses of the next `horizon` seconds, with poses

@@ -15,7 +15,7 @@
 
 namespace barn::learning {
 
-/// Random smooth driving in empty space (research notes §2.1: ~505 s at 50 Hz per speed).
+/// Random smooth driving in empty space (as the published LfLH recordings: ~505 s at 50 Hz per speed).
 /// Commands are holds of a random target, reached through a slew-rate ramp, sent at 25 Hz.
 struct CollectConfig {
   double duration = 500.0;       // [s] simulated driving time
@@ -85,7 +85,7 @@ struct HallucinationConfig {
   }
 };
 
-/// The policy network and its training (research notes §2.4).
+/// The policy network and its training (the published LfLH training, unless said otherwise).
 struct TrainConfig {
   int hidden = 256;                 // [-] units in each of the two hidden layers
   std::string activation = "relu";  // hidden layers: relu | leaky_relu (the published network: leaky_relu)

@@ -1,5 +1,5 @@
 #pragma once
-/// LfLH step 3: behaviour cloning of the hallucinated demonstrations (research notes §2.4).
+/// LfLH step 3: behaviour cloning of the hallucinated demonstrations (as the published LfLH training).
 ///
 /// Split: the last `validation_share` of the recording in time is held out (of each recording,
 /// for data joined by appendDataset: the published split, 90/10 per demonstration file); training columns
