@@ -7,7 +7,8 @@
 #   GAZEBO_DWA_OUT  an official harness results file of DWA in Gazebo (run.py's out.txt:
 #                   world_idx success collided timeout time nav_metric per line)
 #   WORK_DIR        where the records go (default: a new temporary folder)
-# Environment: DWA_TRIALS (10), INVENTEC_TRIALS (2), JOBS (all cores), SIM_CONFIG (default sim).
+# Environment: DWA_TRIALS (10), INVENTEC_TRIALS (2; also for eband and lflh), JOBS (all cores),
+# SIM_CONFIG (default sim).
 # Runs on the official test worlds (0, 6, ..., 294) that both the dataset and the results file
 # hold. Needs build/barn (tools/setup.sh) and python3.
 set -euo pipefail
@@ -47,7 +48,7 @@ run() {  # controller trials
 run dwa "$dwa_trials"
 build/barn compare "$work/gazebo_dwa" "$work/dwa" --json > "$work/compare_dwa.json" 2> /dev/null
 build/barn compare "$work/gazebo_dwa" "$work/dwa" -o docs/fidelity_dwa.png > "$work/compare_dwa.txt"
-for c in inventec_fi inventec_mpc inventec_fi_paper; do run "$c" "$inventec_trials"; done
+for c in inventec_fi inventec_mpc inventec_fi_paper eband lflh; do run "$c" "$inventec_trials"; done
 
 python3 - "$work" "$gazebo_out" "$dwa_trials" "$inventec_trials" <<'PY'
 import csv, json, os, re, subprocess, sys
@@ -77,7 +78,7 @@ lines = [
     row("Gazebo DWA (official harness results)", gz),
     row(f"barnbench dwa x {dwa_trials}", dwa),
 ]
-for c in ("inventec_fi", "inventec_mpc", "inventec_fi_paper"):
+for c in ("inventec_fi", "inventec_mpc", "inventec_fi_paper", "eband", "lflh"):
     lines.append(row(f"barnbench {c} x {inventec_trials}", rates(c)))
 d, s = cmp["score_difference"], cmp["success_rate_difference"]
 a = cmp["agreement"]
@@ -93,7 +94,8 @@ lines += [
     "- per world: `docs/fidelity_dwa.png` (Gazebo vs barnbench mean score per world)",
     "",
     "Gazebo references without per-episode files (team and paper reports, 50 official test worlds): "
-    "Inventec FI 0.2445 (success 0.99, collision 0.006, timeout 0.004), Inventec MPC 0.2419.",
+    "Inventec FI 0.2445 (success 0.99, collision 0.006, timeout 0.004), Inventec MPC 0.2419, "
+    "E-Band 0.2053, LfLH (published weights) 0.2304.",
 ]
 path = "docs/fidelity.md"
 text = open(path).read()
