@@ -141,7 +141,7 @@ RecordJournal::RecordJournal(RecordSession& session, std::size_t pending, int th
   m.episodes_done = session.previous.size();
   std::string journal = episodesCsvHeader();
   for (const auto& r : session.previous) journal += episodeCsvRow(r);
-  core::writeFilesAtomic(session.dir, {{kManifestFile, formatManifest(m)}, {kJournalFile, journal}});
+  core::writeFilesAtomic(session.dir, {{kManifestFile, formatManifest(m, session.dir)}, {kJournalFile, journal}});
   journal_.open(session.dir / kJournalFile, std::ios::app | std::ios::binary);
   if (!journal_) throw core::IoError((session.dir / kJournalFile).string() + ": cannot open: " + std::strerror(errno));
 }
@@ -161,7 +161,7 @@ bool RecordJournal::finish(std::vector<EpisodeResult> finished, double wall_time
   finished.insert(finished.end(), session_.previous.begin(), session_.previous.end());
   if (finished.size() < m.episodes_total) {
     m.episodes_done = finished.size();
-    core::writeFileAtomic(session_.dir / kManifestFile, formatManifest(m));
+    core::writeFileAtomic(session_.dir / kManifestFile, formatManifest(m, session_.dir));
     return false;
   }
   writeCompleteRecord(session_.dir, m, std::move(finished), session_.worlds);

@@ -31,6 +31,54 @@ std::string block(const std::string& text) {
   return out;
 }
 
+// Paths in a manifest are written relative to the record's folder ("./x", "../../x"), so a
+// record holds no path of the machine that wrote it, and reads back wherever it is (a clone,
+// a copy, a cluster node) as long as what it names kept its place relative to it.
+bool plainPathText(std::string_view text) {
+  return !text.empty() && text.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_./+-") ==
+                              std::string_view::npos;
+}
+
+std::string withoutTrailingSeparator(std::string path) {
+  while (path.size() > 1 && path.back() == '/') path.pop_back();
+  return path;
+}
+
+/// An absolute path as seen from `dir`, starting with "./" or "../"; anything else unchanged.
+std::string relativeTo(const std::string& path, const std::filesystem::path& dir) {
+  if (path.empty() || path.front() != '/' || dir.empty()) return path;
+  const std::filesystem::path base = std::filesystem::absolute(dir).lexically_normal();
+  const std::string relative = std::filesystem::path(path).lexically_normal().lexically_relative(base).generic_string();
+  if (relative.empty()) return path;
+  if (relative == ".") return "./";
+  return relative.starts_with("..") ? withoutTrailingSeparator(relative) : "./" + withoutTrailingSeparator(relative);
+}
+
+/// relativeTo undone: a "./" or "../" path made absolute from `dir`; anything else unchanged.
+std::string absoluteFrom(const std::string& path, const std::filesystem::path& dir) {
+  if (!(path.starts_with("./") || path.starts_with("../"))) return path;
+  return withoutTrailingSeparator((std::filesystem::absolute(dir) / path).lexically_normal().string());
+}
+
+/// Applies `convert` to every plain path-like value ("key: value" lines) of a config's text.
+template <class Convert>
+std::string convertPathValues(const std::string& config_text, Convert convert) {
+  std::string out;
+  std::size_t start = 0;
+  while (start < config_text.size()) {
+    std::size_t end = config_text.find('\n', start);
+    if (end == std::string::npos) end = config_text.size();
+    std::string line = config_text.substr(start, end - start);
+    const std::size_t colon = line.find(": ");
+    if (colon != std::string::npos && plainPathText(std::string_view(line).substr(colon + 2)))
+      line = line.substr(0, colon + 2) + convert(line.substr(colon + 2));
+    out += line;
+    if (end < config_text.size()) out += '\n';
+    start = end + 1;
+  }
+  return out;
+}
+
 std::string quoted(const std::string& text) {
   std::string out = "\"";
   for (char ch : text) {
@@ -66,15 +114,16 @@ struct ManifestFields {
 
 }  // namespace
 
-std::string formatManifest(const RunManifest& m) {
+std::string formatManifest(const RunManifest& m, const std::filesystem::path& record_dir) {
+  const auto relative = [&](const std::string& path) { return relativeTo(path, record_dir); };
   std::ostringstream out;
   out << "# barnbench run record; `barn run --resume` and `barn merge` read it back.\n";
   out << "controller: " << quoted(m.controller) << "\n";
   const bool imported = !m.source.empty();
-  if (!imported) out << "controller_config: " << block(m.controller_config);
+  if (!imported) out << "controller_config: " << block(convertPathValues(m.controller_config, relative));
   out << "episode_config: " << block(m.episode_config);
   out << "worlds_spec: " << quoted(m.worlds_spec) << "\n";
-  out << "worlds_folder: " << quoted(m.worlds_folder) << "\n";
+  out << "worlds_folder: " << quoted(relative(m.worlds_folder)) << "\n";
   out << "world_ids: [";
   for (std::size_t i = 0; i < m.world_ids.size(); ++i) out << (i ? ", " : "") << m.world_ids[i];
   out << "]\n";
@@ -116,12 +165,14 @@ RunManifest readManifest(const std::filesystem::path& path) {
   errors.check(f.shard_count >= 0 && f.shard_index >= 0 && f.shard_index <= f.shard_count, "shard_index",
                "must be within 1..shard_count (or both 0)");
   errors.throwIfAny();
+  const std::filesystem::path record_dir = path.parent_path().empty() ? "." : path.parent_path();
+  const auto absolute = [&](const std::string& text) { return absoluteFrom(text, record_dir); };
   RunManifest m;
   m.controller = f.controller;
-  m.controller_config = f.controller_config;
+  m.controller_config = convertPathValues(f.controller_config, absolute);
   m.episode_config = f.episode_config;
   m.worlds_spec = f.worlds_spec;
-  m.worlds_folder = f.worlds_folder;
+  m.worlds_folder = absolute(f.worlds_folder);
   for (double id : f.world_ids) m.world_ids.push_back(static_cast<int>(id));
   m.worlds_digest = f.worlds_digest;
   m.trials = f.trials;
@@ -202,7 +253,7 @@ RunManifest newManifest(const std::string& controller, const std::string& contro
   m.controller_config = controller_config;
   m.episode_config = core::writeConfig(episode);
   m.worlds_spec = worlds_spec;
-  m.worlds_folder = worlds.folder.string();
+  m.worlds_folder = withoutTrailingSeparator(std::filesystem::absolute(worlds.folder).lexically_normal().string());
   for (const auto& w : worlds.worlds) m.world_ids.push_back(w.id);
   m.worlds_digest = worldsDigest(worlds.worlds);
   m.trials = trials;
@@ -249,7 +300,7 @@ void writeCompleteRecord(const std::filesystem::path& dir, RunManifest manifest,
   core::writeFilesAtomic(dir, {{kEpisodesFile, episodesCsv(results)},
                                {kSummaryFile, summaryJson(worldSetName(worlds), summary, perWorldStats(results),
                                                           difficultyBreakdown(results, worlds))},
-                               {kManifestFile, formatManifest(manifest)}});
+                               {kManifestFile, formatManifest(manifest, dir)}});
   std::error_code ec;
   std::filesystem::remove(dir / kJournalFile, ec);
 }

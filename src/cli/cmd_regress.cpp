@@ -122,7 +122,7 @@ void addRegressCommand(CLI::App& app, CommandContext& context) {
           throw core::InputError(dir.string() + ": exists and was not made by barn regress; choose another --work");
         fs::remove_all(dir);
       }
-      core::writeFilesAtomic(dir, {{bench::kManifestFile, bench::formatManifest(rerun)},
+      core::writeFilesAtomic(dir, {{bench::kManifestFile, bench::formatManifest(rerun, dir)},
                                    {kRerunMarker, "a rerun made by barn regress; barn regress replaces this folder\n"}});
       std::printf("== %s: rerunning %s\n", record.filename().c_str(), manifest.worlds_spec.c_str());
       std::fflush(stdout);

@@ -132,7 +132,7 @@ void expectSameManifest(const RunManifest& a, const RunManifest& b) {
 RunManifest roundTrip(const RunManifest& m) {
   TempDir dir;
   const fs::path file = dir.path() / kManifestFile;
-  writeFile(file, formatManifest(m));
+  writeFile(file, formatManifest(m, dir.path()));
   return readManifest(file);
 }
 
@@ -162,8 +162,34 @@ TEST(Manifest, PreservesMultiLineConfigBlocksExactly) {
 }
 
 TEST(Manifest, FormatIsStableAcrossARoundTrip) {
-  const std::string text = formatManifest(fullManifest());
-  EXPECT_EQ(formatManifest(roundTrip(fullManifest())), text);
+  TempDir dir;
+  const std::string text = formatManifest(fullManifest(), dir.path());
+  EXPECT_EQ(formatManifest(roundTrip(fullManifest()), dir.path()), text);
+}
+
+TEST(Manifest, PathsAreWrittenRelativeToTheRecordAndReadBackWhereverItIs) {
+  // A record beside its worlds and policy: its manifest names them relative to itself, so the
+  // tree copied elsewhere reads back the copies' paths.
+  TempDir tree;
+  const fs::path record = tree.path() / "results" / "run";
+  fs::create_directories(record);
+  RunManifest m = fullManifest();
+  m.worlds_folder = (tree.path() / "worlds").string();
+  m.controller_config = "type: lflh\nlflh:\n  policy: " + (tree.path() / "configs" / "a.policy").string() +
+                        "\n  note: front\n  rate: 25\n";
+  writeFile(record / kManifestFile, formatManifest(m, record));
+  const std::string text = readFile(record / kManifestFile);
+  EXPECT_EQ(text.find(tree.path().string()), std::string::npos) << text;
+  EXPECT_THAT(text, HasSubstr("worlds_folder: \"../../worlds\""));
+  EXPECT_THAT(text, HasSubstr("policy: ../../configs/a.policy"));
+  expectSameManifest(readManifest(record / kManifestFile), m);
+
+  TempDir elsewhere;
+  fs::copy(tree.path(), elsewhere.path(), fs::copy_options::recursive);
+  const RunManifest moved = readManifest(elsewhere.path() / "results" / "run" / kManifestFile);
+  EXPECT_EQ(moved.worlds_folder, (elsewhere.path() / "worlds").string());
+  EXPECT_THAT(moved.controller_config, HasSubstr("policy: " + (elsewhere.path() / "configs" / "a.policy").string() + "\n"));
+  EXPECT_THAT(moved.controller_config, HasSubstr("note: front\n"));
 }
 
 TEST(Manifest, RealEffectiveConfigsRoundTrip) {
@@ -181,7 +207,7 @@ TEST(Manifest, MissingControllerIsAnErrorNamingFileAndField) {
   const fs::path file = dir.path() / kManifestFile;
   RunManifest m = fullManifest();
   m.controller = "";
-  writeFile(file, formatManifest(m));
+  writeFile(file, formatManifest(m, dir.path()));
   try {
     readManifest(file);
     FAIL() << "expected an InputError";
@@ -193,7 +219,7 @@ TEST(Manifest, MissingControllerIsAnErrorNamingFileAndField) {
 TEST(Manifest, UnknownKeyIsAnErrorNamingIt) {
   TempDir dir;
   const fs::path file = dir.path() / kManifestFile;
-  writeFile(file, formatManifest(fullManifest()) + "tirals: 4\n");
+  writeFile(file, formatManifest(fullManifest(), dir.path()) + "tirals: 4\n");
   try {
     readManifest(file);
     FAIL() << "expected an InputError";
@@ -207,7 +233,7 @@ TEST(Manifest, ShardIndexBeyondCountIsAnError) {
   const fs::path file = dir.path() / kManifestFile;
   RunManifest m = fullManifest();
   m.shard_index = 6;  // of 5
-  writeFile(file, formatManifest(m));
+  writeFile(file, formatManifest(m, dir.path()));
   try {
     readManifest(file);
     FAIL() << "expected an InputError";

@@ -32,7 +32,7 @@ struct RunManifest {
   std::string controller_config;  // effective controller config (YAML text)
   std::string episode_config;     // effective robot, LiDAR, physics and protocol config (YAML text)
   std::string worlds_spec;        // --worlds as given
-  std::string worlds_folder;      // absolute folder of the world files
+  std::string worlds_folder;      // absolute folder of the world files (the file: relative to the record)
   std::vector<int> world_ids;     // in run order
   std::string worlds_digest;      // FNV-1a 64 of the world files' text, hex
   int trials = 1;
@@ -63,10 +63,14 @@ struct RunManifest {
 RunManifest newManifest(const std::string& controller, const std::string& controller_config, const EpisodeConfig& episode,
                         const LoadedWorlds& worlds, const std::string& worlds_spec, int trials, std::uint64_t seed);
 
-/// The manifest's text. An imported record (source set) has no seed or controller_config
-/// lines; a non-finite sim_time_s (unknown) is left out. Missing fields read back as defaults.
-std::string formatManifest(const RunManifest& manifest);
-/// Reads and checks a manifest; InputError naming the file and field on any problem.
+/// The manifest's text for a record in `record_dir`. An imported record (source set) has no
+/// seed or controller_config lines; a non-finite sim_time_s (unknown) is left out. Missing
+/// fields read back as defaults. Absolute paths (worlds_folder, path values of the controller
+/// config such as a policy file) are written relative to `record_dir` ("./x", "../x"), so a
+/// record holds no path of the machine that wrote it; readManifest makes them absolute again.
+std::string formatManifest(const RunManifest& manifest, const std::filesystem::path& record_dir);
+/// Reads and checks a manifest; InputError naming the file and field on any problem. Paths
+/// written relative to the record (see formatManifest) come back absolute.
 RunManifest readManifest(const std::filesystem::path& path);
 
 /// Empty if `a` and `b` describe the same experiment (configs, worlds, trials, seed), else
