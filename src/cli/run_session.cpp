@@ -44,11 +44,12 @@ Session newSession(const std::string& controller_name, const core::ConfigNode& c
                    const fs::path& dir) {
   bench::checkNoRecord(dir);  // before any work, for a quick answer
   Session session;
-  session.spec.make_controller = controllers::makeControllerFactory(controller_config);
+  controllers::PreparedController controller = controllers::prepareController(controller_config);
+  session.spec.make_controller = std::move(controller.factory);
   session.spec.episode = episode;
   bench::checkControllerFits(*session.spec.make_controller(), episode);  // before any episode
-  bench::RunManifest manifest = bench::newManifest(controller_name, controllers::effectiveControllerConfig(controller_config),
-                                                   episode, loaded, worlds_spec, trials, seed);
+  bench::RunManifest manifest =
+      bench::newManifest(controller_name, controller.effective_config, episode, loaded, worlds_spec, trials, seed);
   manifest.shard_index = shard_index;
   manifest.shard_count = shard_count;
   // Last, once everything is valid, so bad input leaves no folder behind.

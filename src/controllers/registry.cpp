@@ -105,17 +105,15 @@ std::vector<std::string> controllerTypes() {
   return names;
 }
 
-ControllerFactory makeControllerFactory(const core::ConfigNode& config) {
+PreparedController prepareController(const core::ConfigNode& config) {
   std::string type;
-  std::string effective;
-  return findEntry(config, type).make(config.child(type), effective);
+  PreparedController prepared;
+  prepared.factory = findEntry(config, type).make(config.child(type), prepared.effective_config);
+  return prepared;
 }
 
-std::string effectiveControllerConfig(const core::ConfigNode& config) {
-  std::string type;
-  std::string effective;
-  findEntry(config, type).make(config.child(type), effective);
-  return effective;
-}
+ControllerFactory makeControllerFactory(const core::ConfigNode& config) { return prepareController(config).factory; }
+
+std::string effectiveControllerConfig(const core::ConfigNode& config) { return prepareController(config).effective_config; }
 
 }  // namespace barn::controllers

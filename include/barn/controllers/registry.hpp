@@ -17,13 +17,21 @@ using ControllerFactory = std::function<std::unique_ptr<Controller>()>;
 /// Controller types, in the order `barn run --help` lists them.
 std::vector<std::string> controllerTypes();
 
-/// A factory for a controller config node of the form
+/// A controller config, read: the factory of its controllers and its effective config (type
+/// plus every field with its value, paths resolved) as YAML text, for manifests.
+struct PreparedController {
+  ControllerFactory factory;
+  std::string effective_config;
+};
+
+/// Reads and validates a controller config node of the form
 ///     type: pure_pursuit
 ///     pure_pursuit: {speed: 0.5}
-/// The config is read and validated here, before any episode runs; InputError names the key.
+/// before any episode runs (InputError names the key); a policy file is loaded once, here.
+PreparedController prepareController(const core::ConfigNode& config);
+/// prepareController's factory alone.
 ControllerFactory makeControllerFactory(const core::ConfigNode& config);
-
-/// The effective config (type plus every field with its value) as YAML text, for manifests.
+/// prepareController's effective config alone.
 std::string effectiveControllerConfig(const core::ConfigNode& config);
 
 }  // namespace barn::controllers
