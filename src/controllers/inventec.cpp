@@ -58,7 +58,11 @@ void validate(const InventecConfig& c, core::Errors& errors, const std::string& 
   errors.check(s.mpc_dt > 0.0, prefix + ".safety.mpc_dt", "must be > 0");
   errors.check(s.fi_offset >= 0.0, prefix + ".safety.fi_offset", "must be >= 0");
   errors.check(s.ring_front > 0.0 && s.ring_edge > 0.0, prefix + ".safety.ring_front", "ring thresholds must be > 0");
+  errors.check(s.rear_strip_centre >= 0.0, prefix + ".safety.rear_strip_centre", "must be >= 0");
+  errors.check(s.rear_strip_depth > 0.0, prefix + ".safety.rear_strip_depth", "must be > 0");
+  errors.check(s.rear_strip_width > 0.0, prefix + ".safety.rear_strip_width", "must be > 0");
   errors.check(c.roi_depth > 0.0, prefix + ".roi_depth", "must be > 0");
+  errors.check(c.rear_weight >= 0.0 && c.rear_weight <= 1.0, prefix + ".rear_weight", "must be in [0, 1]");
   errors.check(c.backtrack_distance > 0.0, prefix + ".backtrack_distance", "must be > 0");
   errors.check(c.backtrack_speed > 0.0, prefix + ".backtrack_speed", "must be > 0");
   errors.check(c.backtrack_reverse >= 0.0, prefix + ".backtrack_reverse", "must be >= 0");
@@ -145,6 +149,12 @@ InventecController::InventecController(const InventecConfig& config, std::shared
   front_.pad_front = s.front_pad_y;
   front_.speed_gain = s.front_speed_gain;
   front_.rotate_gain = s.front_rotate_gain;
+  rotate_.body = footprint_;
+  rotate_.rotate_gain = s.front_rotate_gain;
+  rotate_.rear_centre = s.rear_strip_centre;
+  rotate_.rear_depth = s.rear_strip_depth;
+  rotate_.rear_width = s.rear_strip_width;
+  rotate_.rear_weight = config_.rear_weight;
 }
 
 void InventecController::reset(const EpisodeInfo& info) {
@@ -209,6 +219,21 @@ bool InventecController::rotationUnsafe(const std::vector<Eigen::Vector2d>& poin
     return rolloutHit(points, footprint_, turn, s.rollout_dt, s.rollout_steps, RolloutPoses::Every);
   }
   return false;
+}
+
+bool InventecController::rotateCheckFires(const std::vector<Eigen::Vector2d>& points, const core::Pose2& pose,
+                                          const core::Twist& turn) const {
+  return config_.codeVariant() && config_.safety.type == SafetyCheck::Front && config_.safety.rotate_check &&
+         rotateCheckHit(points, nav_.localCostmap(), pose, turn.angular, rotate_);
+}
+
+bool InventecController::alignmentAborted(const std::vector<Eigen::Vector2d>& points, const core::Pose2& pose,
+                                          const core::Twist& turn) const {
+  if (config_.safety.type == SafetyCheck::None) return false;
+  // The code's aligning turns (BackTrack, Wiggle) stop on the rotate check's flag alone.
+  if (config_.codeVariant() && config_.safety.type == SafetyCheck::Front && config_.safety.rotate_check)
+    return rotateCheckFires(points, pose, turn);
+  return rotationUnsafe(points, turn);
 }
 
 core::Twist InventecController::shape(const core::Twist& raw, const core::LaserScan& scan) const {
@@ -304,7 +329,8 @@ core::Twist InventecController::act(const Observation& obs) {
       command = turnToward(in.heading_error);
       in.rotation_unsafe = checks && (rotationUnsafe(points, command) ||
                                       (code && config_.safety.ring &&
-                                       ringHit(scan, config_.safety.ring_front, config_.safety.ring_edge)));
+                                       ringHit(scan, config_.safety.ring_front, config_.safety.ring_edge)) ||
+                                      rotateCheckFires(points, pose, command));
       break;
     case InventecState::BackTrack: {
       if (!aligned_) {
@@ -312,7 +338,7 @@ core::Twist InventecController::act(const Observation& obs) {
         const Eigen::Vector2d away = pose.position() - backtrack_target_;
         const double error = core::wrapAngle(std::atan2(away.y(), away.x()) - pose.yaw);
         command = turnToward(error);
-        if (std::abs(error) <= degrees(config_.align_tolerance_deg) || (checks && rotationUnsafe(points, command))) {
+        if (std::abs(error) <= degrees(config_.align_tolerance_deg) || alignmentAborted(points, pose, command)) {
           aligned_ = true;
           reverse_start_ = pose.position();
           reversed_ = 0.0;
@@ -329,7 +355,9 @@ core::Twist InventecController::act(const Observation& obs) {
                                           pose.inverseTransform(backtrack_target_).x() >= 0.0;
         const bool stalled = reverse_ticks_ >= 2 && reversed <= reversed_ + 1e-4;
         in.backtrack_done = far_enough || stalled;
-        in.rear_blocked = config_.backtrack_roi && rearRegionBlocked(nav_.localCostmap(), pose, footprint_, config_.roi_depth);
+        in.rear_blocked = config_.backtrack_roi && rearRegionBlocked(nav_.localCostmap(), pose,
+                                                                     rearStrip(footprint_, config_.roi_depth),
+                                                                     config_.rear_weight);
         reversed_ = reversed;
         ++reverse_ticks_;
         command = {-config_.backtrack_speed, 0.0};
@@ -339,8 +367,7 @@ core::Twist InventecController::act(const Observation& obs) {
     case InventecState::Wiggle: {
       const double error = core::wrapAngle(wiggle_target_ - pose.yaw);
       command = turnToward(error);
-      in.wiggle_done =
-          std::abs(error) <= degrees(config_.align_tolerance_deg) || (checks && rotationUnsafe(points, command));
+      in.wiggle_done = std::abs(error) <= degrees(config_.align_tolerance_deg) || alignmentAborted(points, pose, command);
       break;
     }
     case InventecState::Forward: {

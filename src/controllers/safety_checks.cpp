@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace barn::controllers {
 
@@ -79,18 +80,96 @@ bool frontClear(const core::LaserScan& scan, double angle, double distance) {
   return true;
 }
 
-bool rearRegionBlocked(const nav::Costmap& costmap, const core::Pose2& pose, const Box& footprint, double depth) {
-  const Box strip{footprint.min_x - depth, footprint.min_x, footprint.min_y, footprint.max_y};
-  // Sample the strip at half the cell size so every cell it covers is looked at.
+int publishedCost(std::uint8_t cost) {
+  if (cost == nav::kFreeCost) return 0;
+  if (cost == nav::kInscribedCost) return 99;
+  if (cost == nav::kLethalCost) return 100;
+  if (cost == nav::kUnknownCost) return -1;
+  return 1 + (97 * (cost - 1)) / 251;
+}
+
+Box rearStrip(const Box& footprint, double depth) {
+  return {footprint.min_x - depth, footprint.min_x, footprint.min_y, footprint.max_y};
+}
+
+namespace {
+
+/// The distance in cells from `cell` to the nearest obstacle cell, or +inf beyond `max_cells`:
+/// square rings outward until one holds an obstacle, then on to the radius that can still hold
+/// a nearer one.
+double cellsToNearestObstacle(const nav::Costmap& costmap, nav::CellIndex cell, double max_cells) {
+  double best_sq = std::numeric_limits<double>::infinity();
+  const int limit = static_cast<int>(std::ceil(max_cells));
+  int last_ring = limit;
+  for (int ring = 0; ring <= last_ring; ++ring) {
+    for (int dy = -ring; dy <= ring; ++dy) {
+      const bool edge_row = dy == -ring || dy == ring;
+      for (int dx = -ring; dx <= ring; dx += edge_row ? 1 : 2 * ring) {
+        if (costmap.isObstacle(cell.x + dx, cell.y + dy)) best_sq = std::min(best_sq, double(dx * dx + dy * dy));
+        if (ring == 0) break;
+      }
+    }
+    if (std::isfinite(best_sq)) last_ring = std::min(last_ring, static_cast<int>(std::ceil(std::sqrt(best_sq))));
+  }
+  const double cells = std::sqrt(best_sq);
+  return cells <= max_cells ? cells : std::numeric_limits<double>::infinity();
+}
+
+}  // namespace
+
+bool rearRegionBlocked(const nav::Costmap& costmap, const core::Pose2& pose, const Box& region, double weight) {
+  // The cells under the region: sampled at half the cell size so every cell it covers is seen.
+  std::vector<nav::CellIndex> cells;
   const double step = costmap.resolution() / 2;
-  for (double x = strip.min_x; x <= strip.max_x + 1e-9; x += step) {
-    for (double y = strip.min_y; y <= strip.max_y + 1e-9; y += step) {
+  for (double x = region.min_x; x <= region.max_x + 1e-9; x += step) {
+    for (double y = region.min_y; y <= region.max_y + 1e-9; y += step) {
       nav::CellIndex cell;
       if (!costmap.toCell(pose.transform({x, y}), cell)) continue;
       if (costmap.isObstacle(cell.x, cell.y)) return true;
+      if (std::find_if(cells.begin(), cells.end(), [&](const nav::CellIndex& c) { return c.x == cell.x && c.y == cell.y; }) ==
+          cells.end())
+        cells.push_back(cell);
     }
   }
-  return false;
+  if (weight <= 0.0 || cells.empty()) return false;
+  // The distance (in cells) beyond which a cell's published cost is at most the threshold.
+  const double threshold = weight * 100.0;
+  const double max_cells = costmap.config().inflation_radius / costmap.resolution();
+  double cheap_beyond = 0.0;
+  while (cheap_beyond < max_cells && publishedCost(costmap.inflationCostAtCells(cheap_beyond)) > threshold)
+    cheap_beyond += 0.05;
+  // If one cell of the region is farther than span + cheap_beyond from every obstacle, every
+  // cell is farther than cheap_beyond, so the mean cannot exceed the threshold: no cell needs a
+  // longer search than that, which keeps the search short in the open.
+  int min_x = cells.front().x, max_x = min_x, min_y = cells.front().y, max_y = min_y;
+  for (const nav::CellIndex& cell : cells) {
+    min_x = std::min(min_x, cell.x), max_x = std::max(max_x, cell.x);
+    min_y = std::min(min_y, cell.y), max_y = std::max(max_y, cell.y);
+  }
+  const double span = std::hypot(max_x - min_x, max_y - min_y);
+  const double search_cells = std::min(max_cells, span + cheap_beyond);
+  int sum = 0, nonzero = 0;
+  for (const nav::CellIndex& cell : cells) {
+    const double distance = cellsToNearestObstacle(costmap, cell, search_cells);
+    if (!std::isfinite(distance)) return false;
+    const int value = publishedCost(costmap.inflationCostAtCells(distance));
+    if (value <= 0) continue;
+    sum += value;
+    ++nonzero;
+  }
+  return nonzero > 0 && sum > threshold * nonzero;
+}
+
+bool rotateCheckHit(const std::vector<Eigen::Vector2d>& points, const nav::Costmap& costmap, const core::Pose2& pose,
+                    double turn_rate, const RotateCheck& check) {
+  const core::Pose2 turned{0.0, 0.0, check.rotate_gain * turn_rate};
+  for (const auto& p : points)
+    if (check.body.contains(turned.inverseTransform(p))) return true;
+  // Turning left (w > 0) swings the tail to the right (-y), and the other way round.
+  const double half = check.rear_width / 2;
+  const Box rear{-check.rear_centre - check.rear_depth / 2, -check.rear_centre + check.rear_depth / 2,
+                 turn_rate > 0.0 ? -half : 0.0, turn_rate > 0.0 ? 0.0 : half};
+  return rearRegionBlocked(costmap, pose, rear, check.rear_weight);
 }
 
 }  // namespace barn::controllers

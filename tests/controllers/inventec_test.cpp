@@ -319,11 +319,74 @@ TEST(SafetyChecks, RearRegionSeesOnlyWhatIsDirectlyBehind) {
   map.recentre({0.0, 0.0});
   const Box body = footprintBox(0.508, 0.43, 0.0);
   const core::Pose2 pose{0.0, 0.0, 0.0};
-  EXPECT_FALSE(rearRegionBlocked(map, pose, body, 0.1));
+  const Box strip = rearStrip(body, 0.1);
+  EXPECT_FALSE(rearRegionBlocked(map, pose, strip, 0.0));
   map.markObstacle({0.5, 0.0});  // ahead: not in the strip
-  EXPECT_FALSE(rearRegionBlocked(map, pose, body, 0.1));
+  EXPECT_FALSE(rearRegionBlocked(map, pose, strip, 0.0));
   map.markObstacle({-0.30, 0.1});  // 0.046 m behind the rear edge (-0.254): in the strip
-  EXPECT_TRUE(rearRegionBlocked(map, pose, body, 0.1));
+  EXPECT_TRUE(rearRegionBlocked(map, pose, strip, 0.0));
+}
+
+TEST(SafetyChecks, PublishedCostIsCostmap2dsZeroToHundredScale) {
+  EXPECT_EQ(publishedCost(nav::kFreeCost), 0);
+  EXPECT_EQ(publishedCost(1), 1);
+  EXPECT_EQ(publishedCost(252), 98);
+  EXPECT_EQ(publishedCost(nav::kInscribedCost), 99);
+  EXPECT_EQ(publishedCost(nav::kLethalCost), 100);
+}
+
+TEST(SafetyChecks, RearWeightSeesObstaclesCloseBehindTheStripWithNoneInIt) {
+  // The team's local costmap: inscribed radius 0.085 m, inflation 5 m, scaling 1.
+  nav::CostmapConfig c;
+  c.rolling = true;
+  c.inscribed_radius = 0.085;
+  c.inflation_radius = 5.0;
+  c.cost_scaling_factor = 1.0;
+  const core::Pose2 pose{0.0, 0.0, 0.0};
+  const Box strip = rearStrip(footprintBox(0.508, 0.43, 0.0), 0.1);  // x in [-0.354, -0.254]
+
+  // A wall 0.07-0.17 m behind every strip cell: each costs more than 85 of 100.
+  nav::Costmap near(c);
+  near.recentre({0.0, 0.0});
+  for (double y = -0.4; y <= 0.4; y += 0.05) near.markObstacle({-0.42, y});
+  EXPECT_FALSE(rearRegionBlocked(near, pose, strip, 0.0));  // nothing lethal in the strip
+  EXPECT_TRUE(rearRegionBlocked(near, pose, strip, 0.85));
+
+  // The same wall 0.65-0.75 m behind: the strip's mean cost is about 54 of 100.
+  nav::Costmap far(c);
+  far.recentre({0.0, 0.0});
+  for (double y = -0.4; y <= 0.4; y += 0.05) far.markObstacle({-1.0, y});
+  EXPECT_FALSE(rearRegionBlocked(far, pose, strip, 0.85));
+  EXPECT_TRUE(rearRegionBlocked(far, pose, strip, 0.5));
+}
+
+TEST(RotateCheck, SeesTheTurnedFootprintAndOnlyTheRearHalfTheTailSwingsInto) {
+  nav::CostmapConfig c;
+  c.rolling = true;
+  c.width = 4.0;
+  c.height = 4.0;
+  nav::Costmap map(c);
+  map.recentre({0.0, 0.0});
+  RotateCheck check;
+  check.body = footprintBox(0.508, 0.43, 0.0);
+  check.rear_weight = 0.0;  // lethal cells only (the weight has its own test)
+  const core::Pose2 pose{0.0, 0.0, 0.0};
+  EXPECT_FALSE(rotateCheckHit({}, map, pose, 1.0, check));
+
+  // A return just past the front-left corner (0.254, 0.215) is outside the footprint; turned
+  // 0.2 rad to the left the footprint's front edge reaches it, turned right it does not.
+  const std::vector<Eigen::Vector2d> beside_corner{{0.20, 0.25}};
+  EXPECT_FALSE(rotateCheckHit(beside_corner, map, pose, 0.0, check));
+  EXPECT_TRUE(rotateCheckHit(beside_corner, map, pose, 1.0, check));
+  EXPECT_FALSE(rotateCheckHit(beside_corner, map, pose, -1.0, check));
+
+  // An obstacle in the strip 0.23-0.33 m behind, on the right: turning left swings the tail
+  // into it, turning right swings it away.
+  map.markObstacle({-0.30, -0.15});
+  EXPECT_TRUE(rotateCheckHit({}, map, pose, 1.0, check));
+  EXPECT_FALSE(rotateCheckHit({}, map, pose, -1.0, check));
+  // The strip follows the robot's pose: turned half round, the obstacle is ahead.
+  EXPECT_FALSE(rotateCheckHit({}, map, core::Pose2{0.0, 0.0, std::numbers::pi}, 1.0, check));
 }
 
 }  // namespace

@@ -78,13 +78,21 @@ struct InventecSafetyConfig {
   bool ring = true;
   double ring_front = 0.30;        // [m] code: coll_min_m 0.28 + coll_offset_m 0.02, straight ahead
   double ring_edge = 0.39;         // [m] code: coll_max_m 0.37 + 0.02, at +-135 deg
+  // The rotate check that aborts every turn in place (code, simulation: a 60 Hz thread): the
+  // footprint turned by front_rotate_gain * w against the LiDAR, and the half of a strip behind
+  // the robot that the tail swings into against the local costmap.
+  bool rotate_check = true;
+  double rear_strip_centre = 0.28; // [m] code: rear_rect_cy_m, behind the robot centre
+  double rear_strip_depth = 0.1;   // [m] code: rear_rect_h_m
+  double rear_strip_width = 0.52;  // [m] code: rear_rect_w_m
   template <class V> void visit(V& v) {
     v("type", type); v("front_angle_deg", front_angle_deg); v("front_pad_x", front_pad_x);
     v("front_pad_y", front_pad_y); v("front_speed_gain", front_speed_gain); v("front_rotate_gain", front_rotate_gain);
     v("rollout_length", rollout_length); v("rollout_width", rollout_width); v("rollout_tolerance", rollout_tolerance);
     v("rollout_steps", rollout_steps); v("rollout_dt", rollout_dt); v("mpc_steps", mpc_steps); v("mpc_dt", mpc_dt);
     v("mpc_offset", mpc_offset); v("fi_offset", fi_offset); v("ring", ring); v("ring_front", ring_front);
-    v("ring_edge", ring_edge);
+    v("ring_edge", ring_edge); v("rotate_check", rotate_check); v("rear_strip_centre", rear_strip_centre);
+    v("rear_strip_depth", rear_strip_depth); v("rear_strip_width", rear_strip_width);
   }
 };
 
@@ -109,6 +117,11 @@ struct InventecConfig {
   InventecSafetyConfig safety;
   bool backtrack_roi = true;             // check the costmap strip behind while reversing
   double roi_depth = 0.1;                // [m] code (simulation): rear_length_m
+  // A rear region is blocked when a cell is lethal or, with rear_weight > 0, when the mean
+  // published cost (0-100) of its cells exceeds rear_weight x 100. The code (simulation) used
+  // 0.85; here it made the robot back up again and again where the team's Gazebo runs did not
+  // (docs/fidelity.md), so the default tests lethal cells only.
+  double rear_weight = 0.0;
   double backtrack_distance = 0.3;       // [m] paper and code: breadcrumb at least 0.3 m away
   double backtrack_speed = 0.3;          // [m/s] code: rev_vel
   double backtrack_reverse = 0.1;        // [m] code: l2_dist_m; 0 = reverse to the breadcrumb (paper)
@@ -129,6 +142,11 @@ struct InventecConfig {
   static nav::NavStackConfig inventecNav() {
     nav::NavStackConfig c = LflhConfig::lflhNav();
     c.global_update_rate = 10.0;
+    // The team's local costmap, which only the rear checks read: footprint padding -0.08 m
+    // (inscribed radius 0.165 - 0.08), inflation radius 5 m, cost scaling 1.
+    c.local_costmap.inscribed_radius = 0.085;
+    c.local_costmap.inflation_radius = 5.0;
+    c.local_costmap.cost_scaling_factor = 1.0;
     return c;
   }
 
@@ -142,7 +160,7 @@ struct InventecConfig {
     v("heading_tolerance_deg", heading_tolerance_deg); v("heading_limit_deg", heading_limit_deg);
     v("heading_gain", heading_gain); v("min_turn_rate", min_turn_rate); v("footprint_length", footprint_length);
     v("footprint_width", footprint_width); v("safety", safety); v("backtrack_roi", backtrack_roi);
-    v("roi_depth", roi_depth); v("backtrack_distance", backtrack_distance); v("backtrack_speed", backtrack_speed);
+    v("roi_depth", roi_depth); v("rear_weight", rear_weight); v("backtrack_distance", backtrack_distance); v("backtrack_speed", backtrack_speed);
     v("backtrack_reverse", backtrack_reverse); v("align_tolerance_deg", align_tolerance_deg);
     v("wiggle_min_deg", wiggle_min_deg); v("wiggle_span", wiggle_span); v("wiggle_choices", wiggle_choices);
     v("forward_speed", forward_speed); v("forward_turn_rate", forward_turn_rate);
@@ -157,7 +175,7 @@ struct InventecInputs {
   bool has_path = false;
   double heading_error = 0.0;    // [rad] path direction in the robot frame
   bool command_unsafe = false;   // LfLH: the safety check rejects the policy's command
-  bool rotation_unsafe = false;  // HardTurn: turning in place is unsafe (rollout or LiDAR ring)
+  bool rotation_unsafe = false;  // HardTurn: turning in place is unsafe (rollout, LiDAR ring or rotate check)
   bool backtrack_done = false;   // BackTrack: reversed far enough (or stalled)
   bool rear_blocked = false;     // BackTrack: lethal cells in the strip behind
   bool wiggle_done = false;      // Wiggle: turned to the target (or the turn became unsafe)
@@ -200,6 +218,10 @@ class InventecController : public Controller {
   bool frontUnsafe(const std::vector<Eigen::Vector2d>& points, const core::LaserScan& scan,
                    const core::Twist& command) const;
   bool rotationUnsafe(const std::vector<Eigen::Vector2d>& points, const core::Twist& turn) const;
+  bool rotateCheckFires(const std::vector<Eigen::Vector2d>& points, const core::Pose2& pose,
+                        const core::Twist& turn) const;
+  bool alignmentAborted(const std::vector<Eigen::Vector2d>& points, const core::Pose2& pose,
+                        const core::Twist& turn) const;
   core::Twist shape(const core::Twist& raw, const core::LaserScan& scan) const;
   void enter(InventecState state, const core::Pose2& pose, double time, double path_direction);
   core::Twist turnToward(double error) const;
@@ -212,6 +234,7 @@ class InventecController : public Controller {
   InventecState state_ = InventecState::Initial;
   Box footprint_;                            // the robot rectangle (0.508 x 0.43)
   FrontCheck front_;
+  RotateCheck rotate_;
   std::vector<Eigen::Vector2d> breadcrumbs_;  // odom positions driven in LfLH
   Eigen::Vector2d backtrack_target_ = Eigen::Vector2d::Zero();
   bool aligned_ = false;                     // BackTrack: rear faces the target, reversing

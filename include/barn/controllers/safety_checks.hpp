@@ -5,6 +5,7 @@
 /// Robot frame throughout: x forward, y left, origin at the robot centre. LiDAR points include
 /// the sensor's mounting offset.
 
+#include <cstdint>
 #include <numbers>
 #include <vector>
 
@@ -72,9 +73,33 @@ bool ringHit(const core::LaserScan& scan, double front, double edge);
 /// sensor (misses count as far): the team's condition for the speed boost.
 bool frontClear(const core::LaserScan& scan, double angle, double distance);
 
-/// The backtrack region of interest: a strip as wide as the footprint and `depth` deep directly
-/// behind it. True if any cell of the (rolling, remembering) costmap there is lethal — the
-/// LiDAR cannot see behind the robot, the costmap remembers what it saw before.
-bool rearRegionBlocked(const nav::Costmap& costmap, const core::Pose2& pose, const Box& footprint, double depth);
+/// The value (0-100) costmap_2d publishes for a cost, which the team's code read: 0 free,
+/// 100 lethal, 99 inscribed, the rest scaled into 1-98 (unknown, -1, does not occur here).
+int publishedCost(std::uint8_t cost);
+
+/// The team's costmap test of a robot-frame rectangle behind the robot (the LiDAR cannot see
+/// there; the costmap remembers what it saw): true if a cell under it is lethal, or if the mean
+/// published value of its cells with a nonzero cost exceeds `weight` x 100 (weight <= 0: the
+/// lethal test only). Costs are the costmap's inflation of the distance to the nearest obstacle
+/// cell, found directly, so the map's own (lazy) inflation is never run.
+bool rearRegionBlocked(const nav::Costmap& costmap, const core::Pose2& pose, const Box& region, double weight);
+
+/// The strip `depth` deep directly behind `footprint`, as wide as it (the code's backtrack ROI).
+Box rearStrip(const Box& footprint, double depth);
+
+/// The rotate check of the team's simulation code (a 60 Hz thread whose flag aborts every turn
+/// in place): true if a return lies in the footprint rectangle turned by rotate_gain * w toward
+/// the turn, or if the costmap holds an obstacle in the half of a strip behind the robot that
+/// the tail swings into (the LiDAR cannot see there; the costmap remembers what it saw).
+struct RotateCheck {
+  Box body;                   // the footprint rectangle (code: 0.43 x 0.508)
+  double rear_weight = 0.0;   // see rearRegionBlocked (the code: 0.85)
+  double rotate_gain = 0.2;   // [s] code: rotate_w_gain
+  double rear_centre = 0.28;  // [m] code: rear_rect_cy_m, the strip's centre behind the robot centre
+  double rear_depth = 0.1;    // [m] code: rear_rect_h_m, along x
+  double rear_width = 0.52;   // [m] code: rear_rect_w_m, across; half of it is tested
+};
+bool rotateCheckHit(const std::vector<Eigen::Vector2d>& points, const nav::Costmap& costmap, const core::Pose2& pose,
+                    double turn_rate, const RotateCheck& check);
 
 }  // namespace barn::controllers
