@@ -42,6 +42,7 @@ void validate(const RobotConfig& c, Errors& errors, const std::string& prefix) {
   positive(c.max_angular_traction_accel, "max_angular_traction_accel");
   errors.check(c.turn_slip_speed >= 0.0 && c.turn_slip_speed <= 1.0, prefix + ".turn_slip_speed", "must be in [0, 1]");
   errors.check(c.turn_slip_time > 0.0, prefix + ".turn_slip_time", "must be > 0");
+  errors.check(std::abs(c.icr_offset) <= 0.5, prefix + ".icr_offset", "must be in [-0.5, 0.5]");
   errors.check(c.turn_efficiency > 0.0 && c.turn_efficiency <= 2.0, prefix + ".turn_efficiency", "must be in (0, 2]");
   errors.check(c.wheel_offset_x >= 0.0, prefix + ".wheel_offset_x", "must be >= 0");
   errors.check(c.wheel_offset_y >= 0.0, prefix + ".wheel_offset_y", "must be >= 0");

@@ -118,7 +118,10 @@ void Simulator::step() {
     const double sigma = robot_.turn_slip_speed * std::abs(yaw_rate_) * std::sqrt(1.0 - decay * decay);
     slip_ = decay * slip_ + sigma * Eigen::Vector2d(slip_noise_.normal(), slip_noise_.normal());
   }
-  Eigen::Vector2d change = wheel_.linear * heading + slip_ - velocity_;
+  // A pivot ahead of the centre makes the centre slide sideways (to the right when turning left).
+  const Eigen::Vector2d left(-heading.y(), heading.x());
+  const Eigen::Vector2d pivot_slide = -robot_.icr_offset * yaw_rate_ * left;
+  Eigen::Vector2d change = wheel_.linear * heading + pivot_slide + slip_ - velocity_;
   const double max_change = robot_.traction_coefficient * robot_.gravity * dt;
   if (change.norm() > max_change) change *= max_change / change.norm();
   velocity_ += change;

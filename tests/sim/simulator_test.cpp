@@ -79,6 +79,24 @@ TEST(Simulator, TurnSlipMakesATurningBodyWanderReproduciblyPerSeed) {
   EXPECT_NEAR(straight.pose().y, 0.0, 1e-9);
 }
 
+TEST(Simulator, APivotAheadOfTheCentreSwingsTheCentreRoundIt) {
+  // Pivot 0.131 m ahead (the front axle): a quarter turn to the left about it carries the centre
+  // along a circle of radius 0.131 m around the pivot's start position (0.131, 0) — from angle pi
+  // to 3 pi / 2, i.e. to (0.131, -0.131). The traction limit (4.9 m/s^2) easily supplies the
+  // 0.131 x 1 rad/s of slide, so the result is exact up to the start-up of the yaw rate.
+  core::RobotConfig robot;
+  robot.turn_slip_speed = 0.0;
+  robot.icr_offset = 0.131;
+  const ObstacleField empty;
+  Simulator sim(empty, robot, PhysicsConfig{}, {0.0, 0.0, 0.0});
+  drive(sim, {0.0, 1.0}, std::acos(-1.0) / 2);
+  const double turned = sim.pose().yaw;
+  EXPECT_NEAR(turned, std::acos(-1.0) / 2, 0.03);  // the yaw rate takes 0.04 s to build up
+  // Wherever the turn stopped, the centre is 0.131 m behind the pivot along the heading.
+  EXPECT_NEAR(sim.pose().x, 0.131 - 0.131 * std::cos(turned), 2e-3);
+  EXPECT_NEAR(sim.pose().y, -0.131 * std::sin(turned), 2e-3);
+}
+
 // Commanded to a speed, then to 0: the wheels stop within 0.1 s (20 m/s^2) but the body
 // slides at the traction limit, covering v^2 / (2 mu g).
 double stoppingDistance(double speed) {

@@ -63,6 +63,11 @@ struct RobotConfig {
   // agreement with Gazebo (docs/fidelity.md), the value a guess of a few cm per turn, not fitted.
   double turn_slip_speed = 0.02;             // [m/s per rad/s] slip velocity stddev per unit yaw rate
   double turn_slip_time = 0.5;               // [s] correlation time of the slip
+  // Skid-steer pivot: where along the body the instantaneous centre of rotation lies, ahead of
+  // the centre. A skid-steer base turns about the axle that carries more weight (its wheels
+  // grip sideways, the other axle's slide), so the centre slides sideways at -icr_offset x yaw
+  // rate, which wheel odometry cannot see. 0 = turns about the centre.
+  double icr_offset = 0.0;                   // [m]
 
   template <class V> void visit(V& v) {
     v("chassis_length", chassis_length); v("chassis_width", chassis_width);
@@ -73,7 +78,7 @@ struct RobotConfig {
     v("max_angular_speed", max_angular_speed); v("max_angular_accel", max_angular_accel);
     v("cmd_timeout", cmd_timeout); v("traction_coefficient", traction_coefficient); v("gravity", gravity);
     v("max_angular_traction_accel", max_angular_traction_accel); v("turn_efficiency", turn_efficiency);
-    v("turn_slip_speed", turn_slip_speed); v("turn_slip_time", turn_slip_time);
+    v("turn_slip_speed", turn_slip_speed); v("turn_slip_time", turn_slip_time); v("icr_offset", icr_offset);
   }
 
   /// The five collision rectangles: chassis and four wheels.
