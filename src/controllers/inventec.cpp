@@ -43,7 +43,6 @@ void validate(const InventecConfig& c, core::Errors& errors, const std::string& 
   errors.check(c.heading_limit_deg <= 180.0, prefix + ".heading_limit_deg", "must be <= 180");
   errors.check(c.heading_gain > 0.0, prefix + ".heading_gain", "must be > 0");
   errors.check(c.min_turn_rate > 0.0, prefix + ".min_turn_rate", "must be > 0 (an alignment must always turn)");
-  errors.check(c.footprint_length > 0.0 && c.footprint_width > 0.0, prefix + ".footprint_length", "the footprint must be > 0");
   const InventecSafetyConfig& s = c.safety;
   errors.check(s.front_angle_deg > 0.0 && s.front_angle_deg <= 180.0, prefix + ".safety.front_angle_deg",
                "must be in (0, 180]");
@@ -139,12 +138,16 @@ double wiggleTarget(double yaw, double path_direction, double min_angle, double 
 }
 
 InventecController::InventecController(const InventecConfig& config, std::shared_ptr<const learning::Policy> policy)
-    : config_(config), policy_(std::move(policy)), nav_(config.nav),
-      footprint_(footprintBox(config.footprint_length, config.footprint_width, 0.0)) {
+    : config_(config), policy_(std::move(policy)), nav_(config.nav) {}
+
+void InventecController::reset(const EpisodeInfo& info) {
+  info_ = info;
+  // The checks size the robot by its planning footprint (0.508 x 0.43, the paper's and the code's).
+  footprint_ = footprintBox(info.robot.footprint_length, info.robot.footprint_width, 0.0);
   const InventecSafetyConfig& s = config_.safety;
   front_.front_angle = degrees(s.front_angle_deg);
-  front_.half_width = config_.footprint_width / 2;
-  front_.half_length = config_.footprint_length / 2;
+  front_.half_width = info.robot.footprint_width / 2;
+  front_.half_length = info.robot.footprint_length / 2;
   front_.pad_x = s.front_pad_x;
   front_.pad_front = s.front_pad_y;
   front_.speed_gain = s.front_speed_gain;
@@ -155,10 +158,6 @@ InventecController::InventecController(const InventecConfig& config, std::shared
   rotate_.rear_depth = s.rear_strip_depth;
   rotate_.rear_width = s.rear_strip_width;
   rotate_.rear_weight = config_.rear_weight;
-}
-
-void InventecController::reset(const EpisodeInfo& info) {
-  info_ = info;
   nav_.reset(info.goal);
   rng_ = core::Rng(core::mixSeed(info.seed, kWiggleStream));
   state_ = InventecState::Initial;
@@ -188,12 +187,11 @@ bool InventecController::commandUnsafe(const std::vector<Eigen::Vector2d>& point
            frontCheckHit(scan, info_.lidar, command, front_);
   }
   if (s.type == SafetyCheck::Mpc) {
-    return rolloutHit(points, footprintBox(config_.footprint_length, config_.footprint_width, s.mpc_offset), command,
-                      s.mpc_dt, s.mpc_steps, RolloutPoses::Every);
+    return rolloutHit(points, footprint_.grownBy(s.mpc_offset), command, s.mpc_dt, s.mpc_steps, RolloutPoses::Every);
   }
   if (s.type == SafetyCheck::Fi) {
     // The paper's static check: nothing inside the grown rectangle, all around.
-    return footprintInflationHit(points, footprintBox(config_.footprint_length, config_.footprint_width, s.fi_offset));
+    return footprintInflationHit(points, footprint_.grownBy(s.fi_offset));
   }
   return false;
 }
@@ -212,8 +210,7 @@ bool InventecController::rotationUnsafe(const std::vector<Eigen::Vector2d>& poin
                       s.rollout_steps, RolloutPoses::Final);
   }
   if (s.type == SafetyCheck::Mpc) {
-    return rolloutHit(points, footprintBox(config_.footprint_length, config_.footprint_width, s.mpc_offset), turn,
-                      s.mpc_dt, s.mpc_steps, RolloutPoses::Every);
+    return rolloutHit(points, footprint_.grownBy(s.mpc_offset), turn, s.mpc_dt, s.mpc_steps, RolloutPoses::Every);
   }
   if (s.type == SafetyCheck::Fi) {
     return rolloutHit(points, footprint_, turn, s.rollout_dt, s.rollout_steps, RolloutPoses::Every);

@@ -112,8 +112,6 @@ struct InventecConfig {
   double heading_limit_deg = 60.0;       // code: hard_turn.max_deg
   double heading_gain = 1.5;             // [1/s] code: p_gain
   double min_turn_rate = 0.2;            // [rad/s] code: rotate_align_min_w
-  double footprint_length = 0.508;       // [m] paper and code: 0.43 x 0.508 (0.508 along x)
-  double footprint_width = 0.43;         // [m]
   InventecSafetyConfig safety;
   bool backtrack_roi = true;             // check the costmap strip behind while reversing
   double roi_depth = 0.1;                // [m] code (simulation): rear_length_m
@@ -158,8 +156,8 @@ struct InventecConfig {
     v("boost_speed", boost_speed); v("boost_clearance", boost_clearance);
     v("local_goal_distance", local_goal_distance); v("path_direction_distance", path_direction_distance);
     v("heading_tolerance_deg", heading_tolerance_deg); v("heading_limit_deg", heading_limit_deg);
-    v("heading_gain", heading_gain); v("min_turn_rate", min_turn_rate); v("footprint_length", footprint_length);
-    v("footprint_width", footprint_width); v("safety", safety); v("backtrack_roi", backtrack_roi);
+    v("heading_gain", heading_gain); v("min_turn_rate", min_turn_rate);
+    v("safety", safety); v("backtrack_roi", backtrack_roi);
     v("roi_depth", roi_depth); v("rear_weight", rear_weight); v("backtrack_distance", backtrack_distance); v("backtrack_speed", backtrack_speed);
     v("backtrack_reverse", backtrack_reverse); v("align_tolerance_deg", align_tolerance_deg);
     v("wiggle_min_deg", wiggle_min_deg); v("wiggle_span", wiggle_span); v("wiggle_choices", wiggle_choices);
@@ -232,7 +230,7 @@ class InventecController : public Controller {
   EpisodeInfo info_;
   core::Rng rng_{0};                         // the Wiggle's draws, seeded from the episode seed
   InventecState state_ = InventecState::Initial;
-  Box footprint_;                            // the robot rectangle (0.508 x 0.43)
+  Box footprint_;                            // the planning footprint (info.robot: 0.508 x 0.43)
   FrontCheck front_;
   RotateCheck rotate_;
   std::vector<Eigen::Vector2d> breadcrumbs_;  // odom positions driven in LfLH

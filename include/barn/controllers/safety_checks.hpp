@@ -24,6 +24,8 @@ struct Box {
   bool contains(const Eigen::Vector2d& p) const {
     return p.x() >= min_x && p.x() <= max_x && p.y() >= min_y && p.y() <= max_y;
   }
+  /// The rectangle grown by `offset` on every side.
+  Box grownBy(double offset) const { return {min_x - offset, max_x + offset, min_y - offset, max_y + offset}; }
 };
 
 /// The robot's planning rectangle (length along x, width along y) grown by `offset` per side.
