@@ -143,7 +143,7 @@ InventecController::InventecController(const InventecConfig& config, std::shared
 void InventecController::reset(const EpisodeInfo& info) {
   info_ = info;
   // The checks size the robot by its planning footprint (0.508 x 0.43, the paper's and the code's).
-  footprint_ = footprintBox(info.robot.footprint_length, info.robot.footprint_width, 0.0);
+  footprint_ = core::Rect::centred(info.robot.footprint_length, info.robot.footprint_width);
   const InventecSafetyConfig& s = config_.safety;
   front_.front_angle = degrees(s.front_angle_deg);
   front_.half_width = info.robot.footprint_width / 2;
@@ -182,7 +182,7 @@ bool InventecController::commandUnsafe(const std::vector<Eigen::Vector2d>& point
     // |x| + |y| (an L1 "distance", larger than the Euclidean one) plus 0.02 m, ignoring the
     // LiDAR offset. Here: any LiDAR point (with its offset) inside that rectangle grown by the
     // 0.02 m tolerance, a consistent geometric version of the same test.
-    const Box final_box = footprintBox(s.rollout_length, s.rollout_width, s.rollout_tolerance);
+    const core::Rect final_box = core::Rect::centred(s.rollout_length, s.rollout_width).grownBy(s.rollout_tolerance);
     return rolloutHit(points, final_box, command, s.rollout_dt, s.rollout_steps, RolloutPoses::Final) ||
            frontCheckHit(scan, info_.lidar, command, front_);
   }
@@ -206,8 +206,8 @@ bool InventecController::frontUnsafe(const std::vector<Eigen::Vector2d>& points,
 bool InventecController::rotationUnsafe(const std::vector<Eigen::Vector2d>& points, const core::Twist& turn) const {
   const InventecSafetyConfig& s = config_.safety;
   if (s.type == SafetyCheck::Front) {
-    return rolloutHit(points, footprintBox(s.rollout_length, s.rollout_width, s.rollout_tolerance), turn, s.rollout_dt,
-                      s.rollout_steps, RolloutPoses::Final);
+    const core::Rect final_box = core::Rect::centred(s.rollout_length, s.rollout_width).grownBy(s.rollout_tolerance);
+    return rolloutHit(points, final_box, turn, s.rollout_dt, s.rollout_steps, RolloutPoses::Final);
   }
   if (s.type == SafetyCheck::Mpc) {
     return rolloutHit(points, footprint_.grownBy(s.mpc_offset), turn, s.mpc_dt, s.mpc_steps, RolloutPoses::Every);

@@ -82,7 +82,7 @@ bool nextHardTurn(bool turning, double heading_error, const LflhConfig& config) 
 
 core::Twist deployedCommand(const core::Twist& policy_command, double heading_error,
                             const std::vector<Eigen::Vector2d>& points, const LflhConfig& config, LflhAction* action) {
-  const Box box = footprintBox(config.safety_length, config.safety_width, config.safety_tolerance);
+  const core::Rect box = core::Rect::centred(config.safety_length, config.safety_width).grownBy(config.safety_tolerance);
   const auto unsafe = [&](const core::Twist& command) {
     return rolloutHit(points, box, command, config.safety_dt, config.safety_steps, RolloutPoses::Final);
   };

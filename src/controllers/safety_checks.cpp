@@ -6,10 +6,6 @@
 
 namespace barn::controllers {
 
-Box footprintBox(double length, double width, double offset) {
-  return {-length / 2 - offset, length / 2 + offset, -width / 2 - offset, width / 2 + offset};
-}
-
 std::vector<Eigen::Vector2d> scanPoints(const core::LaserScan& scan, const core::LidarConfig& lidar) {
   std::vector<Eigen::Vector2d> points;
   points.reserve(scan.ranges.size());
@@ -22,13 +18,13 @@ std::vector<Eigen::Vector2d> scanPoints(const core::LaserScan& scan, const core:
   return points;
 }
 
-bool footprintInflationHit(const std::vector<Eigen::Vector2d>& points, const Box& inflated) {
+bool footprintInflationHit(const std::vector<Eigen::Vector2d>& points, const core::Rect& inflated) {
   for (const auto& p : points)
     if (inflated.contains(p)) return true;
   return false;
 }
 
-bool rolloutHit(const std::vector<Eigen::Vector2d>& points, const Box& footprint, const core::Twist& command,
+bool rolloutHit(const std::vector<Eigen::Vector2d>& points, const core::Rect& footprint, const core::Twist& command,
                 double dt, int steps, RolloutPoses poses) {
   double x = 0.0, y = 0.0, psi = 0.0;
   for (int k = 0; k < steps; ++k) {
@@ -46,7 +42,7 @@ bool rolloutHit(const std::vector<Eigen::Vector2d>& points, const Box& footprint
 
 bool frontCheckHit(const core::LaserScan& scan, const core::LidarConfig& lidar, const core::Twist& command,
                    const FrontCheck& check) {
-  const Box region{-check.half_length, check.half_length + std::max(check.pad_front, check.speed_gain * command.linear),
+  const core::Rect region{-check.half_length, check.half_length + std::max(check.pad_front, check.speed_gain * command.linear),
                    -check.half_width - check.pad_x, check.half_width + check.pad_x};
   // The region is turned by rotate_gain * w about the robot centre; a point is inside if, turned
   // back by the same angle, it lies in the axis-aligned rectangle. (The code rotated a polygon
@@ -88,7 +84,7 @@ int publishedCost(std::uint8_t cost) {
   return 1 + (97 * (cost - 1)) / 251;
 }
 
-Box rearStrip(const Box& footprint, double depth) {
+core::Rect rearStrip(const core::Rect& footprint, double depth) {
   return {footprint.min_x - depth, footprint.min_x, footprint.min_y, footprint.max_y};
 }
 
@@ -117,7 +113,7 @@ double cellsToNearestObstacle(const nav::Costmap& costmap, nav::CellIndex cell, 
 
 }  // namespace
 
-bool rearRegionBlocked(const nav::Costmap& costmap, const core::Pose2& pose, const Box& region, double weight) {
+bool rearRegionBlocked(const nav::Costmap& costmap, const core::Pose2& pose, const core::Rect& region, double weight) {
   // The cells under the region: sampled at half the cell size so every cell it covers is seen.
   std::vector<nav::CellIndex> cells;
   const double step = costmap.resolution() / 2;
@@ -167,7 +163,7 @@ bool rotateCheckHit(const std::vector<Eigen::Vector2d>& points, const nav::Costm
     if (check.body.contains(turned.inverseTransform(p))) return true;
   // Turning left (w > 0) swings the tail to the right (-y), and the other way round.
   const double half = check.rear_width / 2;
-  const Box rear{-check.rear_centre - check.rear_depth / 2, -check.rear_centre + check.rear_depth / 2,
+  const core::Rect rear{-check.rear_centre - check.rear_depth / 2, -check.rear_centre + check.rear_depth / 2,
                  turn_rate > 0.0 ? -half : 0.0, turn_rate > 0.0 ? 0.0 : half};
   return rearRegionBlocked(costmap, pose, rear, check.rear_weight);
 }

@@ -5,19 +5,20 @@
 
 namespace barn::core {
 
-std::vector<RobotRect> RobotConfig::collisionRects() const {
-  std::vector<RobotRect> rects;
-  rects.push_back({0.0, 0.0, chassis_length / 2, chassis_width / 2});
+std::vector<Rect> RobotConfig::collisionRects() const {
+  std::vector<Rect> rects;
+  rects.push_back(Rect::centred(chassis_length, chassis_width));
   for (double sx : {1.0, -1.0})
     for (double sy : {1.0, -1.0})
-      rects.push_back({sx * wheel_offset_x, sy * wheel_offset_y, wheel_length / 2, wheel_width / 2});
+      rects.push_back(Rect::around(sx * wheel_offset_x, sy * wheel_offset_y, wheel_length / 2, wheel_width / 2));
   return rects;
 }
 
 double RobotConfig::collisionRadius() const {
   double radius = 0.0;
-  for (const RobotRect& r : collisionRects())
-    radius = std::max(radius, std::hypot(std::abs(r.centre_x) + r.half_length, std::abs(r.centre_y) + r.half_width));
+  for (const Rect& r : collisionRects())
+    radius = std::max(radius, std::hypot(std::max(std::abs(r.min_x), std::abs(r.max_x)),
+                                         std::max(std::abs(r.min_y), std::abs(r.max_y))));
   return radius;
 }
 

@@ -101,9 +101,10 @@ std::vector<Obstacle> mirrored(const std::vector<Obstacle>& obstacles) {
 // ---------------------------------------------------------------------------
 // Swept footprint
 
-SweptFootprint::SweptFootprint(const std::vector<core::Pose2>& motion, double length, double width, double step)
-    : half_length_(0.5 * length), half_width_(0.5 * width), step_(step) {
-  const double corner = std::hypot(half_length_, half_width_);
+SweptFootprint::SweptFootprint(const std::vector<core::Pose2>& motion, const core::Rect& footprint, double step)
+    : footprint_(footprint), step_(step) {
+  const double corner = std::hypot(std::max(std::abs(footprint.min_x), std::abs(footprint.max_x)),
+                                   std::max(std::abs(footprint.min_y), std::abs(footprint.max_y)));
   for (std::size_t k = 0; k < motion.size(); ++k) {
     if (k == 0) {
       poses_.push_back(motion[0]);
@@ -133,8 +134,10 @@ double SweptFootprint::distance(const Eigen::Vector2d& p) const {
   for (std::size_t k = 0; k < poses_.size(); ++k) {
     const double wx = p.x() - poses_[k].x;
     const double wy = p.y() - poses_[k].y;
-    const double dx = std::max(0.0, std::abs(cos_[k] * wx + sin_[k] * wy) - half_length_);
-    const double dy = std::max(0.0, std::abs(-sin_[k] * wx + cos_[k] * wy) - half_width_);
+    const double lx = cos_[k] * wx + sin_[k] * wy;  // p in the frame of pose k
+    const double ly = -sin_[k] * wx + cos_[k] * wy;
+    const double dx = std::max({0.0, footprint_.min_x - lx, lx - footprint_.max_x});
+    const double dy = std::max({0.0, footprint_.min_y - ly, ly - footprint_.max_y});
     best2 = std::min(best2, dx * dx + dy * dy);
     if (best2 == 0.0) return 0.0;
   }
@@ -170,7 +173,8 @@ std::optional<Demonstration> hallucinate(const Recording& recording, std::size_t
   core::Rng rng(core::mixSeed(config.seed, record, static_cast<std::uint64_t>(render)));
   const std::size_t horizon_steps = std::max<std::size_t>(1, steps(uniform(rng, config.horizon_min, config.horizon_max)));
   for (std::size_t k = 0; k <= horizon_steps; ++k) demo.motion.push_back(relative(origin, records[record + k].pose));
-  const SweptFootprint swept(demo.motion, robot.footprint_length, robot.footprint_width, config.sweep_step);
+  const SweptFootprint swept(demo.motion, core::Rect::centred(robot.footprint_length, robot.footprint_width),
+                             config.sweep_step);
   const std::vector<core::Pose2>& poses = swept.poses();
 
   // Hugging obstacles: pushed out from the path until their gap is the clearance (+ the

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "barn/core/rect.hpp"
+
 namespace barn::nav {
 
 CostmapConfig NavStackConfig::defaultGlobalCostmap() {
@@ -55,9 +57,9 @@ void NavStack::reset(const Eigen::Vector2d& goal) {
 }
 
 std::vector<Eigen::Vector2d> NavStack::paddedFootprint() const {
-  const double hx = config_.footprint_length / 2 + config_.footprint_padding;
-  const double hy = config_.footprint_width / 2 + config_.footprint_padding;
-  return {{hx, hy}, {-hx, hy}, {-hx, -hy}, {hx, -hy}};
+  const auto corners =
+      core::Rect::centred(config_.footprint_length, config_.footprint_width).grownBy(config_.footprint_padding).corners();
+  return {corners.begin(), corners.end()};
 }
 
 void NavStack::update(double time, const core::LaserScan& scan, const core::Pose2& sensor_pose,

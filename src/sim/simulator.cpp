@@ -24,11 +24,11 @@ void validate(const PhysicsConfig& c, core::Errors& errors, const std::string& p
   errors.check(c.position_iterations >= 1, prefix + ".position_iterations", "must be >= 1");
 }
 
-bool rectOverlapsCircle(const core::Pose2& pose, const core::RobotRect& rect, const Eigen::Vector2d& centre, double radius) {
+bool rectOverlapsCircle(const core::Pose2& pose, const core::Rect& rect, const Eigen::Vector2d& centre, double radius) {
   // Circle centre in the rectangle's frame; the closest rectangle point is the clamped centre.
-  const Eigen::Vector2d local = pose.inverseTransform(centre) - Eigen::Vector2d(rect.centre_x, rect.centre_y);
-  const double qx = std::clamp(local.x(), -rect.half_length, rect.half_length);
-  const double qy = std::clamp(local.y(), -rect.half_width, rect.half_width);
+  const Eigen::Vector2d local = pose.inverseTransform(centre) - Eigen::Vector2d(rect.centreX(), rect.centreY());
+  const double qx = std::clamp(local.x(), -rect.halfLength(), rect.halfLength());
+  const double qy = std::clamp(local.y(), -rect.halfWidth(), rect.halfWidth());
   const double ex = local.x() - qx;
   const double ey = local.y() - qy;
   return ex * ex + ey * ey < radius * radius;
@@ -68,11 +68,11 @@ Simulator::Simulator(const ObstacleField& field, const core::RobotConfig& robot,
   robot_def.angle = static_cast<float>(start.yaw);
   box2d_->robot = world.CreateBody(&robot_def);
   double area = 0.0;
-  for (const core::RobotRect& r : rects_) area += 4.0 * r.half_length * r.half_width;
-  for (const core::RobotRect& r : rects_) {
+  for (const core::Rect& r : rects_) area += 4.0 * r.halfLength() * r.halfWidth();
+  for (const core::Rect& r : rects_) {
     b2PolygonShape box;
-    box.SetAsBox(static_cast<float>(r.half_length), static_cast<float>(r.half_width),
-                 b2Vec2(static_cast<float>(r.centre_x), static_cast<float>(r.centre_y)), 0.0f);
+    box.SetAsBox(static_cast<float>(r.halfLength()), static_cast<float>(r.halfWidth()),
+                 b2Vec2(static_cast<float>(r.centreX()), static_cast<float>(r.centreY())), 0.0f);
     b2FixtureDef def;
     def.shape = &box;
     def.density = static_cast<float>(robot.mass / area);

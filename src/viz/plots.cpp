@@ -448,15 +448,14 @@ void drawCollisionMark(cairo_t* cr, double x, double y, double half, double widt
 
 /// The robot's collision rectangles (robot frame) at `pose`, in world coordinates: a light
 /// red fill and a red outline over a white halo, so it reads on cylinders and trajectories.
-void drawRobotOutline(cairo_t* cr, const core::Pose2& pose, const std::vector<core::RobotRect>& rects) {
+void drawRobotOutline(cairo_t* cr, const core::Pose2& pose, const std::vector<core::Rect>& rects) {
   if (rects.empty()) return;
   cairo_save(cr);
   cairo_translate(cr, pose.x, pose.y);
   cairo_rotate(cr, pose.yaw);  // y up in world coordinates, so this turns counter-clockwise
   cairo_new_path(cr);
-  for (const core::RobotRect& r : rects) {
-    cairo_rectangle(cr, r.centre_x - r.half_length, r.centre_y - r.half_width, 2.0 * r.half_length,
-                    2.0 * r.half_width);
+  for (const core::Rect& r : rects) {
+    cairo_rectangle(cr, r.min_x, r.min_y, r.max_x - r.min_x, r.max_y - r.min_y);
   }
   cairo_set_dash(cr, nullptr, 0, 0.0);
   cairo_set_line_join(cr, CAIRO_LINE_JOIN_MITER);

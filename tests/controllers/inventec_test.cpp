@@ -187,7 +187,7 @@ TEST(FrontCheck, TurningRotatesTheRegionTowardTheTurn) {
 
 TEST(FinalPoseRollout, WallTenCentimetresAheadIsUnsafeAtOneMetrePerSecondOnly) {
   // The 0.42 x 0.33 rectangle grown by 0.02: front edge at x = 0.23. A wall 0.1 m ahead of it.
-  const Box box = footprintBox(0.42, 0.33, 0.02);
+  const core::Rect box = core::Rect::centred(0.42, 0.33).grownBy(0.02);
   std::vector<Eigen::Vector2d> wall;
   for (double y = -1.0; y <= 1.0; y += 0.01) wall.emplace_back(0.33, y);
   // 20 x 0.01 s: 1 m/s moves 0.2 m > 0.1 m; 0.1 m/s moves 0.02 m.
@@ -196,7 +196,7 @@ TEST(FinalPoseRollout, WallTenCentimetresAheadIsUnsafeAtOneMetrePerSecondOnly) {
 }
 
 TEST(FinalPoseRollout, OnlyTheFinalPoseCounts) {
-  const Box box = footprintBox(0.42, 0.33, 0.0);  // front edge x = 0.21
+  const core::Rect box = core::Rect::centred(0.42, 0.33);  // front edge x = 0.21
   // A thin post the robot passes through halfway but has left behind... no: ahead, the final
   // pose at 2 m/s is 0.4 m on, its rectangle spans x in [0.19, 0.61]; a point at 0.62 is
   // outside it, and every pose checked sees it at some step before.
@@ -211,7 +211,7 @@ TEST(FinalPoseRollout, OnlyTheFinalPoseCounts) {
 }
 
 TEST(MpcRollout, RolloutCatchesWhatTheCommandDrivesInto) {
-  const Box body = footprintBox(0.508, 0.43, 0.0);  // front edge at x = 0.254
+  const core::Rect body = core::Rect::centred(0.508, 0.43);  // front edge at x = 0.254
   const std::vector<Eigen::Vector2d> ahead = {{0.40, 0.0}};
   // 0.7 m/s for 20 x 0.01 s = 0.14 m: the front edge reaches 0.394 < 0.40 -> clear.
   EXPECT_FALSE(rolloutHit(ahead, body, {0.7, 0.0}, 0.01, 20));
@@ -292,7 +292,7 @@ TEST(Wiggle, SameSeedSameTargets) {
 
 TEST(SafetyChecks, FootprintInflationSeesPointsWithinTheOffset) {
   // 0.508 x 0.43 grown by 0.04: x in [-0.294, 0.294], y in [-0.255, 0.255].
-  const Box box = footprintBox(0.508, 0.43, 0.04);
+  const core::Rect box = core::Rect::centred(0.508, 0.43).grownBy(0.04);
   EXPECT_TRUE(footprintInflationHit({{0.29, 0.0}}, box));
   EXPECT_FALSE(footprintInflationHit({{0.30, 0.0}}, box));
   EXPECT_TRUE(footprintInflationHit({{0.0, -0.25}}, box));
@@ -317,9 +317,9 @@ TEST(SafetyChecks, RearRegionSeesOnlyWhatIsDirectlyBehind) {
   c.rolling = true;
   nav::Costmap map(c);
   map.recentre({0.0, 0.0});
-  const Box body = footprintBox(0.508, 0.43, 0.0);
+  const core::Rect body = core::Rect::centred(0.508, 0.43);
   const core::Pose2 pose{0.0, 0.0, 0.0};
-  const Box strip = rearStrip(body, 0.1);
+  const core::Rect strip = rearStrip(body, 0.1);
   EXPECT_FALSE(rearRegionBlocked(map, pose, strip, 0.0));
   map.markObstacle({0.5, 0.0});  // ahead: not in the strip
   EXPECT_FALSE(rearRegionBlocked(map, pose, strip, 0.0));
@@ -343,7 +343,7 @@ TEST(SafetyChecks, RearWeightSeesObstaclesCloseBehindTheStripWithNoneInIt) {
   c.inflation_radius = 5.0;
   c.cost_scaling_factor = 1.0;
   const core::Pose2 pose{0.0, 0.0, 0.0};
-  const Box strip = rearStrip(footprintBox(0.508, 0.43, 0.0), 0.1);  // x in [-0.354, -0.254]
+  const core::Rect strip = rearStrip(core::Rect::centred(0.508, 0.43), 0.1);  // x in [-0.354, -0.254]
 
   // A wall 0.07-0.17 m behind every strip cell: each costs more than 85 of 100.
   nav::Costmap near(c);
@@ -368,7 +368,7 @@ TEST(RotateCheck, SeesTheTurnedFootprintAndOnlyTheRearHalfTheTailSwingsInto) {
   nav::Costmap map(c);
   map.recentre({0.0, 0.0});
   RotateCheck check;
-  check.body = footprintBox(0.508, 0.43, 0.0);
+  check.body = core::Rect::centred(0.508, 0.43);
   check.rear_weight = 0.0;  // lethal cells only (the weight has its own test)
   const core::Pose2 pose{0.0, 0.0, 0.0};
   EXPECT_FALSE(rotateCheckHit({}, map, pose, 1.0, check));

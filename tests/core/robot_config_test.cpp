@@ -14,16 +14,18 @@ using ::testing::IsEmpty;
 
 TEST(RobotConfig, CollisionShapeIsTheChassisAndFourWheels) {
   const RobotConfig robot;
-  const std::vector<RobotRect> rects = robot.collisionRects();
+  const std::vector<Rect> rects = robot.collisionRects();
   ASSERT_EQ(rects.size(), 5u);
   // Chassis 0.420 x 0.310 at the centre.
-  EXPECT_DOUBLE_EQ(rects[0].half_length, 0.21);
-  EXPECT_DOUBLE_EQ(rects[0].half_width, 0.155);
+  EXPECT_DOUBLE_EQ(rects[0].min_x, -0.21);
+  EXPECT_DOUBLE_EQ(rects[0].max_x, 0.21);
+  EXPECT_DOUBLE_EQ(rects[0].min_y, -0.155);
+  EXPECT_DOUBLE_EQ(rects[0].max_y, 0.155);
   // Front-left wheel at (0.131, 0.187795), 0.196 x 0.040.
-  EXPECT_DOUBLE_EQ(rects[1].centre_x, 0.131);
-  EXPECT_DOUBLE_EQ(rects[1].centre_y, 0.187795);
-  EXPECT_DOUBLE_EQ(rects[1].half_length, 0.098);
-  EXPECT_DOUBLE_EQ(rects[1].half_width, 0.02);
+  EXPECT_DOUBLE_EQ(rects[1].centreX(), 0.131);
+  EXPECT_DOUBLE_EQ(rects[1].centreY(), 0.187795);
+  EXPECT_DOUBLE_EQ(rects[1].halfLength(), 0.098);
+  EXPECT_DOUBLE_EQ(rects[1].halfWidth(), 0.02);
   // The wheels' outer corners are farthest: hypot(0.131 + 0.098, 0.187795 + 0.02).
   EXPECT_DOUBLE_EQ(robot.collisionRadius(), std::hypot(0.131 + 0.098, 0.187795 + 0.02));
 }

@@ -35,7 +35,7 @@ TEST(Hallucination, ObstaclesNeverTouchTheSweptFootprintAndTheNearestHugsIt) {
     ASSERT_GT(demo->hugging, 0u);
     // The reference: the recorded motion swept at 1 mm, far finer than the 20 mm the
     // hallucination uses; its bulge allowance (0.5 mm) is below every tolerance here.
-    const SweptFootprint fine(demo->motion, robot.footprint_length, robot.footprint_width, 0.001);
+    const SweptFootprint fine(demo->motion, core::Rect::centred(robot.footprint_length, robot.footprint_width), 0.001);
     double nearest = kInf;
     for (std::size_t k = 0; k < demo->obstacles.size(); ++k) {
       const double gap = fine.gap(demo->obstacles[k]);
@@ -68,7 +68,7 @@ TEST(Hallucination, BlockingObstaclesHugTheSweepAndStandAhead) {
     if (!demo) continue;
     ++demos;
     ASSERT_GT(demo->hugging, 0u);
-    const SweptFootprint fine(demo->motion, robot.footprint_length, robot.footprint_width, 0.001);
+    const SweptFootprint fine(demo->motion, core::Rect::centred(robot.footprint_length, robot.footprint_width), 0.001);
     for (std::size_t k = 0; k < demo->hugging; ++k) {
       const double gap = fine.gap(demo->obstacles[k]);
       EXPECT_GE(gap, demo->clearances[k] - 0.0005) << "record " << record << " obstacle " << k;

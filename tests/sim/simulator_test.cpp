@@ -181,7 +181,7 @@ TEST(Simulator, BrushingPastACylinderIsNoCollisionButTouchingIs) {
 }
 
 TEST(Simulator, RectangleCircleOverlapIsExactAtCorners) {
-  const core::RobotRect rect{0.0, 0.0, 0.21, 0.155};
+  const core::Rect rect = core::Rect::centred(0.42, 0.31);
   const core::Pose2 pose{0.0, 0.0, 0.0};
   // A circle on the corner's diagonal: the corner (0.21, 0.155) is at distance
   // |c - corner| from the centre; overlap iff that is < r.

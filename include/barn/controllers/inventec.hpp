@@ -230,7 +230,7 @@ class InventecController : public Controller {
   EpisodeInfo info_;
   core::Rng rng_{0};                         // the Wiggle's draws, seeded from the episode seed
   InventecState state_ = InventecState::Initial;
-  Box footprint_;                            // the planning footprint (info.robot: 0.508 x 0.43)
+  core::Rect footprint_;                            // the planning footprint (info.robot: 0.508 x 0.43)
   FrontCheck front_;
   RotateCheck rotate_;
   std::vector<Eigen::Vector2d> breadcrumbs_;  // odom positions driven in LfLH

@@ -12,31 +12,18 @@
 #include <Eigen/Core>
 
 #include "barn/core/lidar_config.hpp"
+#include "barn/core/rect.hpp"
 #include "barn/core/types.hpp"
 #include "barn/nav/costmap.hpp"
 
 namespace barn::controllers {
-
-/// An axis-aligned rectangle in the robot frame.
-struct Box {
-  double min_x = 0.0, max_x = 0.0;  // [m]
-  double min_y = 0.0, max_y = 0.0;  // [m]
-  bool contains(const Eigen::Vector2d& p) const {
-    return p.x() >= min_x && p.x() <= max_x && p.y() >= min_y && p.y() <= max_y;
-  }
-  /// The rectangle grown by `offset` on every side.
-  Box grownBy(double offset) const { return {min_x - offset, max_x + offset, min_y - offset, max_y + offset}; }
-};
-
-/// The robot's planning rectangle (length along x, width along y) grown by `offset` per side.
-Box footprintBox(double length, double width, double offset);
 
 /// Every finite return of the scan as a point in the robot frame.
 std::vector<Eigen::Vector2d> scanPoints(const core::LaserScan& scan, const core::LidarConfig& lidar);
 
 /// Footprint inflation (FI): true if any point lies inside the rectangle grown by the offset.
 /// A direct rectangle test, the whole of what the original did with a polygon library.
-bool footprintInflationHit(const std::vector<Eigen::Vector2d>& points, const Box& inflated);
+bool footprintInflationHit(const std::vector<Eigen::Vector2d>& points, const core::Rect& inflated);
 
 /// Which poses of a rollout are checked.
 enum class RolloutPoses { Every, Final };
@@ -46,7 +33,7 @@ enum class RolloutPoses { Every, Final };
 /// if the footprint at any step (RolloutPoses::Every, the team's real-world "MPC" check) or at
 /// the last step only (RolloutPoses::Final, their simulation check) contains a point. (The
 /// real-world code mirrored the lateral drift against the rotation; that is not copied here.)
-bool rolloutHit(const std::vector<Eigen::Vector2d>& points, const Box& footprint, const core::Twist& command,
+bool rolloutHit(const std::vector<Eigen::Vector2d>& points, const core::Rect& footprint, const core::Twist& command,
                 double dt, int steps, RolloutPoses poses = RolloutPoses::Every);
 
 /// The front check of the team's simulation code: a rectangle |y| <= half_width + pad_x
@@ -84,17 +71,17 @@ int publishedCost(std::uint8_t cost);
 /// published value of its cells with a nonzero cost exceeds `weight` x 100 (weight <= 0: the
 /// lethal test only). Costs are the costmap's inflation of the distance to the nearest obstacle
 /// cell, found directly, so the map's own (lazy) inflation is never run.
-bool rearRegionBlocked(const nav::Costmap& costmap, const core::Pose2& pose, const Box& region, double weight);
+bool rearRegionBlocked(const nav::Costmap& costmap, const core::Pose2& pose, const core::Rect& region, double weight);
 
 /// The strip `depth` deep directly behind `footprint`, as wide as it (the code's backtrack ROI).
-Box rearStrip(const Box& footprint, double depth);
+core::Rect rearStrip(const core::Rect& footprint, double depth);
 
 /// The rotate check of the team's simulation code (a 60 Hz thread whose flag aborts every turn
 /// in place): true if a return lies in the footprint rectangle turned by rotate_gain * w toward
 /// the turn, or if the costmap holds an obstacle in the half of a strip behind the robot that
 /// the tail swings into (the LiDAR cannot see there; the costmap remembers what it saw).
 struct RotateCheck {
-  Box body;                   // the footprint rectangle (code: 0.43 x 0.508)
+  core::Rect body;                   // the footprint rectangle (code: 0.43 x 0.508)
   double rear_weight = 0.0;   // see rearRegionBlocked (the code: 0.85)
   double rotate_gain = 0.2;   // [s] code: rotate_w_gain
   double rear_centre = 0.28;  // [m] code: rear_rect_cy_m, the strip's centre behind the robot centre

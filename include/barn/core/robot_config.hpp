@@ -9,19 +9,9 @@
 #include <vector>
 
 #include "barn/core/errors.hpp"
+#include "barn/core/rect.hpp"
 
 namespace barn::core {
-
-/// An axis-aligned rectangle in the robot frame (x forward, y left).
-struct RobotRect {
-  double centre_x = 0.0;     // [m]
-  double centre_y = 0.0;     // [m]
-  double half_length = 0.0;  // [m] along x
-  double half_width = 0.0;   // [m] along y
-  template <class V> void visit(V& v) {
-    v("centre_x", centre_x); v("centre_y", centre_y); v("half_length", half_length); v("half_width", half_width);
-  }
-};
 
 /// Defaults are the Jackal in Gazebo (jackal_description, jackal_control).
 struct RobotConfig {
@@ -82,7 +72,7 @@ struct RobotConfig {
   }
 
   /// The five collision rectangles: chassis and four wheels.
-  std::vector<RobotRect> collisionRects() const;
+  std::vector<Rect> collisionRects() const;
   /// Largest distance from the robot centre to any point of the collision shape. [m]
   double collisionRadius() const;
 };

@@ -47,6 +47,7 @@
 
 #include <Eigen/Core>
 
+#include "barn/core/rect.hpp"
 #include "barn/core/rng.hpp"
 #include "barn/core/robot_config.hpp"
 #include "barn/core/types.hpp"
@@ -81,9 +82,9 @@ Obstacle translated(const Obstacle& obstacle, const Eigen::Vector2d& offset);
 /// The union of footprint rectangles along a motion (see the header comment, step 1).
 class SweptFootprint {
  public:
-  /// `motion`: poses in order; `length`, `width` of the rectangle centred on each pose [m];
+  /// `motion`: poses in order; `footprint`: the rectangle around each pose, in its frame;
   /// `step`: the most a footprint point may move between two kept poses [m].
-  SweptFootprint(const std::vector<core::Pose2>& motion, double length, double width, double step);
+  SweptFootprint(const std::vector<core::Pose2>& motion, const core::Rect& footprint, double step);
 
   /// Euclidean distance from `p` to the union of rectangles (0 inside). [m]
   double distance(const Eigen::Vector2d& p) const;
@@ -96,7 +97,7 @@ class SweptFootprint {
  private:
   std::vector<core::Pose2> poses_;   // interpolated poses
   std::vector<double> cos_, sin_;    // of each pose's yaw
-  double half_length_, half_width_;  // [m]
+  core::Rect footprint_;             // [m] robot frame
   double step_;                      // [m]
 };
 

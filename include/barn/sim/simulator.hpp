@@ -101,7 +101,7 @@ class Simulator {
   const ObstacleField* field_;
   core::RobotConfig robot_;
   PhysicsConfig physics_;
-  std::vector<core::RobotRect> rects_;
+  std::vector<core::Rect> rects_;
   std::unique_ptr<Box2D> box2d_;
 
   double time_ = 0.0;
@@ -117,7 +117,7 @@ class Simulator {
 };
 
 /// Exact overlap of a rectangle (in `pose`'s frame) with a circle in the world frame.
-bool rectOverlapsCircle(const core::Pose2& pose, const core::RobotRect& rect, const Eigen::Vector2d& centre, double radius);
+bool rectOverlapsCircle(const core::Pose2& pose, const core::Rect& rect, const Eigen::Vector2d& centre, double radius);
 
 /// Box2D 2.4.1 initialises a static table on its first contact; call once before running
 /// simulators on several threads.

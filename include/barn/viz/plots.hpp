@@ -177,8 +177,8 @@ enum class TrajectoryColouring {
 struct TrajectoryStyle {
   TrajectoryColouring colouring = TrajectoryColouring::ByState;
   double pixels_per_metre = 120.0;  // [px/m] (pt/m in a PDF or SVG)
-  std::vector<core::RobotRect> robot_outline;  // robot frame, drawn at each collision_pose (e.g.
-                                               // core::RobotConfig::collisionRects()); empty = none
+  std::vector<core::Rect> robot_outline;  // robot frame, drawn at each collision_pose (e.g.
+                                          // core::RobotConfig::collisionRects()); empty = none
 };
 
 /// Draws the world as renderWorld does (cells, cylinders, start pose, goal; the A* path thin
