@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "policy_fixtures.hpp"
+
 namespace barn::controllers {
 namespace {
 
@@ -387,6 +389,90 @@ TEST(RotateCheck, SeesTheTurnedFootprintAndOnlyTheRearHalfTheTailSwingsInto) {
   EXPECT_FALSE(rotateCheckHit({}, map, pose, -1.0, check));
   // The strip follows the robot's pose: turned half round, the obstacle is ahead.
   EXPECT_FALSE(rotateCheckHit({}, map, core::Pose2{0.0, 0.0, std::numbers::pi}, 1.0, check));
+}
+
+// ---- The controller: what act() sends in each state ----
+
+struct Tick {
+  InventecState state;
+  core::Twist command;
+};
+
+// Ticks at the start of a BARN episode (the odom origin, heading +y, inside the default global
+// costmap: x in [-3, 3], y in [-3, 12]) toward `goal`, every beam of every scan at `range`:
+// the controller's state after each tick and what it sent.
+std::vector<Tick> runTicks(InventecConfig config, double v, double w, Eigen::Vector2d goal, double range, int ticks) {
+  InventecController controller(config, constantPolicy(v, w));
+  EpisodeInfo info;
+  info.start = {0.0, 0.0, std::numbers::pi / 2};
+  info.goal = goal;
+  controller.reset(info);
+  core::LaserScan scan = uniformScan(info.lidar, range);
+  std::vector<Tick> out;
+  for (int k = 0; k < ticks; ++k) {
+    Observation obs;
+    obs.odom_pose = info.start;
+    obs.time = k * controller.period();
+    scan.stamp = obs.time;
+    obs.scan = &scan;
+    obs.goal = goal;
+    const core::Twist command = controller.act(obs);
+    out.push_back({controller.state(), command});
+  }
+  return out;
+}
+
+const double kNothing = std::numeric_limits<double>::infinity();
+const Eigen::Vector2d kAhead(0.0, 10.0);
+const Eigen::Vector2d kBehind(0.0, -2.5);
+
+TEST(InventecController, StartsInLflhOnceItHasAPathAndSendsThePolicysCommand) {
+  const std::vector<Tick> ticks = runTicks(codeConfig(), 0.5, 0.1, kAhead, kNothing, 3);
+  // The first tick plans and enters LfLH, stopping as every transition does.
+  EXPECT_EQ(ticks[0].state, InventecState::Lflh);
+  EXPECT_EQ(ticks[0].command.linear, 0.0);
+  EXPECT_EQ(ticks[0].command.angular, 0.0);
+  EXPECT_EQ(ticks[2].state, InventecState::Lflh);
+  EXPECT_FLOAT_EQ(static_cast<float>(ticks[2].command.linear), 0.5f);
+  EXPECT_FLOAT_EQ(static_cast<float>(ticks[2].command.angular), 0.1f);
+}
+
+TEST(InventecController, ClipsTheSpeedToPointSevenAndBoostsToTwoOnlyAboveOneWithAClearFront) {
+  EXPECT_FLOAT_EQ(static_cast<float>(runTicks(codeConfig(), 0.9, 0.0, kAhead, kNothing, 3)[2].command.linear),
+                  0.7f);
+  EXPECT_EQ(runTicks(codeConfig(), 1.5, 0.0, kAhead, kNothing, 3)[2].command.linear, 2.0);
+  // Everything 1.4 m away: nothing in reach of the checks, but not clear for a boost (1.5 m).
+  InventecConfig no_hard_turn = codeConfig();
+  no_hard_turn.heading_limit_deg = 180.0;
+  no_hard_turn.heading_tolerance_deg = 180.0;
+  const std::vector<Tick> near = runTicks(no_hard_turn, 1.5, 0.0, kAhead, 1.4, 3);
+  EXPECT_EQ(near[2].state, InventecState::Lflh);
+  EXPECT_FLOAT_EQ(static_cast<float>(near[2].command.linear), 0.7f);
+}
+
+TEST(InventecController, HardTurnsTowardAGoalBehindAtItsTurnRateLimit) {
+  const std::vector<Tick> ticks = runTicks(codeConfig(), 0.5, 0.0, kBehind, kNothing, 4);
+  // Planned, then (LfLH) the path points 180 degrees away: HardTurn, stopping for the tick.
+  EXPECT_EQ(ticks[1].state, InventecState::HardTurn);
+  EXPECT_EQ(ticks[1].command.linear, 0.0);
+  EXPECT_EQ(ticks[1].command.angular, 0.0);
+  // Then it turns in place at 1.5 x 180 degrees, clipped to max_turn_rate 2.
+  EXPECT_EQ(ticks[2].state, InventecState::HardTurn);
+  EXPECT_EQ(ticks[2].command.linear, 0.0);
+  EXPECT_EQ(std::abs(ticks[2].command.angular), 2.0);
+}
+
+TEST(InventecController, BacktracksInsteadOfSendingACommandThatWouldHit) {
+  // A ring of returns 0.3 m from the sensor: 0.5 m/s for 0.2 s puts the 0.42 x 0.33 rectangle
+  // (+ 0.02 m) 0.1 m further, into the ring ahead.
+  InventecConfig no_hard_turn = codeConfig();
+  no_hard_turn.heading_limit_deg = 180.0;
+  no_hard_turn.heading_tolerance_deg = 180.0;
+  const std::vector<Tick> ticks = runTicks(no_hard_turn, 0.5, 0.0, kAhead, 0.3, 3);
+  EXPECT_EQ(ticks[1].state, InventecState::BackTrack);
+  EXPECT_EQ(ticks[1].command.linear, 0.0);
+  // In the open the same config drives on.
+  EXPECT_EQ(runTicks(no_hard_turn, 0.5, 0.0, kAhead, kNothing, 3)[2].state, InventecState::Lflh);
 }
 
 }  // namespace

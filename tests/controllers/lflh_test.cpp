@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include "policy_fixtures.hpp"
+
 namespace barn::controllers {
 namespace {
 
@@ -104,26 +106,6 @@ TEST(LflhSafety, TheToleranceGrowsTheRectangle) {
 }
 
 // ---- The controller: deployed vs the bare policy ----
-
-// A policy that always says (v, w): zero weights, the output bias (v, w).
-std::shared_ptr<const learning::Policy> constantPolicy(double v, double w) {
-  learning::PolicyInfo info;
-  info.hidden = 4;
-  info.name = "constant";
-  learning::MlpParameters<float> weights = learning::MlpParameters<float>::zeros(722, 4, 2);
-  weights.b3 << static_cast<float>(v), static_cast<float>(w);
-  return std::make_shared<const learning::Policy>(info, weights);
-}
-
-core::LaserScan uniformScan(const core::LidarConfig& lidar, double range) {
-  core::LaserScan scan;
-  scan.angle_min = lidar.angle_min;
-  scan.angle_increment = lidar.angleIncrement();
-  scan.range_min = lidar.range_min;
-  scan.range_max = lidar.range_max;
-  scan.ranges.assign(static_cast<std::size_t>(lidar.beams), range);
-  return scan;
-}
 
 struct Tick {
   core::Twist command;

@@ -4,8 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <numbers>
+#include <set>
 #include <string>
+#include <vector>
 
 #include "barn/controllers/pure_pursuit.hpp"
 #include "barn/controllers/straight.hpp"
@@ -15,7 +18,7 @@ namespace barn::controllers {
 namespace {
 
 using ::testing::AllOf;
-using ::testing::ElementsAre;
+using ::testing::Contains;
 using ::testing::HasSubstr;
 using ::testing::IsEmpty;
 
@@ -31,8 +34,24 @@ std::string factoryError(const std::string& text) {
   return "";
 }
 
-TEST(ControllerRegistry, ListsTheKnownTypes) {
-  EXPECT_THAT(controllerTypes(), ElementsAre("straight", "pure_pursuit", "dwa", "eband", "lflh", "inventec", "external"));
+TEST(ControllerRegistry, EveryShippedConfigBuildsAKnownTypeAndEveryTypeShipsOne) {
+  const std::vector<std::string> types = controllerTypes();
+  EXPECT_EQ(std::set<std::string>(types.begin(), types.end()).size(), types.size()) << "a type listed twice";
+  std::set<std::string> shipped_types;
+  for (const auto& entry : std::filesystem::directory_iterator(std::string(BARN_SOURCE_DIR) + "/configs/controllers")) {
+    if (entry.path().extension() != ".yaml") continue;
+    const core::ConfigNode config = core::ConfigNode::parseFile(entry.path().string());
+    std::string type;
+    config.child("type").read(type);
+    EXPECT_THAT(types, Contains(type)) << entry.path();
+    EXPECT_NO_THROW(makeControllerFactory(config)) << entry.path();
+    shipped_types.insert(type);
+  }
+  // Each type but `external` (which runs the user's own program) has a ready-made config.
+  for (const std::string& type : types) {
+    if (type == "external") continue;
+    EXPECT_TRUE(shipped_types.count(type)) << type << " has no configs/controllers/*.yaml";
+  }
 }
 
 TEST(ControllerRegistry, TheShippedBaselineConfigsHoldTheCodesDefaults) {

@@ -49,5 +49,55 @@ TEST(NavStack, ResetForgetsThePreviousEpisodesPlans) {
   EXPECT_NE(first.size() == expected.size() && std::equal(first.begin(), first.end(), expected.begin()), true);
 }
 
+// The wall's returns as odom points: the robot at the origin heading +y, the sensor there too.
+std::vector<Eigen::Vector2d> wallPoints(const core::LaserScan& scan, const core::Pose2& sensor) {
+  std::vector<Eigen::Vector2d> points;
+  for (std::size_t i = 0; i < scan.ranges.size(); ++i)
+    if (std::isfinite(scan.ranges[i]))
+      points.push_back(sensor.transform(scan.ranges[i] * Eigen::Vector2d(std::cos(scan.angle(i)), std::sin(scan.angle(i)))));
+  return points;
+}
+
+TEST(NavStack, ThePathRunsFromTheRobotToTheGoalAroundTheWallItSaw) {
+  const core::LaserScan wall = wallScan(-0.45, 0.45, 1.0);  // 0.87 m wide, 1 m ahead
+  NavStack nav({});
+  const Path path = pathAfter(nav, wall);
+  ASSERT_TRUE(nav.hasPath());
+  // From the robot's cell to the goal's (cell centres: within half a cell diagonal).
+  const double half_diagonal = 0.05 * std::sqrt(0.5) + 1e-9;
+  EXPECT_LE(path.front().norm(), half_diagonal);
+  EXPECT_LE((path.back() - Eigen::Vector2d(0.0, 5.0)).norm(), half_diagonal);
+  // No point of the path is within the padded footprint's inscribed radius of the wall.
+  const double inscribed = NavStackConfig{}.global_costmap.inscribed_radius;
+  const core::Pose2 robot{0.0, 0.0, std::numbers::pi / 2};
+  double closest = std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector2d& p : path)
+    for (const Eigen::Vector2d& w : wallPoints(wall, robot)) closest = std::min(closest, (p - w).norm());
+  EXPECT_GT(closest, inscribed);
+  // Without the wall the path is the straight line.
+  NavStack open({});
+  for (const Eigen::Vector2d& p : pathAfter(open, wallScan(1.0, 1.0, 1.0))) EXPECT_LT(std::abs(p.x()), 0.05);
+}
+
+TEST(NavStack, ClearingOutsideARadiusForgetsOnlyTheFarObstacles) {
+  const core::LaserScan wall = wallScan(-0.45, 0.45, 1.0);
+  const core::Pose2 robot{0.0, 0.0, std::numbers::pi / 2};
+  const auto wallRemembered = [&](const NavStack& nav) {
+    int marked = 0;
+    for (const Eigen::Vector2d& w : wallPoints(wall, robot)) {
+      CellIndex cell;
+      if (nav.localCostmap().toCell(w, cell) && nav.localCostmap().isObstacle(cell.x, cell.y)) ++marked;
+    }
+    return marked;
+  };
+  NavStack nav({});
+  pathAfter(nav, wall);
+  EXPECT_GT(wallRemembered(nav), 0);
+  nav.clearCostmapsOutside(robot.position(), 2.0);  // the wall is 1 m away: kept
+  EXPECT_GT(wallRemembered(nav), 0);
+  nav.clearCostmapsOutside(robot.position(), 0.5);  // now beyond the radius: forgotten
+  EXPECT_EQ(wallRemembered(nav), 0);
+}
+
 }  // namespace
 }  // namespace barn::nav
