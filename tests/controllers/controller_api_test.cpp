@@ -10,11 +10,14 @@
 
 #include <gtest/gtest.h>
 
+#include "scan_fixtures.hpp"
+
 namespace {
 
 using barn::controllers::Controller;
 using barn::controllers::EpisodeInfo;
 using barn::controllers::Observation;
+using barn::controllers::uniformScan;
 
 /// Turns toward the goal and drives at it, stopping short of anything the scan sees ahead
 /// within `stop_distance` of the sensor. Uses the robot's limits and the LiDAR's geometry from
@@ -47,17 +50,6 @@ class CautiousStraight : public Controller {
 
   EpisodeInfo info_;
 };
-
-// A scan in the layout the episode's LidarConfig describes, every beam at `range`.
-barn::core::LaserScan uniformScan(const barn::core::LidarConfig& lidar, double range) {
-  barn::core::LaserScan scan;
-  scan.angle_min = lidar.angle_min;
-  scan.angle_increment = lidar.angleIncrement();
-  scan.range_min = lidar.range_min;
-  scan.range_max = lidar.range_max;
-  scan.ranges.assign(static_cast<std::size_t>(lidar.beams), range);
-  return scan;
-}
 
 TEST(ControllerApi, ControllerDrivesAtTheGoalWithinTheRobotsLimits) {
   EpisodeInfo info;

@@ -426,12 +426,16 @@ const double kNothing = std::numeric_limits<double>::infinity();
 const Eigen::Vector2d kAhead(0.0, 10.0);
 const Eigen::Vector2d kBehind(0.0, -2.5);
 
+// A tick that changed the state sent (0, 0), as the code publishes on every transition.
+void expectTransitionInto(const Tick& tick, InventecState state) {
+  EXPECT_EQ(tick.state, state);
+  EXPECT_EQ(tick.command.linear, 0.0);
+  EXPECT_EQ(tick.command.angular, 0.0);
+}
+
 TEST(InventecController, StartsInLflhOnceItHasAPathAndSendsThePolicysCommand) {
   const std::vector<Tick> ticks = runTicks(codeConfig(), 0.5, 0.1, kAhead, kNothing, 3);
-  // The first tick plans and enters LfLH, stopping as every transition does.
-  EXPECT_EQ(ticks[0].state, InventecState::Lflh);
-  EXPECT_EQ(ticks[0].command.linear, 0.0);
-  EXPECT_EQ(ticks[0].command.angular, 0.0);
+  expectTransitionInto(ticks[0], InventecState::Lflh);  // the first tick plans and starts
   EXPECT_EQ(ticks[2].state, InventecState::Lflh);
   EXPECT_FLOAT_EQ(static_cast<float>(ticks[2].command.linear), 0.5f);
   EXPECT_FLOAT_EQ(static_cast<float>(ticks[2].command.angular), 0.1f);
@@ -452,10 +456,8 @@ TEST(InventecController, ClipsTheSpeedToPointSevenAndBoostsToTwoOnlyAboveOneWith
 
 TEST(InventecController, HardTurnsTowardAGoalBehindAtItsTurnRateLimit) {
   const std::vector<Tick> ticks = runTicks(codeConfig(), 0.5, 0.0, kBehind, kNothing, 4);
-  // Planned, then (LfLH) the path points 180 degrees away: HardTurn, stopping for the tick.
-  EXPECT_EQ(ticks[1].state, InventecState::HardTurn);
-  EXPECT_EQ(ticks[1].command.linear, 0.0);
-  EXPECT_EQ(ticks[1].command.angular, 0.0);
+  // Planned, then (LfLH) the path points 180 degrees away.
+  expectTransitionInto(ticks[1], InventecState::HardTurn);
   // Then it turns in place at 1.5 x 180 degrees, clipped to max_turn_rate 2.
   EXPECT_EQ(ticks[2].state, InventecState::HardTurn);
   EXPECT_EQ(ticks[2].command.linear, 0.0);
@@ -469,8 +471,7 @@ TEST(InventecController, BacktracksInsteadOfSendingACommandThatWouldHit) {
   no_hard_turn.heading_limit_deg = 180.0;
   no_hard_turn.heading_tolerance_deg = 180.0;
   const std::vector<Tick> ticks = runTicks(no_hard_turn, 0.5, 0.0, kAhead, 0.3, 3);
-  EXPECT_EQ(ticks[1].state, InventecState::BackTrack);
-  EXPECT_EQ(ticks[1].command.linear, 0.0);
+  expectTransitionInto(ticks[1], InventecState::BackTrack);
   // In the open the same config drives on.
   EXPECT_EQ(runTicks(no_hard_turn, 0.5, 0.0, kAhead, kNothing, 3)[2].state, InventecState::Lflh);
 }

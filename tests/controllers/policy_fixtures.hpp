@@ -1,13 +1,10 @@
 #pragma once
-// Test fixtures for controllers that run an LfLH policy: a policy with a fixed output and
-// scans of one range.
+// Test fixture for controllers that run an LfLH policy: a policy with a fixed output.
 
-#include <cstddef>
 #include <memory>
 
-#include "barn/core/lidar_config.hpp"
-#include "barn/core/types.hpp"
 #include "barn/learning/policy.hpp"
+#include "scan_fixtures.hpp"
 
 namespace barn::controllers {
 
@@ -19,17 +16,6 @@ inline std::shared_ptr<const learning::Policy> constantPolicy(double v, double w
   learning::MlpParameters<float> weights = learning::MlpParameters<float>::zeros(722, 4, 2);
   weights.b3 << static_cast<float>(v), static_cast<float>(w);
   return std::make_shared<const learning::Policy>(info, weights);
-}
-
-/// A scan of `lidar` with every beam at `range` (+inf: nothing seen).
-inline core::LaserScan uniformScan(const core::LidarConfig& lidar, double range) {
-  core::LaserScan scan;
-  scan.angle_min = lidar.angle_min;
-  scan.angle_increment = lidar.angleIncrement();
-  scan.range_min = lidar.range_min;
-  scan.range_max = lidar.range_max;
-  scan.ranges.assign(static_cast<std::size_t>(lidar.beams), range);
-  return scan;
 }
 
 }  // namespace barn::controllers
