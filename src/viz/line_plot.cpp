@@ -70,18 +70,16 @@ struct LegendEntry {
 
 }  // namespace
 
-void renderLinePlot(const LinePlot& plot, const std::filesystem::path& output) {
-  const std::string where = output.string();
-  imageFormatFor(output);  // an unknown extension fails before any drawing
-  if (plot.width < 200 || plot.width > 8000 || plot.height < 150 || plot.height > 8000)
-    throw core::InputError(where + ": plot size " + std::to_string(plot.width) + " x " + std::to_string(plot.height) +
-                           " px is outside 200..8000 x 150..8000");
-  if (std::isinf(plot.y_min) || std::isinf(plot.y_max) || plot.y_max <= plot.y_min)
-    throw core::InputError(where + ": the fixed y range " + detail::formatNumber(plot.y_min, std::chars_format::general, 6) +
-                           " ... " + detail::formatNumber(plot.y_max, std::chars_format::general, 6) +
-                           " must have finite ends (NaN = automatic) and a top above its bottom");
+namespace {
 
-  // Data ranges over every finite point, interval end and reference line.
+/// The axes' data ranges, padded as the plot draws them.
+struct PlotRanges {
+  double x_min = 0.0, x_max = 0.0, y_min = 0.0, y_max = 0.0;
+};
+
+/// Ranges over every finite point, interval end, reference line and x tick; throws if a series'
+/// columns differ in length or nothing is finite.
+PlotRanges plotRanges(const LinePlot& plot, const std::string& where) {
   double x_min = std::numeric_limits<double>::infinity(), x_max = -x_min;
   double y_lo = 0.0, y_hi = -std::numeric_limits<double>::infinity();
   bool any_marker = false;
@@ -121,95 +119,109 @@ void renderLinePlot(const LinePlot& plot, const std::filesystem::path& output) {
     x_pad = x_max > x_min ? 0.5 * (x_max - x_min) / std::max<double>(1.0, static_cast<double>(plot.x_ticks.size()) - 1.0) : 0.5;
   else if (any_marker)
     x_pad = x_max > x_min ? 0.05 * (x_max - x_min) : 0.5;
-  x_min -= x_pad;
-  x_max += x_pad;
-  if (x_max <= x_min) x_max = x_min + 1.0;
-  double y_min = std::isnan(plot.y_min) ? y_lo : plot.y_min;
-  double y_max = std::isnan(plot.y_max) ? y_hi + 0.05 * (y_hi - y_lo) : plot.y_max;
-  if (std::isnan(plot.y_min) && y_min >= y_max) y_min = y_max - 1.0;
-  if (y_max <= y_min) y_max = y_min + 1.0;
+  PlotRanges r;
+  r.x_min = x_min - x_pad;
+  r.x_max = x_max + x_pad;
+  if (r.x_max <= r.x_min) r.x_max = r.x_min + 1.0;
+  r.y_min = std::isnan(plot.y_min) ? y_lo : plot.y_min;
+  r.y_max = std::isnan(plot.y_max) ? y_hi + 0.05 * (y_hi - y_lo) : plot.y_max;
+  if (std::isnan(plot.y_min) && r.y_min >= r.y_max) r.y_min = r.y_max - 1.0;
+  if (r.y_max <= r.y_min) r.y_max = r.y_min + 1.0;
+  return r;
+}
 
-  // Legend entries in rows between the title and the plot, wrapped at the plot's width.
+using LegendRows = std::vector<std::vector<const LegendEntry*>>;
+
+/// The series' then the reference lines' legend entries.
+std::vector<LegendEntry> legendEntries(const LinePlot& plot) {
   std::vector<LegendEntry> entries;
   for (std::size_t k = 0; k < plot.series.size(); ++k) {
     const LineSeries& s = plot.series[k];
     entries.push_back({s.label, seriesColour(k), false, s.markers, !s.low.empty()});
   }
   for (const ReferenceLine& r : plot.references) entries.push_back({r.label, kReferenceColour, true, false, false});
-  const double left = kLeft, right = plot.width - kRight;
-  std::vector<std::vector<const LegendEntry*>> rows(1);
+  return entries;
+}
+
+/// The entries in rows, each at most `width` pixels wide.
+LegendRows legendRows(const std::vector<LegendEntry>& entries, double width) {
+  LegendRows rows(1);
   double row_width = 0.0;
   for (const LegendEntry& entry : entries) {
     const double w = entry.width() + (rows.back().empty() ? 0.0 : kLegendGap);
-    if (!rows.back().empty() && row_width + w > right - left) {
+    if (!rows.back().empty() && row_width + w > width) {
       rows.emplace_back();
       row_width = 0.0;
     }
     row_width += rows.back().empty() ? entry.width() : w;
     rows.back().push_back(&entry);
   }
-  const double legend_height = entries.empty() ? 0.0 : kLegendRow * static_cast<double>(rows.size()) + 6.0;
-  const double top = kTitleBand + legend_height, bottom = plot.height - kBottom;
-  if (bottom - top < 40.0)
-    throw core::InputError(where + ": a " + std::to_string(plot.height) + " px tall plot leaves no room below its " +
-                           std::to_string(rows.size()) + " legend rows");
+  return rows;
+}
 
-  detail::OutputCanvas image = detail::createOutputCanvas(plot.width, plot.height, output);
-  cairo_t* cr = image.cr();
-  const auto px = [&](double x) { return left + (x - x_min) / (x_max - x_min) * (right - left); };
-  const auto py = [&](double y) { return bottom - (y - y_min) / (y_max - y_min) * (bottom - top); };
+/// The plot area [px] and the data ranges it shows.
+struct PlotFrame {
+  double left = 0.0, right = 0.0, top = 0.0, bottom = 0.0;
+  PlotRanges data;
+  double px(double x) const { return left + (x - data.x_min) / (data.x_max - data.x_min) * (right - left); }
+  double py(double y) const { return bottom - (y - data.y_min) / (data.y_max - data.y_min) * (bottom - top); }
+};
 
-  // Grid and ticks.
-  std::vector<AxisTick> x_ticks = plot.x_ticks;
+constexpr double kDashes[] = {8.0, 5.0};
+
+/// Grid lines, tick labels (an x label that would overlap the previous one is left out) and
+/// the frame.
+void drawGrid(cairo_t* cr, const PlotFrame& f, const std::vector<AxisTick>& given_x_ticks) {
+  std::vector<AxisTick> x_ticks = given_x_ticks;
   if (x_ticks.empty()) {
-    const double x_step = detail::niceStep(x_max - x_min, 8);
-    for (double x = std::ceil(x_min / x_step - 1e-9) * x_step; x <= x_max + 1e-9 * x_step; x += x_step)
+    const double x_step = detail::niceStep(f.data.x_max - f.data.x_min, 8);
+    for (double x = std::ceil(f.data.x_min / x_step - 1e-9) * x_step; x <= f.data.x_max + 1e-9 * x_step; x += x_step)
       x_ticks.push_back({x, detail::tickText(x, x_step)});
   }
   cairo_set_line_width(cr, 1.0);
   double last_label_right = -std::numeric_limits<double>::infinity();
   for (const AxisTick& tick : x_ticks) {
     if (!std::isfinite(tick.x)) continue;
-    const double x = std::round(px(tick.x)) + 0.5;
+    const double x = std::round(f.px(tick.x)) + 0.5;
     setColour(cr, kGrid);
-    cairo_move_to(cr, x, top);
-    cairo_line_to(cr, x, bottom);
+    cairo_move_to(cr, x, f.top);
+    cairo_line_to(cr, x, f.bottom);
     cairo_stroke(cr);
-    // A label that would overlap the previous one is left out; its grid line stays.
     const double w = detail::textWidth(tick.text, kTickSize);
-    if (x - 0.5 * w < last_label_right + 6.0) continue;
+    if (x - 0.5 * w < last_label_right + 6.0) continue;  // the grid line stays
     setColour(cr, kInk);
-    detail::drawCentred(cr, tick.text, x, bottom + 18.0, kTickSize);
+    detail::drawCentred(cr, tick.text, x, f.bottom + 18.0, kTickSize);
     last_label_right = x + 0.5 * w;
   }
-  const double y_step = detail::niceStep(y_max - y_min, 6);
-  for (double y = std::ceil(y_min / y_step - 1e-9) * y_step; y <= y_max + 1e-9 * y_step; y += y_step) {
+  const double y_step = detail::niceStep(f.data.y_max - f.data.y_min, 6);
+  for (double y = std::ceil(f.data.y_min / y_step - 1e-9) * y_step; y <= f.data.y_max + 1e-9 * y_step; y += y_step) {
     setColour(cr, kGrid);
-    cairo_move_to(cr, left, std::round(py(y)) + 0.5);
-    cairo_line_to(cr, right, std::round(py(y)) + 0.5);
+    cairo_move_to(cr, f.left, std::round(f.py(y)) + 0.5);
+    cairo_line_to(cr, f.right, std::round(f.py(y)) + 0.5);
     cairo_stroke(cr);
     setColour(cr, kInk);
-    detail::drawRightAligned(cr, detail::tickText(y, y_step), left - 8.0, detail::centredBaseline(py(y), kTickSize),
+    detail::drawRightAligned(cr, detail::tickText(y, y_step), f.left - 8.0, detail::centredBaseline(f.py(y), kTickSize),
                              kTickSize);
   }
   setColour(cr, kInk);
-  cairo_rectangle(cr, left + 0.5, top + 0.5, right - left, bottom - top);
+  cairo_rectangle(cr, f.left + 0.5, f.top + 0.5, f.right - f.left, f.bottom - f.top);
   cairo_stroke(cr);
+}
 
-  // Reference lines (dashed), then the series: intervals, line, markers; clipped to the plot,
-  // with room above and below for a marker or cap on the axis's end (a rate of 0 or 1).
+/// Reference lines (dashed), then each series' intervals, line and markers; clipped to the plot,
+/// with room above and below for a marker or cap on the axis's end (a rate of 0 or 1).
+void drawData(cairo_t* cr, const PlotFrame& f, const LinePlot& plot) {
   cairo_save(cr);
   const double overhang = kMarkerRadius + 2.0;
-  cairo_rectangle(cr, left, top - overhang, right - left, bottom - top + 2.0 * overhang);
+  cairo_rectangle(cr, f.left, f.top - overhang, f.right - f.left, f.bottom - f.top + 2.0 * overhang);
   cairo_clip(cr);
-  const double dashes[] = {8.0, 5.0};
   cairo_set_line_width(cr, 2.0);
   for (const ReferenceLine& r : plot.references) {
     if (!std::isfinite(r.y)) continue;
     setColour(cr, kReferenceColour);
-    cairo_set_dash(cr, dashes, 2, 0.0);
-    cairo_move_to(cr, left, py(r.y));
-    cairo_line_to(cr, right, py(r.y));
+    cairo_set_dash(cr, kDashes, 2, 0.0);
+    cairo_move_to(cr, f.left, f.py(r.y));
+    cairo_line_to(cr, f.right, f.py(r.y));
     cairo_stroke(cr);
   }
   cairo_set_dash(cr, nullptr, 0, 0.0);
@@ -219,7 +231,7 @@ void renderLinePlot(const LinePlot& plot, const std::filesystem::path& output) {
     const auto finite = [&](std::size_t i) { return std::isfinite(s.x[i]) && std::isfinite(s.y[i]); };
     for (std::size_t i = 0; i < s.low.size(); ++i) {
       if (finite(i) && std::isfinite(s.low[i]) && std::isfinite(s.high[i]))
-        drawIntervalBar(cr, px(s.x[i]), py(s.low[i]), py(s.high[i]), seriesColour(k));
+        drawIntervalBar(cr, f.px(s.x[i]), f.py(s.low[i]), f.py(s.high[i]), seriesColour(k));
     }
     setColour(cr, seriesColour(k));
     cairo_set_line_width(cr, 2.0);
@@ -229,22 +241,20 @@ void renderLinePlot(const LinePlot& plot, const std::filesystem::path& output) {
         pen_down = false;
         continue;
       }
-      if (pen_down) cairo_line_to(cr, px(s.x[i]), py(s.y[i]));
-      else cairo_move_to(cr, px(s.x[i]), py(s.y[i]));
+      if (pen_down) cairo_line_to(cr, f.px(s.x[i]), f.py(s.y[i]));
+      else cairo_move_to(cr, f.px(s.x[i]), f.py(s.y[i]));
       pen_down = true;
     }
     cairo_stroke(cr);
     if (!s.markers) continue;
     for (std::size_t i = 0; i < s.x.size(); ++i)
-      if (finite(i)) drawMarker(cr, px(s.x[i]), py(s.y[i]), seriesColour(k));
+      if (finite(i)) drawMarker(cr, f.px(s.x[i]), f.py(s.y[i]), seriesColour(k));
   }
   cairo_restore(cr);
+}
 
-  // Title, axis labels, legend.
-  setColour(cr, kInk);
-  detail::drawText(cr, plot.title, left, 0.6 * kTitleBand, kTitleSize);
-  detail::drawCentred(cr, plot.x_label, 0.5 * (left + right), plot.height - 12.0, kLabelSize);
-  detail::drawVertical(cr, plot.y_label, 22.0, 0.5 * (top + bottom), kLabelSize);
+/// The legend rows under the title band, from `left`.
+void drawLegend(cairo_t* cr, const LegendRows& rows, double left) {
   double row_y = kTitleBand + 0.5 * kLegendRow;
   for (const std::vector<const LegendEntry*>& row : rows) {
     double x = left;
@@ -253,7 +263,7 @@ void renderLinePlot(const LinePlot& plot, const std::filesystem::path& output) {
       if (entry->interval) drawIntervalBar(cr, mid, row_y - 7.0, row_y + 7.0, entry->colour);
       setColour(cr, entry->colour);
       cairo_set_line_width(cr, 2.0);
-      if (entry->dashed) cairo_set_dash(cr, dashes, 2, 0.0);
+      if (entry->dashed) cairo_set_dash(cr, kDashes, 2, 0.0);
       cairo_move_to(cr, x, row_y);
       cairo_line_to(cr, x + kLegendSwatch, row_y);
       cairo_stroke(cr);
@@ -266,7 +276,42 @@ void renderLinePlot(const LinePlot& plot, const std::filesystem::path& output) {
     }
     row_y += kLegendRow;
   }
+}
 
+}  // namespace
+
+void renderLinePlot(const LinePlot& plot, const std::filesystem::path& output) {
+  const std::string where = output.string();
+  imageFormatFor(output);  // an unknown extension fails before any drawing
+  if (plot.width < 200 || plot.width > 8000 || plot.height < 150 || plot.height > 8000)
+    throw core::InputError(where + ": plot size " + std::to_string(plot.width) + " x " + std::to_string(plot.height) +
+                           " px is outside 200..8000 x 150..8000");
+  if (std::isinf(plot.y_min) || std::isinf(plot.y_max) || plot.y_max <= plot.y_min)
+    throw core::InputError(where + ": the fixed y range " + detail::formatNumber(plot.y_min, std::chars_format::general, 6) +
+                           " ... " + detail::formatNumber(plot.y_max, std::chars_format::general, 6) +
+                           " must have finite ends (NaN = automatic) and a top above its bottom");
+  PlotFrame frame;
+  frame.data = plotRanges(plot, where);
+  frame.left = kLeft;
+  frame.right = plot.width - kRight;
+  const std::vector<LegendEntry> entries = legendEntries(plot);
+  const LegendRows rows = legendRows(entries, frame.right - frame.left);
+  const double legend_height = entries.empty() ? 0.0 : kLegendRow * static_cast<double>(rows.size()) + 6.0;
+  frame.top = kTitleBand + legend_height;
+  frame.bottom = plot.height - kBottom;
+  if (frame.bottom - frame.top < 40.0)
+    throw core::InputError(where + ": a " + std::to_string(plot.height) + " px tall plot leaves no room below its " +
+                           std::to_string(rows.size()) + " legend rows");
+
+  detail::OutputCanvas image = detail::createOutputCanvas(plot.width, plot.height, output);
+  cairo_t* cr = image.cr();
+  drawGrid(cr, frame, plot.x_ticks);
+  drawData(cr, frame, plot);
+  setColour(cr, kInk);
+  detail::drawText(cr, plot.title, frame.left, 0.6 * kTitleBand, kTitleSize);
+  detail::drawCentred(cr, plot.x_label, 0.5 * (frame.left + frame.right), plot.height - 12.0, kLabelSize);
+  detail::drawVertical(cr, plot.y_label, 22.0, 0.5 * (frame.top + frame.bottom), kLabelSize);
+  drawLegend(cr, rows, frame.left);
   detail::finishImage(image);
 }
 
