@@ -13,6 +13,7 @@
 #include <numbers>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "barn/core/errors.hpp"
@@ -364,8 +365,6 @@ void drawLegendRows(cairo_t* cr, const std::vector<std::vector<const LegendItem*
   }
 }
 
-/// Smallest label stride in 1, 2, 5, 10, 20, 25, 50, 100, 200, 250, 500, ... that leaves `gap`
-/// px between neighbouring labels up to `label_width` px wide, with bars `pitch` px apart.
 // Horizontal grid lines and labelled y ticks at a nice step over [lo, hi], between the plot's
 // left and right edges; `py` maps a value to its pixel row.
 template <class ToPixel>
@@ -386,6 +385,8 @@ void drawValueGrid(cairo_t* cr, double lo, double hi, double left, double right,
   }
 }
 
+/// Smallest label stride in 1, 2, 5, 10, 20, 25, 50, 100, 200, 250, 500, ... that leaves `gap`
+/// px between neighbouring labels up to `label_width` px wide, with bars `pitch` px apart.
 std::size_t labelStride(double pitch, double label_width, double gap) {
   const double needed = label_width + gap;  // [px]
   for (std::size_t k : {1, 2, 5}) {
@@ -725,9 +726,75 @@ void renderHeatMap(const HeatMap& map, const std::filesystem::path& output) {
 // ---------------------------------------------------------------------------
 // Bar chart
 
-void renderWorldBars(const WorldBars& bars, const std::filesystem::path& output) {
-  const std::string where = output.string();
-  imageFormatFor(output);  // an unknown extension fails before any drawing
+namespace {
+
+// ---- Pieces shared by the per-world charts (bars, pairs) ----
+
+/// One column per world across a plot; `plot_top`/`plot_bottom` bound the value axis [lo, hi].
+struct WorldColumns {
+  double left = 0.0, right = 0.0, plot_top = 0.0, plot_bottom = 0.0;
+  double lo = 0.0, hi = 1.0;
+  double pitch = 0.0;  // [px] per world
+  double py(double y) const { return plot_bottom - (y - lo) / (hi - lo) * (plot_bottom - plot_top); }
+  double centre(std::size_t i) const { return left + (static_cast<double>(i) + 0.5) * pitch; }
+};
+
+bool onAxis(double y, const WorldColumns& c) { return std::isfinite(y) && y >= c.lo && y <= c.hi; }
+
+/// The dashed reference lines' paths across the plot (the caller strokes them).
+void addReferenceLines(cairo_t* cr, const std::vector<double>& lines, const WorldColumns& c) {
+  for (double y : lines) {
+    if (!onAxis(y, c)) continue;
+    cairo_move_to(cr, c.left, c.py(y));
+    cairo_line_to(cr, c.right, c.py(y));
+  }
+}
+
+/// Each reference line's value right of the plot, in the current colour.
+void drawReferenceValues(cairo_t* cr, const std::vector<double>& lines, const WorldColumns& c) {
+  for (double y : lines) {
+    if (!onAxis(y, c)) continue;
+    drawText(cr, detail::formatNumber(y, std::chars_format::general, 4), c.right + 6.0,
+             centredBaseline(c.py(y), kSmallSize), kSmallSize);
+  }
+}
+
+/// The left spine and the zero line (or the axis end nearest zero).
+void drawSpineAndZeroLine(cairo_t* cr, const WorldColumns& c) {
+  const double base = c.py(std::clamp(0.0, c.lo, c.hi));
+  setColour(cr, kInk);
+  cairo_set_line_width(cr, 1.0);
+  cairo_move_to(cr, c.left - 0.5, c.plot_top);
+  cairo_line_to(cr, c.left - 0.5, c.plot_bottom);
+  cairo_move_to(cr, c.left - 0.5, std::round(base) + 0.5);
+  cairo_line_to(cr, c.right, std::round(base) + 0.5);
+  cairo_stroke(cr);
+}
+
+/// World labels every few columns (as many as fit) hanging from `top`, then the x axis label.
+void drawWorldLabels(cairo_t* cr, const std::vector<std::string>& labels, const std::string& x_label,
+                     const WorldColumns& c, double top, int width) {
+  double widest = 0.0;
+  for (const std::string& label : labels) widest = std::max(widest, textWidth(label, kSmallSize));
+  const std::size_t stride = labelStride(c.pitch, widest, 8.0);
+  for (std::size_t i = 0; i < labels.size(); i += stride) {
+    const double x = std::round(c.centre(i)) + 0.5;
+    cairo_move_to(cr, x, top);
+    cairo_line_to(cr, x, top + 4.0);
+    cairo_stroke(cr);
+    drawCentred(cr, labels[i], x, top + 20.0, kSmallSize);
+  }
+  const double x_label_width = textWidth(x_label, kLabelSize);
+  drawText(cr, x_label,
+           std::clamp(0.5 * (c.left + c.right - x_label_width), 8.0, std::max(8.0, width - 8.0 - x_label_width)),
+           top + 54.0, kLabelSize);
+}
+
+constexpr double kReferenceDashes[] = {6.0, 4.0};
+
+// ---- Bar chart ----
+
+void checkWorldBars(const WorldBars& bars, const std::string& where) {
   const std::size_t n = bars.values.size();
   if (bars.labels.size() != n) {
     throw core::InputError(where + ": bar chart has " + std::to_string(bars.labels.size()) +
@@ -739,22 +806,20 @@ void renderWorldBars(const WorldBars& bars, const std::filesystem::path& output)
     throw core::InputError(where + ": y_max must be 0 (automatic) or positive (got " +
                            detail::formatNumber(bars.y_max, std::chars_format::general, 6) + ")");
   }
-  const bool whiskers = !bars.low.empty() || !bars.high.empty();
-  if (whiskers && (bars.low.size() != n || bars.high.size() != n)) {
+  if ((!bars.low.empty() || !bars.high.empty()) && (bars.low.size() != n || bars.high.size() != n)) {
     throw core::InputError(where + ": bar chart has " + std::to_string(n) + " values but " +
                            std::to_string(bars.low.size()) + " low and " + std::to_string(bars.high.size()) +
                            " high whisker ends (both empty or one per bar)");
   }
-  const bool strip = !bars.outcomes.empty();
-  if (strip && bars.outcomes.size() != n) {
+  if (!bars.outcomes.empty() && bars.outcomes.size() != n) {
     throw core::InputError(where + ": bar chart has " + std::to_string(n) + " values but " +
                            std::to_string(bars.outcomes.size()) + " outcome counts (empty or one per bar)");
   }
+}
 
-  // y range: from 0 (or below, for negative values) to y_max or 5 % above the data.
-  const auto [lo, hi] = valueAxisRange({&bars.values, &bars.high, &bars.reference_lines}, bars.y_max);
-
-  // The legend: the bar, the whiskers, then the outcomes that occur (success always).
+/// The legend: the bar, the whiskers, then the outcomes that occur (success always).
+std::vector<LegendItem> worldBarsLegend(const WorldBars& bars) {
+  const bool whiskers = !bars.low.empty(), strip = !bars.outcomes.empty();
   std::vector<LegendItem> legend;
   if (whiskers || strip) legend.push_back({LegendMark::Box, kBarColour, bars.y_label});
   if (whiskers) legend.push_back({LegendMark::Whisker, kInk, bars.whisker_label});
@@ -772,149 +837,92 @@ void renderWorldBars(const WorldBars& bars, const std::filesystem::path& output)
         legend.push_back({LegendMark::Box, kOutcomeKinds[k].colour, kOutcomeKinds[k].name});
     }
   }
+  return legend;
+}
 
-  const double plot_w = std::max(kBarsMinPlotWidth, kBarsPitch * static_cast<double>(n));
-  const std::vector<std::vector<const LegendItem*>> legend_rows = legendRows(legend, plot_w);
-  const double plot_top = kBarsTop + (bars.subtitle.empty() ? 0.0 : kSubtitleBand) +
-                          kChartLegendRow * static_cast<double>(legend_rows.size());
-  const double plot_bottom = plot_top + kBarsPlotHeight;
-  const double strip_top = plot_bottom + kStripGap, strip_bottom = strip_top + kStripHeight;
-  const double ticks_top = strip ? strip_bottom : plot_bottom;  // x tick labels hang from here
-  const int width = imageSide(std::max({plot_w + kBarsLeft + kBarsRight, textWidth(bars.title, kTitleSize) + 48.0,
-                                        textWidth(bars.subtitle, kSubtitleSize) + 48.0}),
-                              "bar chart width", where);
-  const int height = static_cast<int>(ticks_top + kBarsBottom);
-  detail::OutputCanvas image = detail::createOutputCanvas(width, height, output);
-  cairo_t* cr = image.cr();
+/// Bar edges on whole pixels keep 300 narrow bars crisp; a 20 % gap separates them once they
+/// are 4 px apart. The outcome strip uses the same columns.
+struct BarEdges {
+  const WorldColumns& c;
+  double gap;
+  explicit BarEdges(const WorldColumns& columns)
+      : c(columns), gap(columns.pitch >= 4.0 ? std::max(1.0, 0.2 * columns.pitch) : 0.0) {}
+  double x0(std::size_t i) const { return std::round(c.left + static_cast<double>(i) * c.pitch + 0.5 * gap); }
+  double x1(std::size_t i) const {
+    return std::max(x0(i) + 1.0, std::round(c.left + static_cast<double>(i + 1) * c.pitch - 0.5 * gap));
+  }
+};
 
-  const double left = kBarsLeft, right = kBarsLeft + plot_w;
-  const auto py = [&](double y) { return plot_bottom - (y - lo) / (hi - lo) * kBarsPlotHeight; };
-  const double pitch = plot_w / static_cast<double>(n);
-  // Edges on whole pixels keep 300 narrow bars crisp; a 20 % gap separates them once they are
-  // 4 px apart. The outcome strip uses the same columns.
-  const double gap = pitch >= 4.0 ? std::max(1.0, 0.2 * pitch) : 0.0;
-  const auto barX0 = [&](std::size_t i) { return std::round(left + static_cast<double>(i) * pitch + 0.5 * gap); };
-  const auto barX1 = [&](std::size_t i) {
-    return std::max(barX0(i) + 1.0, std::round(left + static_cast<double>(i + 1) * pitch - 0.5 * gap));
-  };
-
-  // Horizontal grid and y ticks.
-  drawValueGrid(cr, lo, hi, left, right, py);
-
-  // Bars and whiskers, clipped to the plot area (a fixed y_max may cut the tallest).
+/// Bars, whiskers and the reference lines over them, clipped to the plot area (a fixed y_max
+/// may cut the tallest); the lines' values right of the plot.
+void drawBarsAndWhiskers(cairo_t* cr, const WorldBars& bars, const WorldColumns& c) {
+  const BarEdges edges(c);
   cairo_save(cr);
-  cairo_rectangle(cr, left, plot_top, plot_w, kBarsPlotHeight);
+  cairo_rectangle(cr, c.left, c.plot_top, c.right - c.left, c.plot_bottom - c.plot_top);
   cairo_clip(cr);
-  const double base = py(std::clamp(0.0, lo, hi));
-  for (std::size_t i = 0; i < n; ++i) {
+  const double base = c.py(std::clamp(0.0, c.lo, c.hi));
+  for (std::size_t i = 0; i < bars.values.size(); ++i) {
     const double v = bars.values[i];
     if (!std::isfinite(v)) continue;
-    const double y0 = std::round(std::clamp(py(v), plot_top - 1.0, plot_bottom + 1.0));
-    cairo_rectangle(cr, barX0(i), std::min(y0, std::round(base)), barX1(i) - barX0(i), std::abs(std::round(base) - y0));
+    const double y0 = std::round(std::clamp(c.py(v), c.plot_top - 1.0, c.plot_bottom + 1.0));
+    cairo_rectangle(cr, edges.x0(i), std::min(y0, std::round(base)), edges.x1(i) - edges.x0(i), std::abs(std::round(base) - y0));
   }
   setColour(cr, kBarColour);
   cairo_fill(cr);
-  if (whiskers) {
+  if (!bars.low.empty()) {
     // A 1 px line on the bar's centre, capped 0.6 of the bar wide once bars are 4 px apart.
-    const double cap = pitch >= 4.0 ? std::min(4.0, 0.3 * pitch) : 0.0;
-    for (std::size_t i = 0; i < n; ++i) {
+    const double cap = c.pitch >= 4.0 ? std::min(4.0, 0.3 * c.pitch) : 0.0;
+    for (std::size_t i = 0; i < bars.values.size(); ++i) {
       if (!std::isfinite(bars.low[i]) || !std::isfinite(bars.high[i])) continue;
-      const double x = std::floor(0.5 * (barX0(i) + barX1(i))) + 0.5;
-      const double y_low = std::round(py(bars.low[i])) + 0.5, y_high = std::round(py(bars.high[i])) + 0.5;
+      const double x = std::floor(0.5 * (edges.x0(i) + edges.x1(i))) + 0.5;
+      const double y_low = std::round(c.py(bars.low[i])) + 0.5, y_high = std::round(c.py(bars.high[i])) + 0.5;
       detail::addIntervalBar(cr, x, y_low, y_high, cap);
     }
     setColour(cr, kInk);
     cairo_set_line_width(cr, 1.0);
     cairo_stroke(cr);
   }
-
-  // Reference lines over the bars, labelled with their value right of the plot.
-  const double dashes[] = {6.0, 4.0};
-  cairo_set_dash(cr, dashes, 2, 0.0);
+  cairo_set_dash(cr, kReferenceDashes, 2, 0.0);
   cairo_set_line_width(cr, 1.5);
   setColour(cr, kInk);
-  for (double y : bars.reference_lines) {
-    if (!std::isfinite(y) || y < lo || y > hi) continue;
-    cairo_move_to(cr, left, py(y));
-    cairo_line_to(cr, right, py(y));
-  }
+  addReferenceLines(cr, bars.reference_lines, c);
   cairo_stroke(cr);
   cairo_set_dash(cr, nullptr, 0, 0.0);
   cairo_restore(cr);
   setColour(cr, kMutedInk);
-  for (double y : bars.reference_lines) {
-    if (!std::isfinite(y) || y < lo || y > hi) continue;
-    drawText(cr, detail::formatNumber(y, std::chars_format::general, 4), right + 6.0,
-             centredBaseline(py(y), kSmallSize), kSmallSize);
-  }
-
-  // Outcome strip: per world the shares of its trials stacked from the bottom in the legend's
-  // order, so each column reads as the world's outcome mix whatever its score (a world whose
-  // trials all collided has no bar, but a full vermillion column).
-  if (strip) {
-    for (std::size_t i = 0; i < n; ++i) {
-      const int total = bars.outcomes[i].total();
-      if (total <= 0) continue;
-      int below = 0;
-      for (const OutcomeKind& kind : kOutcomeKinds) {
-        const int count = kind.count(bars.outcomes[i]);
-        if (count == 0) continue;
-        const auto edge = [&](int trials) { return std::round(strip_bottom - kStripHeight * trials / total); };
-        cairo_rectangle(cr, barX0(i), edge(below + count), barX1(i) - barX0(i), edge(below) - edge(below + count));
-        setColour(cr, kind.colour);
-        cairo_fill(cr);
-        below += count;
-      }
-    }
-    setColour(cr, kMutedInk);
-    drawRightAligned(cr, "trials", left - 8.0, centredBaseline(0.5 * (strip_top + strip_bottom), kSmallSize), kSmallSize);
-  }
-
-  // Axes: left spine and the zero line.
-  setColour(cr, kInk);
-  cairo_set_line_width(cr, 1.0);
-  cairo_move_to(cr, left - 0.5, plot_top);
-  cairo_line_to(cr, left - 0.5, plot_bottom);
-  cairo_move_to(cr, left - 0.5, std::round(base) + 0.5);
-  cairo_line_to(cr, right, std::round(base) + 0.5);
-  cairo_stroke(cr);
-
-  // x tick labels every `stride` bars, under the bar's centre (and the strip).
-  double widest = 0.0;
-  for (const std::string& label : bars.labels)
-    widest = std::max(widest, textWidth(label, kSmallSize));
-  const std::size_t stride = labelStride(pitch, widest, 8.0);
-  for (std::size_t i = 0; i < n; i += stride) {
-    const double x = std::round(left + (static_cast<double>(i) + 0.5) * pitch) + 0.5;
-    cairo_move_to(cr, x, ticks_top);
-    cairo_line_to(cr, x, ticks_top + 4.0);
-    cairo_stroke(cr);
-    drawCentred(cr, bars.labels[i], x, ticks_top + 20.0, kSmallSize);
-  }
-
-  const double x_label_width = textWidth(bars.x_label, kLabelSize);
-  drawText(cr, bars.x_label,
-           std::clamp(0.5 * (left + right - x_label_width), 8.0,
-                      std::max(8.0, width - 8.0 - x_label_width)),
-           ticks_top + 54.0, kLabelSize);
-  drawVertical(cr, bars.y_label, 22.0, 0.5 * (plot_top + plot_bottom), kLabelSize);
-  drawTitle(cr, bars.title, left, right, width, 34.0);
-  if (!bars.subtitle.empty()) {
-    const double w = textWidth(bars.subtitle, kSubtitleSize);
-    setColour(cr, kMutedInk);
-    drawText(cr, bars.subtitle, std::clamp(0.5 * (left + right - w), 24.0, std::max(24.0, width - 24.0 - w)),
-             34.0 + kSubtitleBand, kSubtitleSize);
-  }
-  drawLegendRows(cr, legend_rows, left, kBarsTop + (bars.subtitle.empty() ? 0.0 : kSubtitleBand) - 6.0);
-
-  detail::finishImage(image);
+  drawReferenceValues(cr, bars.reference_lines, c);
 }
 
-// ---------------------------------------------------------------------------
-// Paired per-world comparison
+/// Outcome strip between `top` and `bottom`: per world the shares of its trials stacked from
+/// the bottom in the legend's order, so each column reads as the world's outcome mix whatever
+/// its score (a world whose trials all collided has no bar, but a full vermillion column).
+void drawOutcomeStrip(cairo_t* cr, const WorldBars& bars, const WorldColumns& c, double top, double bottom) {
+  const BarEdges edges(c);
+  for (std::size_t i = 0; i < bars.outcomes.size(); ++i) {
+    const int total = bars.outcomes[i].total();
+    if (total <= 0) continue;
+    int below = 0;
+    for (const OutcomeKind& kind : kOutcomeKinds) {
+      const int count = kind.count(bars.outcomes[i]);
+      if (count == 0) continue;
+      const auto edge = [&](int trials) { return std::round(bottom - (bottom - top) * trials / total); };
+      cairo_rectangle(cr, edges.x0(i), edge(below + count), edges.x1(i) - edges.x0(i), edge(below) - edge(below + count));
+      setColour(cr, kind.colour);
+      cairo_fill(cr);
+      below += count;
+    }
+  }
+  setColour(cr, kMutedInk);
+  drawRightAligned(cr, "trials", c.left - 8.0, centredBaseline(0.5 * (top + bottom), kSmallSize), kSmallSize);
+}
 
-void renderPairedWorlds(const PairedWorlds& pairs, const std::filesystem::path& output) {
-  const std::string where = output.string();
+// ---- Paired per-world comparison ----
+
+constexpr Rgb kPairColourA{0.12, 0.47, 0.71};  // blue
+constexpr Rgb kPairColourB{0.90, 0.45, 0.05};  // orange
+constexpr Rgb kPairJoin{0.70, 0.70, 0.70};
+
+void checkPairedWorlds(const PairedWorlds& pairs, const std::string& where) {
   const std::size_t n = pairs.labels.size();
   if (pairs.a.size() != n || pairs.b.size() != n) {
     throw core::InputError(where + ": paired chart has " + std::to_string(n) + " labels, " +
@@ -926,20 +934,134 @@ void renderPairedWorlds(const PairedWorlds& pairs, const std::filesystem::path& 
     throw core::InputError(where + ": y_max must be 0 (automatic) or positive (got " +
                            detail::formatNumber(pairs.y_max, std::chars_format::general, 6) + ")");
   }
-  imageFormatFor(output);  // an unknown extension fails before any drawing
+}
 
+/// A's marker (a dot) and B's (a diamond) as paths.
+void addDotA(cairo_t* cr, double x, double y, double radius) {
+  cairo_new_sub_path(cr);
+  cairo_arc(cr, x, y, radius, 0.0, 2.0 * std::numbers::pi);
+}
+void addDiamondB(cairo_t* cr, double x, double y, double radius) {
+  const double r = 1.25 * radius;
+  cairo_move_to(cr, x, y - r);
+  cairo_line_to(cr, x + r, y);
+  cairo_line_to(cr, x, y + r);
+  cairo_line_to(cr, x - r, y);
+  cairo_close_path(cr);
+}
+
+/// Per world a grey join between A and B, then B's diamond and A's dot, clipped to the plot
+/// area (a fixed y_max may cut the largest).
+void drawPairMarkers(cairo_t* cr, const PairedWorlds& pairs, const WorldColumns& c, double radius) {
+  cairo_save(cr);
+  cairo_rectangle(cr, c.left, c.plot_top - radius - 2.0, c.right - c.left, c.plot_bottom - c.plot_top + 2.0 * radius + 4.0);
+  cairo_clip(cr);
+  setColour(cr, kPairJoin);
+  cairo_set_line_width(cr, std::max(1.0, 0.4 * radius));
+  for (std::size_t i = 0; i < pairs.labels.size(); ++i) {
+    if (!std::isfinite(pairs.a[i]) || !std::isfinite(pairs.b[i])) continue;
+    cairo_move_to(cr, c.centre(i), c.py(pairs.a[i]));
+    cairo_line_to(cr, c.centre(i), c.py(pairs.b[i]));
+  }
+  cairo_stroke(cr);
+  cairo_set_line_width(cr, 1.0);
+  for (std::size_t i = 0; i < pairs.labels.size(); ++i) {
+    if (std::isfinite(pairs.b[i])) {
+      addDiamondB(cr, c.centre(i), c.py(pairs.b[i]), radius);
+      setColour(cr, kPairColourB);
+      cairo_fill_preserve(cr);
+      cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
+      cairo_stroke(cr);
+    }
+    if (std::isfinite(pairs.a[i])) {
+      addDotA(cr, c.centre(i), c.py(pairs.a[i]), radius);
+      setColour(cr, kPairColourA);
+      cairo_fill_preserve(cr);
+      cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
+      cairo_stroke(cr);
+    }
+  }
+  cairo_restore(cr);
+}
+
+/// The legend above the plot, right-aligned: marker and name of A, then of B.
+void drawPairLegend(cairo_t* cr, const std::string& legend_a, const std::string& legend_b, double legend_width,
+                    const WorldColumns& c, double radius) {
+  const double legend_y = 58.0;
+  double x = std::max(c.left, c.right - legend_width);
+  addDotA(cr, x + 6.0, legend_y, radius);
+  setColour(cr, kPairColourA);
+  cairo_fill(cr);
+  setColour(cr, kInk);
+  drawText(cr, legend_a, x + 16.0, centredBaseline(legend_y, kSmallSize), kSmallSize);
+  x += 16.0 + textWidth(legend_a, kSmallSize) + 28.0;
+  addDiamondB(cr, x + 6.0, legend_y, radius);
+  setColour(cr, kPairColourB);
+  cairo_fill(cr);
+  setColour(cr, kInk);
+  drawText(cr, legend_b, x + 16.0, centredBaseline(legend_y, kSmallSize), kSmallSize);
+}
+
+}  // namespace
+
+void renderWorldBars(const WorldBars& bars, const std::filesystem::path& output) {
+  const std::string where = output.string();
+  imageFormatFor(output);  // an unknown extension fails before any drawing
+  checkWorldBars(bars, where);
+  const std::size_t n = bars.values.size();
+  const bool strip = !bars.outcomes.empty();
+
+  // y range: from 0 (or below, for negative values) to y_max or 5 % above the data.
+  WorldColumns c;
+  std::tie(c.lo, c.hi) = valueAxisRange({&bars.values, &bars.high, &bars.reference_lines}, bars.y_max);
+  const std::vector<LegendItem> legend = worldBarsLegend(bars);
+  const double plot_w = std::max(kBarsMinPlotWidth, kBarsPitch * static_cast<double>(n));
+  const std::vector<std::vector<const LegendItem*>> legend_rows = legendRows(legend, plot_w);
+  const double legend_top = kBarsTop + (bars.subtitle.empty() ? 0.0 : kSubtitleBand);
+  c.left = kBarsLeft;
+  c.right = kBarsLeft + plot_w;
+  c.plot_top = legend_top + kChartLegendRow * static_cast<double>(legend_rows.size());
+  c.plot_bottom = c.plot_top + kBarsPlotHeight;
+  c.pitch = plot_w / static_cast<double>(n);
+  const double strip_top = c.plot_bottom + kStripGap, strip_bottom = strip_top + kStripHeight;
+  const double ticks_top = strip ? strip_bottom : c.plot_bottom;  // x tick labels hang from here
+  const int width = imageSide(std::max({plot_w + kBarsLeft + kBarsRight, textWidth(bars.title, kTitleSize) + 48.0,
+                                        textWidth(bars.subtitle, kSubtitleSize) + 48.0}),
+                              "bar chart width", where);
+  const int height = static_cast<int>(ticks_top + kBarsBottom);
+  detail::OutputCanvas image = detail::createOutputCanvas(width, height, output);
+  cairo_t* cr = image.cr();
+
+  drawValueGrid(cr, c.lo, c.hi, c.left, c.right, [&](double y) { return c.py(y); });
+  drawBarsAndWhiskers(cr, bars, c);
+  if (strip) drawOutcomeStrip(cr, bars, c, strip_top, strip_bottom);
+  drawSpineAndZeroLine(cr, c);
+  drawWorldLabels(cr, bars.labels, bars.x_label, c, ticks_top, width);
+  drawVertical(cr, bars.y_label, 22.0, 0.5 * (c.plot_top + c.plot_bottom), kLabelSize);
+  drawTitle(cr, bars.title, c.left, c.right, width, 34.0);
+  if (!bars.subtitle.empty()) {
+    const double w = textWidth(bars.subtitle, kSubtitleSize);
+    setColour(cr, kMutedInk);
+    drawText(cr, bars.subtitle, std::clamp(0.5 * (c.left + c.right - w), 24.0, std::max(24.0, width - 24.0 - w)),
+             34.0 + kSubtitleBand, kSubtitleSize);
+  }
+  drawLegendRows(cr, legend_rows, c.left, legend_top - 6.0);
+  detail::finishImage(image);
+}
+
+void renderPairedWorlds(const PairedWorlds& pairs, const std::filesystem::path& output) {
+  const std::string where = output.string();
+  checkPairedWorlds(pairs, where);
+  imageFormatFor(output);  // an unknown extension fails before any drawing
+  const std::size_t n = pairs.labels.size();
   constexpr double kLeft = 72.0, kRight = 56.0, kTop = 80.0, kBottom = 72.0;
   constexpr double kPlotHeight = 320.0;
-  constexpr Rgb kColourA{0.12, 0.47, 0.71};  // blue
-  constexpr Rgb kColourB{0.90, 0.45, 0.05};  // orange
-  constexpr Rgb kJoin{0.70, 0.70, 0.70};
 
-  const auto [lo, hi] = valueAxisRange({&pairs.a, &pairs.b, &pairs.reference_lines}, pairs.y_max);
-
+  WorldColumns c;
+  std::tie(c.lo, c.hi) = valueAxisRange({&pairs.a, &pairs.b, &pairs.reference_lines}, pairs.y_max);
   const std::string legend_a = "A: " + pairs.label_a;
   const std::string legend_b = "B: " + pairs.label_b;
-  const double legend_width =
-      textWidth(legend_a, kSmallSize) + textWidth(legend_b, kSmallSize) + 2 * 22.0 + 28.0;
+  const double legend_width = textWidth(legend_a, kSmallSize) + textWidth(legend_b, kSmallSize) + 2 * 22.0 + 28.0;
   const double plot_w = std::max(720.0, 10.0 * static_cast<double>(n));
   const int width = imageSide(std::max({plot_w + kLeft + kRight, textWidth(pairs.title, kTitleSize) + 48.0,
                                         legend_width + 96.0}),
@@ -947,121 +1069,28 @@ void renderPairedWorlds(const PairedWorlds& pairs, const std::filesystem::path& 
   const int height = static_cast<int>(kTop + kPlotHeight + kBottom);
   detail::OutputCanvas image = detail::createOutputCanvas(width, height, output);
   cairo_t* cr = image.cr();
+  c.left = kLeft;
+  c.right = kLeft + plot_w;
+  c.plot_top = kTop;
+  c.plot_bottom = kTop + kPlotHeight;
+  c.pitch = plot_w / static_cast<double>(n);
 
-  const double left = kLeft, right = kLeft + plot_w;
-  const double plot_top = kTop, plot_bottom = kTop + kPlotHeight;
-  const auto py = [&](double y) { return plot_bottom - (y - lo) / (hi - lo) * kPlotHeight; };
-  const double pitch = plot_w / static_cast<double>(n);
-  const auto px = [&](std::size_t i) { return left + (static_cast<double>(i) + 0.5) * pitch; };
-
-  // Horizontal grid and y ticks.
-  drawValueGrid(cr, lo, hi, left, right, py);
-
+  drawValueGrid(cr, c.lo, c.hi, c.left, c.right, [&](double y) { return c.py(y); });
   // Reference lines under the markers, labelled right of the plot.
-  const double dashes[] = {6.0, 4.0};
-  cairo_set_dash(cr, dashes, 2, 0.0);
+  cairo_set_dash(cr, kReferenceDashes, 2, 0.0);
   cairo_set_line_width(cr, 1.5);
   setColour(cr, kMutedInk);
-  for (double y : pairs.reference_lines) {
-    if (!std::isfinite(y) || y < lo || y > hi) continue;
-    cairo_move_to(cr, left, py(y));
-    cairo_line_to(cr, right, py(y));
-  }
+  addReferenceLines(cr, pairs.reference_lines, c);
   cairo_stroke(cr);
   cairo_set_dash(cr, nullptr, 0, 0.0);
-  for (double y : pairs.reference_lines) {
-    if (!std::isfinite(y) || y < lo || y > hi) continue;
-    drawText(cr, detail::formatNumber(y, std::chars_format::general, 4), right + 6.0,
-             centredBaseline(py(y), kSmallSize), kSmallSize);
-  }
-
-  // Markers, clipped to the plot area (a fixed y_max may cut the largest).
-  const double radius = std::clamp(0.3 * pitch, 2.5, 5.0);
-  const auto dotA = [&](double x, double y) {
-    cairo_new_sub_path(cr);
-    cairo_arc(cr, x, y, radius, 0.0, 2.0 * std::numbers::pi);
-  };
-  const auto diamondB = [&](double x, double y) {
-    const double r = 1.25 * radius;
-    cairo_move_to(cr, x, y - r);
-    cairo_line_to(cr, x + r, y);
-    cairo_line_to(cr, x, y + r);
-    cairo_line_to(cr, x - r, y);
-    cairo_close_path(cr);
-  };
-  cairo_save(cr);
-  cairo_rectangle(cr, left, plot_top - radius - 2.0, plot_w, kPlotHeight + 2.0 * radius + 4.0);
-  cairo_clip(cr);
-  setColour(cr, kJoin);
-  cairo_set_line_width(cr, std::max(1.0, 0.4 * radius));
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!std::isfinite(pairs.a[i]) || !std::isfinite(pairs.b[i])) continue;
-    cairo_move_to(cr, px(i), py(pairs.a[i]));
-    cairo_line_to(cr, px(i), py(pairs.b[i]));
-  }
-  cairo_stroke(cr);
-  cairo_set_line_width(cr, 1.0);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (std::isfinite(pairs.b[i])) {
-      diamondB(px(i), py(pairs.b[i]));
-      setColour(cr, kColourB);
-      cairo_fill_preserve(cr);
-      cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
-      cairo_stroke(cr);
-    }
-    if (std::isfinite(pairs.a[i])) {
-      dotA(px(i), py(pairs.a[i]));
-      setColour(cr, kColourA);
-      cairo_fill_preserve(cr);
-      cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
-      cairo_stroke(cr);
-    }
-  }
-  cairo_restore(cr);
-
-  // Axes: left spine and the zero line.
-  const double base = py(std::clamp(0.0, lo, hi));
-  setColour(cr, kInk);
-  cairo_set_line_width(cr, 1.0);
-  cairo_move_to(cr, left - 0.5, plot_top);
-  cairo_line_to(cr, left - 0.5, plot_bottom);
-  cairo_move_to(cr, left - 0.5, std::round(base) + 0.5);
-  cairo_line_to(cr, right, std::round(base) + 0.5);
-  cairo_stroke(cr);
-
-  // x tick labels every `stride` worlds.
-  double widest = 0.0;
-  for (const std::string& label : pairs.labels) widest = std::max(widest, textWidth(label, kSmallSize));
-  const std::size_t stride = labelStride(pitch, widest, 8.0);
-  for (std::size_t i = 0; i < n; i += stride) {
-    const double x = std::round(px(i)) + 0.5;
-    cairo_move_to(cr, x, plot_bottom);
-    cairo_line_to(cr, x, plot_bottom + 4.0);
-    cairo_stroke(cr);
-    drawCentred(cr, pairs.labels[i], x, plot_bottom + 20.0, kSmallSize);
-  }
-  const double x_label_width = textWidth(pairs.x_label, kLabelSize);
-  drawText(cr, pairs.x_label,
-           std::clamp(0.5 * (left + right - x_label_width), 8.0, std::max(8.0, width - 8.0 - x_label_width)),
-           plot_bottom + 54.0, kLabelSize);
-  drawVertical(cr, pairs.y_label, 22.0, 0.5 * (plot_top + plot_bottom), kLabelSize);
-  drawTitle(cr, pairs.title, left, right, width, 30.0);
-
-  // Legend above the plot, right-aligned: marker and name of A, then of B.
-  const double legend_y = 58.0;
-  double x = std::max(left, right - legend_width);
-  dotA(x + 6.0, legend_y);
-  setColour(cr, kColourA);
-  cairo_fill(cr);
-  setColour(cr, kInk);
-  drawText(cr, legend_a, x + 16.0, centredBaseline(legend_y, kSmallSize), kSmallSize);
-  x += 16.0 + textWidth(legend_a, kSmallSize) + 28.0;
-  diamondB(x + 6.0, legend_y);
-  setColour(cr, kColourB);
-  cairo_fill(cr);
-  setColour(cr, kInk);
-  drawText(cr, legend_b, x + 16.0, centredBaseline(legend_y, kSmallSize), kSmallSize);
-
+  drawReferenceValues(cr, pairs.reference_lines, c);
+  const double radius = std::clamp(0.3 * c.pitch, 2.5, 5.0);
+  drawPairMarkers(cr, pairs, c, radius);
+  drawSpineAndZeroLine(cr, c);
+  drawWorldLabels(cr, pairs.labels, pairs.x_label, c, c.plot_bottom, width);
+  drawVertical(cr, pairs.y_label, 22.0, 0.5 * (c.plot_top + c.plot_bottom), kLabelSize);
+  drawTitle(cr, pairs.title, c.left, c.right, width, 30.0);
+  drawPairLegend(cr, legend_a, legend_b, legend_width, c, radius);
   detail::finishImage(image);
 }
 
