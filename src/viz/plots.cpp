@@ -741,13 +741,20 @@ struct WorldColumns {
 
 bool onAxis(double y, const WorldColumns& c) { return std::isfinite(y) && y >= c.lo && y <= c.hi; }
 
-/// The dashed reference lines' paths across the plot (the caller strokes them).
-void addReferenceLines(cairo_t* cr, const std::vector<double>& lines, const WorldColumns& c) {
+constexpr double kReferenceDashes[] = {6.0, 4.0};
+
+/// The reference lines across the plot, dashed, in `colour`.
+void drawReferenceLines(cairo_t* cr, const std::vector<double>& lines, const WorldColumns& c, const Rgb& colour) {
+  cairo_set_dash(cr, kReferenceDashes, 2, 0.0);
+  cairo_set_line_width(cr, 1.5);
+  setColour(cr, colour);
   for (double y : lines) {
     if (!onAxis(y, c)) continue;
     cairo_move_to(cr, c.left, c.py(y));
     cairo_line_to(cr, c.right, c.py(y));
   }
+  cairo_stroke(cr);
+  cairo_set_dash(cr, nullptr, 0, 0.0);
 }
 
 /// Each reference line's value right of the plot, in the current colour.
@@ -789,8 +796,6 @@ void drawWorldLabels(cairo_t* cr, const std::vector<std::string>& labels, const 
            std::clamp(0.5 * (c.left + c.right - x_label_width), 8.0, std::max(8.0, width - 8.0 - x_label_width)),
            top + 54.0, kLabelSize);
 }
-
-constexpr double kReferenceDashes[] = {6.0, 4.0};
 
 // ---- Bar chart ----
 
@@ -882,12 +887,7 @@ void drawBarsAndWhiskers(cairo_t* cr, const WorldBars& bars, const WorldColumns&
     cairo_set_line_width(cr, 1.0);
     cairo_stroke(cr);
   }
-  cairo_set_dash(cr, kReferenceDashes, 2, 0.0);
-  cairo_set_line_width(cr, 1.5);
-  setColour(cr, kInk);
-  addReferenceLines(cr, bars.reference_lines, c);
-  cairo_stroke(cr);
-  cairo_set_dash(cr, nullptr, 0, 0.0);
+  drawReferenceLines(cr, bars.reference_lines, c, kInk);
   cairo_restore(cr);
   setColour(cr, kMutedInk);
   drawReferenceValues(cr, bars.reference_lines, c);
@@ -1077,12 +1077,7 @@ void renderPairedWorlds(const PairedWorlds& pairs, const std::filesystem::path& 
 
   drawValueGrid(cr, c.lo, c.hi, c.left, c.right, [&](double y) { return c.py(y); });
   // Reference lines under the markers, labelled right of the plot.
-  cairo_set_dash(cr, kReferenceDashes, 2, 0.0);
-  cairo_set_line_width(cr, 1.5);
-  setColour(cr, kMutedInk);
-  addReferenceLines(cr, pairs.reference_lines, c);
-  cairo_stroke(cr);
-  cairo_set_dash(cr, nullptr, 0, 0.0);
+  drawReferenceLines(cr, pairs.reference_lines, c, kMutedInk);
   drawReferenceValues(cr, pairs.reference_lines, c);
   const double radius = std::clamp(0.3 * c.pitch, 2.5, 5.0);
   drawPairMarkers(cr, pairs, c, radius);
