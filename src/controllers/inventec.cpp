@@ -275,109 +275,120 @@ void InventecController::enter(InventecState state, const core::Pose2& pose, dou
   state_ = state;
 }
 
+PathCues InventecController::pathCues(const core::Pose2& pose) const {
+  PathCues cues;
+  if (!nav_.hasPath()) return cues;
+  const nav::Path& path = nav_.path();
+  if (!config_.codeVariant()) {
+    cues.path_direction = nav::headingError(path, pose, config_.path_direction_distance);
+    cues.goal_direction = localGoalDirection(path, pose, config_.local_goal_distance);
+    return cues;
+  }
+  // The code planned at 20 Hz from the robot's pose, so its path began at the robot; ours is
+  // replanned less often, so the part already driven is cut off at the closest point.
+  const nav::Path ahead(path.begin() + static_cast<std::ptrdiff_t>(nav::closestIndex(path, pose.position())),
+                        path.end());
+  return codePathCues(nav::pathInRobotFrame(ahead, pose), config_.local_goal_distance, config_.path_direction_distance);
+}
+
+core::Twist InventecController::lflhCommand(const core::LaserScan& scan, const std::vector<Eigen::Vector2d>& points,
+                                            const Eigen::Vector2d& goal_direction, InventecInputs& in) const {
+  const core::Twist raw = policy_->act(scan, goal_direction);
+  if (config_.codeVariant()) {
+    // The code checks the network's command and shapes the speed when publishing.
+    in.command_unsafe = commandUnsafe(points, scan, raw);
+    return shape(raw, scan);
+  }
+  const core::Twist command{std::clamp(raw.linear, -config_.max_speed, config_.max_speed),
+                            std::clamp(raw.angular, -config_.max_turn_rate, config_.max_turn_rate)};
+  in.command_unsafe = commandUnsafe(points, scan, command);
+  return command;
+}
+
+core::Twist InventecController::hardTurnCommand(const core::LaserScan& scan, const std::vector<Eigen::Vector2d>& points,
+                                                const core::Pose2& pose, InventecInputs& in) const {
+  const core::Twist command = turnToward(in.heading_error);
+  const InventecSafetyConfig& s = config_.safety;
+  in.rotation_unsafe = s.type != SafetyCheck::None &&
+                       (rotationUnsafe(points, command) ||
+                        (config_.codeVariant() && s.ring && ringHit(scan, s.ring_front, s.ring_edge)) ||
+                        rotateCheckFires(points, pose, command));
+  return command;
+}
+
+core::Twist InventecController::backTrackCommand(const std::vector<Eigen::Vector2d>& points, const core::Pose2& pose,
+                                                 InventecInputs& in) {
+  core::Twist command;
+  if (!aligned_) {
+    // Turn the rear toward the target; an unsafe turn ends the alignment early.
+    const Eigen::Vector2d away = pose.position() - backtrack_target_;
+    const double error = core::wrapAngle(std::atan2(away.y(), away.x()) - pose.yaw);
+    command = turnToward(error);
+    if (std::abs(error) <= degrees(config_.align_tolerance_deg) || alignmentAborted(points, pose, command)) {
+      aligned_ = true;
+      reverse_start_ = pose.position();
+      reversed_ = 0.0;
+      reverse_ticks_ = 0;
+    }
+  }
+  if (!aligned_) return command;
+  const double reversed = (pose.position() - reverse_start_).norm();
+  // Done when far enough (code: ~0.1 m; paper: at or past the breadcrumb), or when the
+  // distance stopped growing (the code's loop condition; a stall cannot last).
+  const bool far_enough = config_.backtrack_reverse > 0.0
+                              ? reversed > config_.backtrack_reverse
+                              : (pose.position() - backtrack_target_).norm() < 0.05 ||
+                                    pose.inverseTransform(backtrack_target_).x() >= 0.0;
+  const bool stalled = reverse_ticks_ >= 2 && reversed <= reversed_ + 1e-4;
+  in.backtrack_done = far_enough || stalled;
+  in.rear_blocked = config_.backtrack_roi &&
+                    rearRegionBlocked(nav_.localCostmap(), pose, rearStrip(footprint_, config_.roi_depth), config_.rear_weight);
+  reversed_ = reversed;
+  ++reverse_ticks_;
+  return {-config_.backtrack_speed, 0.0};
+}
+
+core::Twist InventecController::wiggleCommand(const std::vector<Eigen::Vector2d>& points, const core::Pose2& pose,
+                                              InventecInputs& in) const {
+  const double error = core::wrapAngle(wiggle_target_ - pose.yaw);
+  const core::Twist command = turnToward(error);
+  in.wiggle_done = std::abs(error) <= degrees(config_.align_tolerance_deg) || alignmentAborted(points, pose, command);
+  return command;
+}
+
+core::Twist InventecController::forwardCommand(const core::LaserScan& scan, const std::vector<Eigen::Vector2d>& points,
+                                               double time, InventecInputs& in) const {
+  const double turn_sign = in.heading_error >= 0.0 ? 1.0 : -1.0;
+  core::Twist command{config_.forward_speed, turn_sign * config_.forward_turn_rate};
+  const bool unsafe = config_.safety.type != SafetyCheck::None && frontUnsafe(points, scan, command);
+  if (config_.codeVariant()) {
+    if (unsafe) command.linear = -config_.forward_speed;  // the code backs off with the same turn
+  } else {
+    in.forward_unsafe = unsafe;
+  }
+  in.forward_done = time - forward_started_ >= config_.forward_duration - 1e-9;
+  return command;
+}
+
 core::Twist InventecController::act(const Observation& obs) {
   const core::Pose2 pose = obs.odom_pose;
   const core::LaserScan& scan = *obs.scan;
   nav_.update(obs.time, scan, info_.lidar.sensorPose(pose), pose);
   const std::vector<Eigen::Vector2d> points = scanPoints(scan, info_.lidar);
-  const bool code = config_.codeVariant();
-  const bool checks = config_.safety.type != SafetyCheck::None;
-
+  const PathCues cues = pathCues(pose);
   InventecInputs in;
   in.has_path = nav_.hasPath();
-  Eigen::Vector2d goal_direction = Eigen::Vector2d::UnitX();
-  if (in.has_path) {
-    const nav::Path& path = nav_.path();
-    if (code) {
-      // The code planned at 20 Hz from the robot's pose, so its path began at the robot; ours is
-      // replanned less often, so the part already driven is cut off at the closest point.
-      const nav::Path ahead(path.begin() + static_cast<std::ptrdiff_t>(nav::closestIndex(path, pose.position())),
-                            path.end());
-      const PathCues cues =
-          codePathCues(nav::pathInRobotFrame(ahead, pose), config_.local_goal_distance, config_.path_direction_distance);
-      in.heading_error = cues.path_direction;
-      goal_direction = cues.goal_direction;
-    } else {
-      in.heading_error = nav::headingError(path, pose, config_.path_direction_distance);
-      goal_direction = localGoalDirection(path, pose, config_.local_goal_distance);
-    }
-  }
-  const double turn_sign = in.heading_error >= 0.0 ? 1.0 : -1.0;
+  in.heading_error = cues.path_direction;
 
   // The checks of the current state, then at most one transition per tick.
   core::Twist command;
   switch (state_) {
-    case InventecState::Initial:
-      break;
-    case InventecState::Lflh: {
-      const core::Twist raw = policy_->act(scan, goal_direction);
-      if (code) {
-        // The code checks the network's command and shapes the speed when publishing.
-        in.command_unsafe = commandUnsafe(points, scan, raw);
-        command = shape(raw, scan);
-      } else {
-        command = {std::clamp(raw.linear, -config_.max_speed, config_.max_speed),
-                   std::clamp(raw.angular, -config_.max_turn_rate, config_.max_turn_rate)};
-        in.command_unsafe = commandUnsafe(points, scan, command);
-      }
-      break;
-    }
-    case InventecState::HardTurn:
-      command = turnToward(in.heading_error);
-      in.rotation_unsafe = checks && (rotationUnsafe(points, command) ||
-                                      (code && config_.safety.ring &&
-                                       ringHit(scan, config_.safety.ring_front, config_.safety.ring_edge)) ||
-                                      rotateCheckFires(points, pose, command));
-      break;
-    case InventecState::BackTrack: {
-      if (!aligned_) {
-        // Turn the rear toward the target; an unsafe turn ends the alignment early.
-        const Eigen::Vector2d away = pose.position() - backtrack_target_;
-        const double error = core::wrapAngle(std::atan2(away.y(), away.x()) - pose.yaw);
-        command = turnToward(error);
-        if (std::abs(error) <= degrees(config_.align_tolerance_deg) || alignmentAborted(points, pose, command)) {
-          aligned_ = true;
-          reverse_start_ = pose.position();
-          reversed_ = 0.0;
-          reverse_ticks_ = 0;
-        }
-      }
-      if (aligned_) {
-        const double reversed = (pose.position() - reverse_start_).norm();
-        // Done when far enough (code: ~0.1 m; paper: at or past the breadcrumb), or when the
-        // distance stopped growing (the code's loop condition; a stall cannot last).
-        const bool far_enough = config_.backtrack_reverse > 0.0
-                                    ? reversed > config_.backtrack_reverse
-                                    : (pose.position() - backtrack_target_).norm() < 0.05 ||
-                                          pose.inverseTransform(backtrack_target_).x() >= 0.0;
-        const bool stalled = reverse_ticks_ >= 2 && reversed <= reversed_ + 1e-4;
-        in.backtrack_done = far_enough || stalled;
-        in.rear_blocked = config_.backtrack_roi && rearRegionBlocked(nav_.localCostmap(), pose,
-                                                                     rearStrip(footprint_, config_.roi_depth),
-                                                                     config_.rear_weight);
-        reversed_ = reversed;
-        ++reverse_ticks_;
-        command = {-config_.backtrack_speed, 0.0};
-      }
-      break;
-    }
-    case InventecState::Wiggle: {
-      const double error = core::wrapAngle(wiggle_target_ - pose.yaw);
-      command = turnToward(error);
-      in.wiggle_done = std::abs(error) <= degrees(config_.align_tolerance_deg) || alignmentAborted(points, pose, command);
-      break;
-    }
-    case InventecState::Forward: {
-      command = {config_.forward_speed, turn_sign * config_.forward_turn_rate};
-      const bool unsafe = checks && frontUnsafe(points, scan, command);
-      if (code) {
-        if (unsafe) command.linear = -config_.forward_speed;  // the code backs off with the same turn
-      } else {
-        in.forward_unsafe = unsafe;
-      }
-      in.forward_done = obs.time - forward_started_ >= config_.forward_duration - 1e-9;
-      break;
-    }
+    case InventecState::Initial: break;
+    case InventecState::Lflh: command = lflhCommand(scan, points, cues.goal_direction, in); break;
+    case InventecState::HardTurn: command = hardTurnCommand(scan, points, pose, in); break;
+    case InventecState::BackTrack: command = backTrackCommand(points, pose, in); break;
+    case InventecState::Wiggle: command = wiggleCommand(points, pose, in); break;
+    case InventecState::Forward: command = forwardCommand(scan, points, obs.time, in); break;
   }
   const InventecState next = nextInventecState(state_, in, config_);
   if (next != state_) {

@@ -221,6 +221,18 @@ class InventecController : public Controller {
   bool alignmentAborted(const std::vector<Eigen::Vector2d>& points, const core::Pose2& pose,
                         const core::Twist& turn) const;
   core::Twist shape(const core::Twist& raw, const core::LaserScan& scan) const;
+  /// The path direction and the local goal the state machine and the policy steer by.
+  PathCues pathCues(const core::Pose2& pose) const;
+  // Each state's command for this tick; each fills the inputs its transitions read.
+  core::Twist lflhCommand(const core::LaserScan& scan, const std::vector<Eigen::Vector2d>& points,
+                          const Eigen::Vector2d& goal_direction, InventecInputs& in) const;
+  core::Twist hardTurnCommand(const core::LaserScan& scan, const std::vector<Eigen::Vector2d>& points,
+                              const core::Pose2& pose, InventecInputs& in) const;
+  core::Twist backTrackCommand(const std::vector<Eigen::Vector2d>& points, const core::Pose2& pose, InventecInputs& in);
+  core::Twist wiggleCommand(const std::vector<Eigen::Vector2d>& points, const core::Pose2& pose,
+                            InventecInputs& in) const;
+  core::Twist forwardCommand(const core::LaserScan& scan, const std::vector<Eigen::Vector2d>& points, double time,
+                             InventecInputs& in) const;
   void enter(InventecState state, const core::Pose2& pose, double time, double path_direction);
   core::Twist turnToward(double error) const;
 
