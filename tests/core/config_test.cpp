@@ -64,12 +64,12 @@ TEST(Config, UnknownKeysNameTheirFullPath) {
 }
 
 TEST(Config, WrongTypesNameTheField) {
-  EXPECT_THAT(errorOf("beams: many"), HasSubstr("test.yaml: beams: expected an integer"));
+  EXPECT_THAT(errorOf("beams: many"), HasSubstr("test.yaml: beams: expected an integer, got 'many'"));
   EXPECT_THAT(errorOf("beams: 3.5"), HasSubstr("beams: expected an integer"));
   EXPECT_THAT(errorOf("safety: {enabled: yes}"), HasSubstr("safety.enabled: expected true or false"));
   EXPECT_THAT(errorOf("safety: 3"), HasSubstr("safety: expected a map"));
   EXPECT_THAT(errorOf("speeds: [1, x]"), HasSubstr("speeds: expected a list of numbers"));
-  EXPECT_THAT(errorOf("safety: {offset: .nan}"), HasSubstr("safety.offset: expected a number"));
+  EXPECT_THAT(errorOf("safety: {offset: .nan}"), HasSubstr("safety.offset: expected a finite number"));
 }
 
 TEST(Config, AStringListMustHoldOnlyStrings) {
@@ -84,7 +84,7 @@ TEST(Config, DuplicateKeysAreErrors) {
 TEST(Config, ReportsEveryErrorAtOnce) {
   const std::string message = errorOf("beams: x\nsafety: {offset: y, colour: red}");
   EXPECT_THAT(message, HasSubstr("beams: expected an integer"));
-  EXPECT_THAT(message, HasSubstr("safety.offset: expected a number"));
+  EXPECT_THAT(message, HasSubstr("safety.offset: expected a finite number"));
   EXPECT_THAT(message, HasSubstr("safety.colour: unknown key"));
 }
 
@@ -164,6 +164,64 @@ TEST(Config, AnEnumIsReadAndWrittenByName) {
     EXPECT_THAT(std::string(e.what()), HasSubstr("test.yaml: shape"));
     EXPECT_THAT(std::string(e.what()), HasSubstr("expected one of box, disc"));
   }
+}
+
+}  // namespace
+}  // namespace barn::core
+
+namespace barn::core {
+namespace {
+
+// A pair written [a, b]: a field type that reads itself.
+struct Pair {
+  int a = 0, b = 0;
+};
+void readConfigValue(const ConfigNode& node, Pair& pair, Errors& errors) {
+  if (node.size() != 2 || !node.element(0).read(pair.a) || !node.element(1).read(pair.b))
+    errors.add(node.where(), "expected [a, b]");
+}
+
+struct WithPair {
+  Pair pair;
+  int count = 3;
+  template <class V> void visit(V& v) { v("pair", pair); v("count", count); }
+};
+
+std::string requiredErrorOf(const std::string& yaml) {
+  Errors errors;
+  WithPair config;
+  ConfigReader reader(ConfigNode::parseString(yaml, "test.yaml"), errors, MissingKeys::Error);
+  config.visit(reader);
+  reader.finish();
+  std::string all;
+  for (const auto& m : errors.messages()) all += m + "\n";
+  return all;
+}
+
+TEST(Config, ATypeThatReadsItselfGetsItsNode) {
+  const WithPair read = readConfig<WithPair>(ConfigNode::parseString("pair: [4, 5]", "test.yaml"));
+  EXPECT_EQ(read.pair.a, 4);
+  EXPECT_EQ(read.pair.b, 5);
+  try {
+    readConfig<WithPair>(ConfigNode::parseString("pair: [4, x]", "test.yaml"));
+    FAIL() << "a malformed pair must be an error";
+  } catch (const InputError& e) {
+    EXPECT_THAT(std::string(e.what()), HasSubstr("test.yaml: pair: expected [a, b]"));
+  }
+}
+
+TEST(Config, WithMissingKeysAnErrorEveryFieldIsRequired) {
+  EXPECT_EQ(requiredErrorOf("pair: [1, 2]\ncount: 4"), "");
+  EXPECT_EQ(requiredErrorOf("pair: [1, 2]"), "test.yaml: count: missing\n");
+}
+
+TEST(Config, SequenceSizeCountsElements) {
+  const ConfigNode root = ConfigNode::parseString("list: [[1, 2], [3]]\nmap: {a: 1}", "test.yaml");
+  EXPECT_TRUE(root.child("list").isSequence());
+  EXPECT_EQ(root.child("list").size(), 2u);
+  EXPECT_EQ(root.child("list").element(1).size(), 1u);
+  EXPECT_FALSE(root.child("map").isSequence());
+  EXPECT_EQ(root.child("map").size(), 0u);  // not a sequence
 }
 
 }  // namespace

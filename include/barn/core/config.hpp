@@ -14,6 +14,11 @@
 /// effective config in a run's manifest). yaml-cpp stays inside config.cpp: ConfigNode is an
 /// opaque handle.
 ///
+/// A field of a type that is neither a scalar nor a struct with a field list (a grid cell
+/// written `[row, col]`, say) reads itself: the reader calls
+/// `readConfigValue(const ConfigNode&, T&, Errors&)`, found by argument-dependent lookup,
+/// which records its problems with `node.where()`.
+///
 /// An enum field is read and written by name. Its namespace declares the names, in the
 /// enum's order (the first for value 0, ...):
 ///
@@ -73,6 +78,9 @@ class ConfigNode {
 
   bool isNull() const;  // absent or empty document
   bool isMap() const;
+  bool isSequence() const;
+  /// Elements of a sequence (0 if this is not one).
+  std::size_t size() const;
   bool has(std::string_view key) const;
   ConfigNode child(std::string_view key) const;
   /// Element `index` of a sequence (a null node past the end or if this is not a sequence).
@@ -109,22 +117,35 @@ class ConfigNode {
   std::string source_;
 };
 
+/// A type that reads itself from a node (see the header comment).
+template <class T>
+concept SelfReading = requires(const ConfigNode& node, T& value, Errors& errors) { readConfigValue(node, value, errors); };
+
+/// What a missing key means: configs keep the struct default; data files (a world file)
+/// must give every field.
+enum class MissingKeys { KeepDefault, Error };
+
 /// Reads a struct's fields from a map node (see the header comment). Errors are collected.
 class ConfigReader {
  public:
-  ConfigReader(const ConfigNode& node, Errors& errors);
+  ConfigReader(const ConfigNode& node, Errors& errors, MissingKeys missing = MissingKeys::KeepDefault);
 
   template <class T>
   void operator()(const char* key, T& value) {
     seen_.emplace_back(key);
-    if (!node_.has(key)) return;  // missing keys keep the default
+    if (!node_.has(key)) {
+      if (missing_ == MissingKeys::Error) errors_.add(node_.where(key), "missing");
+      return;
+    }
     const ConfigNode child = node_.child(key);
-    if constexpr (requires { value.visit(*this); }) {
+    if constexpr (SelfReading<T>) {
+      readConfigValue(child, value, errors_);
+    } else if constexpr (requires { value.visit(*this); }) {
       if (!child.isMap()) {
         errors_.add(child.where(), "expected a map");
         return;
       }
-      ConfigReader nested(child, errors_);
+      ConfigReader nested(child, errors_, missing_);
       value.visit(nested);
       nested.finish();
     } else if constexpr (NamedEnum<T>) {
@@ -135,7 +156,7 @@ class ConfigReader {
         errors_.add(child.where(), "expected one of " + names);
       }
     } else {
-      if (!child.read(value)) errors_.add(child.where(), std::string("expected ") + typeName(value));
+      if (!child.read(value)) errors_.add(child.where(), std::string("expected ") + typeName(value) + given(child));
     }
   }
 
@@ -143,7 +164,11 @@ class ConfigReader {
   void finish();
 
  private:
-  static const char* typeName(const double&) { return "a number"; }
+  // Not-a-number and infinities are rejected too, so say so.
+  // ", got 'text'" for a scalar node, so the message shows what was written; "" otherwise.
+  static std::string given(const ConfigNode& node);
+
+  static const char* typeName(const double&) { return "a finite number"; }
   static const char* typeName(const int&) { return "an integer"; }
   static const char* typeName(const std::uint64_t&) { return "an unsigned integer"; }
   static const char* typeName(const bool&) { return "true or false"; }
@@ -153,6 +178,7 @@ class ConfigReader {
 
   ConfigNode node_;
   Errors& errors_;
+  MissingKeys missing_;
   std::vector<std::string> seen_;
 };
 
