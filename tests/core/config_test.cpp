@@ -226,3 +226,46 @@ TEST(Config, SequenceSizeCountsElements) {
 
 }  // namespace
 }  // namespace barn::core
+
+namespace barn::core {
+namespace {
+
+struct Item {
+  std::string name;
+  std::vector<double> sizes;
+  template <class V> void visit(V& v) { v("name", name); v("sizes", sizes); }
+};
+
+struct WithList {
+  std::vector<Item> items;
+  int count = 0;
+  template <class V> void visit(V& v) { v("items", items); v("count", count); }
+};
+
+TEST(Config, AListOfStructsIsWrittenAsABlockListAndReadBack) {
+  WithList list;
+  list.items = {{"a", {1.0, 2.5}}, {"b", {}}};
+  list.count = 2;
+  const std::string text = writeConfig(list);
+  EXPECT_EQ(text, "items:\n  - name: a\n    sizes: [1, 2.5]\n  - name: b\n    sizes: []\ncount: 2\n");
+  const WithList back = readConfig<WithList>(ConfigNode::parseString(text, "list.yaml"));
+  ASSERT_EQ(back.items.size(), 2u);
+  EXPECT_EQ(back.items[0].name, "a");
+  EXPECT_EQ(back.items[0].sizes, (std::vector<double>{1.0, 2.5}));
+  EXPECT_EQ(back.items[1].name, "b");
+  EXPECT_EQ(writeConfig(back), text);
+  EXPECT_EQ(writeConfig(WithList{}), "items: []\ncount: 0\n");
+}
+
+TEST(Config, AMalformedListElementIsAnErrorNamingIt) {
+  try {
+    readConfig<WithList>(ConfigNode::parseString("items:\n  - name: a\n  - 4\n  - nmae: c\n", "list.yaml"));
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_THAT(std::string(e.what()), HasSubstr("list.yaml: items[1]: expected a map"));
+    EXPECT_THAT(std::string(e.what()), HasSubstr("list.yaml: items[2].nmae: unknown key"));
+  }
+}
+
+}  // namespace
+}  // namespace barn::core

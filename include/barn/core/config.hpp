@@ -32,6 +32,7 @@
 #include <string>
 #include <string_view>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "barn/core/errors.hpp"
@@ -148,6 +149,8 @@ class ConfigReader {
       ConfigReader nested(child, errors_, missing_);
       value.visit(nested);
       nested.finish();
+    } else if constexpr (requires(ConfigReader& r) { value.front().visit(r); }) {
+      readList(child, value);
     } else if constexpr (NamedEnum<T>) {
       std::string name;
       if (!child.read(name) || !enumFromName(name, value)) {
@@ -164,6 +167,27 @@ class ConfigReader {
   void finish();
 
  private:
+  // A list of structs with field lists, each element a map ("parameters[1].key").
+  template <class T>
+  void readList(const ConfigNode& list, std::vector<T>& values) {
+    if (!list.isSequence()) {
+      errors_.add(list.where(), "expected a list of maps");
+      return;
+    }
+    std::vector<T> read(list.size());
+    for (std::size_t i = 0; i < read.size(); ++i) {
+      const ConfigNode element = list.element(i);
+      if (!element.isMap()) {
+        errors_.add(element.where(), "expected a map");
+        continue;
+      }
+      ConfigReader nested(element, errors_, missing_);
+      read[i].visit(nested);
+      nested.finish();
+    }
+    values = std::move(read);
+  }
+
   // Not-a-number and infinities are rejected too, so say so.
   // ", got 'text'" for a scalar node, so the message shows what was written; "" otherwise.
   static std::string given(const ConfigNode& node);
@@ -194,6 +218,8 @@ class ConfigWriter {
       ConfigWriter nested(indent_ + 2);
       const_cast<T&>(value).visit(nested);
       text_ += nested.text_;
+    } else if constexpr (requires(ConfigWriter& w) { const_cast<T&>(value).front().visit(w); }) {
+      writeList(key, value);
     } else if constexpr (NamedEnum<T>) {
       line(key, scalar(std::string(enumName(value))));
     } else {
@@ -204,6 +230,18 @@ class ConfigWriter {
   const std::string& text() const { return text_; }
 
  private:
+  // A block list of maps, each element's first field after "- ".
+  template <class T>
+  void writeList(const char* key, const std::vector<T>& values) {
+    line(key, values.empty() ? "[]" : "");
+    for (const T& element : values) {
+      ConfigWriter nested(indent_ + 4);
+      const_cast<T&>(element).visit(nested);
+      if (nested.text_.empty()) nested.text_ = std::string(static_cast<std::size_t>(indent_ + 4), ' ') + "{}\n";
+      text_ += nested.text_.replace(static_cast<std::size_t>(indent_ + 2), 2, "- ");
+    }
+  }
+
   void line(const char* key, const std::string& value);
   static std::string scalar(double value);
   static std::string scalar(int value);
