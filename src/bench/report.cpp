@@ -6,8 +6,8 @@
 #include <map>
 #include <algorithm>
 #include <set>
-#include <sstream>
 
+#include "barn/core/json_writer.hpp"
 #include "barn/core/text_io.hpp"
 
 namespace barn::bench {
@@ -114,41 +114,43 @@ std::vector<BucketSummary> difficultyBreakdown(const std::vector<EpisodeResult>&
 
 namespace {
 
-void writeSummaryFields(std::ostringstream& out, const RunSummary& s) {
-  const auto number = [](double v) { return std::isfinite(v) ? core::formatDouble(v) : std::string("null"); };
-  out << "\"worlds\": " << s.worlds << ", \"episodes\": " << s.episodes << ", \"score\": " << number(s.score)
-      << ", \"success_rate\": " << number(s.success_rate) << ", \"collision_rate\": " << number(s.collision_rate)
-      << ", \"timeout_rate\": " << number(s.timeout_rate) << ", \"error_rate\": " << number(s.error_rate)
-      << ", \"avg_success_time_s\": " << number(s.avg_success_time) << ", \"sim_time_s\": " << number(s.sim_time);
+// The members of a summary, inside an object the caller opened.
+void writeSummaryFields(core::JsonWriter& json, const RunSummary& s) {
+  json.key("worlds").value(s.worlds).key("episodes").value(s.episodes).key("score").value(s.score);
+  json.key("success_rate").value(s.success_rate).key("collision_rate").value(s.collision_rate);
+  json.key("timeout_rate").value(s.timeout_rate).key("error_rate").value(s.error_rate);
+  json.key("avg_success_time_s").value(s.avg_success_time).key("sim_time_s").value(s.sim_time);
+}
+
+void writeWorldStats(core::JsonWriter& json, const WorldStats& w) {
+  const double n = w.trials;
+  json.beginObject().key("world").value(w.world_id).key("trials").value(w.trials).key("score").value(w.mean_score);
+  json.key("score_ci95").beginArray().value(w.score_ci_low).value(w.score_ci_high).endArray();
+  json.key("success_rate").value(w.success_rate).key("collision_rate").value(w.collisions / n);
+  json.key("timeout_rate").value(w.timeouts / n).key("avg_success_time_s").value(w.mean_success_time).endObject();
 }
 
 }  // namespace
 
 std::string summaryJson(const std::string& world_set, const RunSummary& summary, const std::vector<WorldStats>& per_world,
                         const std::vector<BucketSummary>& breakdown) {
-  const auto number = [](double v) { return std::isfinite(v) ? core::formatDouble(v) : std::string("null"); };
-  std::ostringstream out;
-  out << "{\n  \"world_set\": \"" << world_set << "\",\n  \"summary\": {";
-  writeSummaryFields(out, summary);
-  out << "},\n  \"per_world\": [";
-  for (std::size_t i = 0; i < per_world.size(); ++i) {
-    const WorldStats& w = per_world[i];
-    const double n = w.trials;
-    out << (i ? ",\n    " : "\n    ") << "{\"world\": " << w.world_id << ", \"trials\": " << w.trials
-        << ", \"score\": " << number(w.mean_score) << ", \"score_ci95\": [" << number(w.score_ci_low) << ", "
-        << number(w.score_ci_high) << "], \"success_rate\": " << number(w.success_rate)
-        << ", \"collision_rate\": " << number(w.collisions / n) << ", \"timeout_rate\": " << number(w.timeouts / n)
-        << ", \"avg_success_time_s\": " << number(w.mean_success_time) << "}";
+  using Layout = core::JsonWriter::Layout;
+  core::JsonWriter json;
+  json.beginObject(Layout::OneItemPerLine).key("world_set").value(world_set);
+  json.key("summary").beginObject();
+  writeSummaryFields(json, summary);
+  json.endObject();
+  json.key("per_world").beginArray(Layout::OneItemPerLine);
+  for (const WorldStats& w : per_world) writeWorldStats(json, w);
+  json.endArray();
+  json.key("breakdown").beginArray(Layout::OneItemPerLine);
+  for (const BucketSummary& bucket : breakdown) {
+    json.beginObject().key("group").value(bucket.group).key("bucket").value(bucket.bucket);
+    writeSummaryFields(json, bucket.summary);
+    json.endObject();
   }
-  out << "\n  ],\n  \"breakdown\": [";
-  for (std::size_t i = 0; i < breakdown.size(); ++i) {
-    out << (i ? ",\n    " : "\n    ") << "{\"group\": \"" << breakdown[i].group << "\", \"bucket\": \""
-        << breakdown[i].bucket << "\", ";
-    writeSummaryFields(out, breakdown[i].summary);
-    out << "}";
-  }
-  out << "\n  ]\n}\n";
-  return out.str();
+  json.endArray().endObject();
+  return json.str() + "\n";
 }
 
 std::vector<WorldStats> perWorldStats(const std::vector<EpisodeResult>& results) {

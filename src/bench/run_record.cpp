@@ -4,7 +4,8 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
-#include <sstream>
+#include <type_traits>
+#include <utility>
 
 #include "barn/bench/batch.hpp"
 #include "barn/bench/report.hpp"
@@ -88,122 +89,166 @@ std::string quoted(const std::string& text) {
   return out + "\"";
 }
 
-// The manifest's fields, read through the strict config reader.
-struct ManifestFields {
-  std::string controller, controller_config, episode_config, worlds_spec, worlds_folder, worlds_digest;
-  std::string source, source_digest;
-  std::vector<double> world_ids;
-  int trials = 0;
-  std::uint64_t seed = 0;
-  int shard_index = 0, shard_count = 0;
-  int episodes_total = 0, episodes_done = 0;
-  bool complete = false;
-  std::string barnbench_version, git_commit, host, started;
-  int threads = 0;
-  double wall_time_s = 0.0, sim_time_s = 0.0;
-  template <class V> void visit(V& v) {
-    v("controller", controller); v("controller_config", controller_config); v("episode_config", episode_config);
-    v("worlds_spec", worlds_spec); v("worlds_folder", worlds_folder); v("world_ids", world_ids);
-    v("worlds_digest", worlds_digest); v("trials", trials); v("seed", seed); v("source", source);
-    v("source_digest", source_digest); v("shard_index", shard_index);
-    v("shard_count", shard_count); v("episodes_total", episodes_total); v("episodes_done", episodes_done);
-    v("complete", complete); v("barnbench_version", barnbench_version); v("git_commit", git_commit); v("host", host);
-    v("threads", threads); v("started", started); v("wall_time_s", wall_time_s); v("sim_time_s", sim_time_s);
+// ---------------------------------------------------------------------------------------------
+// The manifest's fields, written, read and compared through RunManifest::visit.
+
+using namespace manifest_field;
+
+// A field's value as the manifest writes it (a YAML scalar or flow list).
+std::string valueText(const std::string& value) { return quoted(value); }
+std::string valueText(bool value) { return value ? "true" : "false"; }
+std::string valueText(double value) { return core::formatDouble(value); }
+template <class Integer>
+  requires std::is_integral_v<Integer>
+std::string valueText(Integer value) {
+  return std::to_string(value);
+}
+std::string valueText(const std::vector<int>& values) {
+  std::string text = "[";
+  for (std::size_t i = 0; i < values.size(); ++i) text += (i ? ", " : "") + std::to_string(values[i]);
+  return text + "]";
+}
+
+bool omitted(unsigned flags, bool imported) {
+  return ((flags & kRunOnly) && imported) || ((flags & kImportOnly) && !imported);
+}
+
+class ManifestWriter {
+ public:
+  ManifestWriter(const std::filesystem::path& record_dir, bool imported) : record_dir_(record_dir), imported_(imported) {}
+
+  template <class T>
+  void operator()(const char* key, const T& value, unsigned flags) {
+    if (omitted(flags, imported_)) return;
+    if constexpr (std::is_same_v<T, double>) {
+      if (!std::isfinite(value)) return;  // unknown: left out, reads back as the default
+    }
+    if constexpr (std::is_same_v<T, std::string>) {
+      text_ += std::string(key) + ": " + stringText(value, flags);
+    } else {
+      text_ += std::string(key) + ": " + valueText(value) + "\n";
+    }
+  }
+
+  const std::string& text() const { return text_; }
+
+ private:
+  std::string stringText(const std::string& value, unsigned flags) const {
+    const auto relative = [&](const std::string& path) { return relativeTo(path, record_dir_); };
+    const std::string text = (flags & kPathValues) ? convertPathValues(value, relative)
+                             : (flags & kPath)     ? relative(value)
+                                                   : value;
+    return (flags & kYamlText) ? block(text) : quoted(text) + "\n";
+  }
+
+  std::filesystem::path record_dir_;
+  bool imported_;
+  std::string text_ = "# barnbench run record; `barn run --resume` and `barn merge` read it back.\n";
+};
+
+// Reads the fields through the strict config reader (unknown keys are errors, missing ones keep
+// their defaults) and makes relative paths absolute again.
+class ManifestReader {
+ public:
+  ManifestReader(const core::ConfigNode& root, core::Errors& errors, const std::filesystem::path& record_dir)
+      : root_(root), errors_(errors), reader_(root, errors), record_dir_(record_dir) {}
+
+  template <class T>
+  void operator()(const char* key, T& value, unsigned flags) {
+    if constexpr (std::is_same_v<T, std::vector<int>>) {
+      readWorldIds(key, value);
+    } else if constexpr (std::is_same_v<T, std::size_t>) {
+      std::uint64_t count = value;  // the config reader's unsigned type
+      reader_(key, count);
+      value = static_cast<std::size_t>(count);
+    } else {
+      reader_(key, value);
+    }
+    if constexpr (std::is_same_v<T, std::string>) {
+      const auto absolute = [&](const std::string& text) { return absoluteFrom(text, record_dir_); };
+      if (flags & kPathValues) value = convertPathValues(value, absolute);
+      if (flags & kPath) value = absolute(value);
+    }
+  }
+
+  void finish() { reader_.finish(); }
+
+ private:
+  // Read as numbers, so an id like 1e300 is caught here: converting it to int would be
+  // undefined behaviour. A record without worlds is an error too (unless the list is already
+  // reported as malformed).
+  void readWorldIds(const char* key, std::vector<int>& ids) {
+    std::vector<double> numbers;
+    const std::size_t errors_before = errors_.messages().size();
+    reader_(key, numbers);
+    if (numbers.empty() && errors_.messages().size() == errors_before) errors_.add(root_.where(key), "missing");
+    for (const double id : numbers) {
+      if (std::isfinite(id) && id >= 0.0 && id <= 1e9 && id == std::floor(id))
+        ids.push_back(static_cast<int>(id));
+      else
+        errors_.add(root_.where(key), core::formatDouble(id) + " is not a world id (a whole number from 0)");
+    }
+  }
+
+  core::ConfigNode root_;
+  core::Errors& errors_;
+  core::ConfigReader reader_;
+  std::filesystem::path record_dir_;
+};
+
+// The experiment fields as (key, written value), in list order.
+struct ExperimentFields {
+  std::vector<std::pair<std::string, std::string>> fields;
+
+  template <class T>
+  void operator()(const char* key, const T& value, unsigned flags) {
+    if (flags & kExperiment) fields.emplace_back(key, valueText(value));
   }
 };
+
+ExperimentFields experimentFields(const RunManifest& m) {
+  ExperimentFields fields;
+  const_cast<RunManifest&>(m).visit(fields);  // visit only reads through this visitor
+  return fields;
+}
+
+void validate(const RunManifest& m, const core::ConfigNode& root, core::Errors& errors) {
+  errors.check(!m.controller.empty(), root.where("controller"), "missing");
+  errors.check(m.trials >= 1, root.where("trials"), "must be >= 1");
+  errors.check(m.shard_count >= 0 && m.shard_index >= 0 && m.shard_index <= m.shard_count, root.where("shard_index"),
+               "must be within 1..shard_count (or both 0)");
+}
 
 }  // namespace
 
 std::string formatManifest(const RunManifest& m, const std::filesystem::path& record_dir) {
-  const auto relative = [&](const std::string& path) { return relativeTo(path, record_dir); };
-  std::ostringstream out;
-  out << "# barnbench run record; `barn run --resume` and `barn merge` read it back.\n";
-  out << "controller: " << quoted(m.controller) << "\n";
-  const bool imported = !m.source.empty();
-  if (!imported) out << "controller_config: " << block(convertPathValues(m.controller_config, relative));
-  out << "episode_config: " << block(m.episode_config);
-  out << "worlds_spec: " << quoted(m.worlds_spec) << "\n";
-  out << "worlds_folder: " << quoted(relative(m.worlds_folder)) << "\n";
-  out << "world_ids: [";
-  for (std::size_t i = 0; i < m.world_ids.size(); ++i) out << (i ? ", " : "") << m.world_ids[i];
-  out << "]\n";
-  out << "worlds_digest: " << quoted(m.worlds_digest) << "\n";
-  out << "trials: " << m.trials << "\n";
-  if (imported) {
-    out << "source: " << quoted(m.source) << "\n";
-    out << "source_digest: " << quoted(m.source_digest) << "\n";
-  } else {
-    out << "seed: " << m.seed << "\n";
-  }
-  out << "shard_index: " << m.shard_index << "\n";
-  out << "shard_count: " << m.shard_count << "\n";
-  out << "episodes_total: " << m.episodes_total << "\n";
-  out << "episodes_done: " << m.episodes_done << "\n";
-  out << "complete: " << (m.complete ? "true" : "false") << "\n";
-  out << "barnbench_version: " << quoted(m.barnbench_version) << "\n";
-  out << "git_commit: " << quoted(m.git_commit) << "\n";
-  out << "host: " << quoted(m.host) << "\n";
-  out << "threads: " << m.threads << "\n";
-  out << "started: " << quoted(m.started) << "\n";
-  out << "wall_time_s: " << core::formatDouble(m.wall_time_s) << "\n";
-  if (std::isfinite(m.sim_time_s)) out << "sim_time_s: " << core::formatDouble(m.sim_time_s) << "\n";
-  return out.str();
+  ManifestWriter writer(record_dir, /*imported=*/!m.source.empty());
+  const_cast<RunManifest&>(m).visit(writer);  // visit only reads through this visitor
+  return writer.text();
 }
 
 RunManifest readManifest(const std::filesystem::path& path) {
-  const ManifestFields f = core::readConfig<ManifestFields>(core::ConfigNode::parseFile(path));
-  core::Errors errors(path.string());
-  errors.check(!f.controller.empty(), "controller", "missing");
-  errors.check(f.trials >= 1, "trials", "must be >= 1");
-  errors.check(!f.world_ids.empty(), "world_ids", "missing");
-  // Read as numbers, so an id like 1e300 must be caught here: converting it to int would be
-  // undefined behaviour.
-  for (const double id : f.world_ids)
-    errors.check(std::isfinite(id) && id >= 0.0 && id <= 1e9 && id == std::floor(id), "world_ids",
-                 core::formatDouble(id) + " is not a world id (a whole number from 0)");
-  errors.check(f.episodes_total >= 0 && f.episodes_done >= 0, "episodes_done", "must be >= 0");
-  errors.check(f.shard_count >= 0 && f.shard_index >= 0 && f.shard_index <= f.shard_count, "shard_index",
-               "must be within 1..shard_count (or both 0)");
-  errors.throwIfAny();
+  const core::ConfigNode root = core::ConfigNode::parseFile(path);
   const std::filesystem::path record_dir = path.parent_path().empty() ? "." : path.parent_path();
-  const auto absolute = [&](const std::string& text) { return absoluteFrom(text, record_dir); };
   RunManifest m;
-  m.controller = f.controller;
-  m.controller_config = convertPathValues(f.controller_config, absolute);
-  m.episode_config = f.episode_config;
-  m.worlds_spec = f.worlds_spec;
-  m.worlds_folder = absolute(f.worlds_folder);
-  for (double id : f.world_ids) m.world_ids.push_back(static_cast<int>(id));
-  m.worlds_digest = f.worlds_digest;
-  m.trials = f.trials;
-  m.seed = f.seed;
-  m.source = f.source;
-  m.source_digest = f.source_digest;
-  m.shard_index = f.shard_index;
-  m.shard_count = f.shard_count;
-  m.episodes_total = static_cast<std::size_t>(f.episodes_total);
-  m.episodes_done = static_cast<std::size_t>(f.episodes_done);
-  m.complete = f.complete;
-  m.barnbench_version = f.barnbench_version;
-  m.git_commit = f.git_commit;
-  m.host = f.host;
-  m.threads = f.threads;
-  m.started = f.started;
-  m.wall_time_s = f.wall_time_s;
-  m.sim_time_s = f.sim_time_s;
+  core::Errors errors;
+  if (!root.isNull() && !root.isMap()) {
+    errors.add(root.where(), "expected a map");
+  } else {
+    ManifestReader reader(root, errors, record_dir);
+    m.visit(reader);
+    reader.finish();
+    validate(m, root, errors);
+  }
+  errors.throwIfAny();
   return m;
 }
 
 std::string experimentDifference(const RunManifest& a, const RunManifest& b) {
-  if (a.controller != b.controller) return "controller";
-  if (a.controller_config != b.controller_config) return "controller_config";
-  if (a.episode_config != b.episode_config) return "episode_config";
-  if (a.world_ids != b.world_ids) return "world_ids";
-  if (a.worlds_digest != b.worlds_digest) return "worlds_digest";
-  if (a.trials != b.trials) return "trials";
-  if (a.seed != b.seed) return "seed";
-  if (a.source != b.source) return "source";
-  if (a.source_digest != b.source_digest) return "source_digest";
+  const ExperimentFields fields_a = experimentFields(a);
+  const ExperimentFields fields_b = experimentFields(b);
+  for (std::size_t i = 0; i < fields_a.fields.size(); ++i)
+    if (fields_a.fields[i].second != fields_b.fields[i].second) return fields_a.fields[i].first;
   return "";
 }
 

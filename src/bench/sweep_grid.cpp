@@ -74,38 +74,11 @@ core::ConfigNode cellConfig(const SweepGrid& grid, const core::ConfigNode& base,
 }
 
 std::string formatSweepFile(const SweepGrid& grid) {
-  std::string text = "# barnbench sweep: one run record per cell in the folders below\ncontroller: \"" + grid.controller +
-                     "\"\nparameters:\n";
-  for (const auto& p : grid.parameters) {
-    text += "  - key: \"" + p.key + "\"\n    values: [";
-    for (std::size_t i = 0; i < p.values.size(); ++i) text += (i ? ", \"" : "\"") + p.values[i] + "\"";
-    text += "]\n";
-  }
-  text += "cells:\n";
-  for (const auto& c : grid.cells) text += "  - \"" + c + "\"\n";
-  return text;
+  return "# barnbench sweep: one run record per cell in the folders below\n" + core::writeConfig(grid);
 }
 
 SweepGrid readSweepFile(const std::filesystem::path& sweep_dir) {
-  const core::ConfigNode sweep = core::ConfigNode::parseFile(sweep_dir / kSweepFile);
-  SweepGrid grid;
-  sweep.child("controller").read(grid.controller);
-  const core::ConfigNode list = sweep.child("parameters");
-  for (std::size_t i = 0;; ++i) {
-    const core::ConfigNode item = list.element(i);
-    if (item.isNull()) break;
-    SweepParameter p;
-    item.child("key").read(p.key);
-    item.child("values").read(p.values);
-    grid.parameters.push_back(p);
-  }
-  const core::ConfigNode cells = sweep.child("cells");
-  for (std::size_t i = 0;; ++i) {
-    std::string name;
-    if (!cells.element(i).read(name)) break;
-    grid.cells.push_back(name);
-  }
-  return grid;
+  return core::readConfig<SweepGrid>(core::ConfigNode::parseFile(sweep_dir / kSweepFile));
 }
 
 }  // namespace barn::bench

@@ -12,12 +12,12 @@
 #include "barn/bench/run_record.hpp"
 #include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
+#include "barn/core/json_writer.hpp"
 #include "barn/core/protocol.hpp"
 #include "barn/core/world_file.hpp"
 #include "barn/viz/image_format.hpp"
 #include "barn/viz/plots.hpp"
 #include "commands.hpp"
-#include "json_writer.hpp"
 
 namespace barn::cli {
 
@@ -74,7 +74,7 @@ std::vector<int> differentWorlds(const Record& a, const Record& b, const std::ve
 }
 
 void writeJson(const bench::Comparison& c, const Record& a, const Record& b, const std::vector<int>& different) {
-  JsonWriter j;
+  core::JsonWriter j;
   const auto side = [&](const Record& r) {
     j.beginObject().key("record").value(r.dir).key("controller").value(r.manifest.controller).key("protocol").value(r.protocol);
     if (!r.manifest.source.empty()) j.key("source").value(r.manifest.source);

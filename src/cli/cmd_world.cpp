@@ -2,11 +2,11 @@
 
 #include <cstdio>
 
+#include "barn/core/json_writer.hpp"
 #include "barn/core/protocol.hpp"
 #include "barn/core/world_file.hpp"
 #include "barn/viz/world_render.hpp"
 #include "commands.hpp"
-#include "json_writer.hpp"
 
 namespace barn::cli {
 
@@ -20,9 +20,9 @@ struct WorldOptions {
   double pixels_per_metre = viz::RenderOptions{}.pixels_per_metre;
 };
 
-void writeCell(JsonWriter& json, core::Cell cell) { json.beginArray().value(cell.row).value(cell.col).endArray(); }
+void writeCell(core::JsonWriter& json, core::Cell cell) { json.beginArray().value(cell.row).value(cell.col).endArray(); }
 
-void writeMetrics(JsonWriter& json, const core::DifficultyMetrics& metrics) {
+void writeMetrics(core::JsonWriter& json, const core::DifficultyMetrics& metrics) {
   json.beginObject();
   const auto values = metrics.toArray();
   for (std::size_t k = 0; k < values.size(); ++k) json.key(core::DifficultyMetrics::kNames[k]).value(values[k]);
@@ -30,7 +30,7 @@ void writeMetrics(JsonWriter& json, const core::DifficultyMetrics& metrics) {
 }
 
 std::string worldJson(const core::WorldSpec& w, const core::Protocol& protocol) {
-  JsonWriter json;
+  core::JsonWriter json;
   json.beginObject();
   json.key("id").value(w.id);
   json.key("source").value(core::toString(w.source));

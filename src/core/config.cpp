@@ -46,6 +46,8 @@ ConfigNode ConfigNode::parseFile(const std::filesystem::path& path) {
 
 bool ConfigNode::isNull() const { return !impl_->node || impl_->node.IsNull(); }
 bool ConfigNode::isMap() const { return impl_->node && impl_->node.IsMap(); }
+bool ConfigNode::isSequence() const { return impl_->node && impl_->node.IsSequence(); }
+std::size_t ConfigNode::size() const { return isSequence() ? impl_->node.size() : 0; }
 
 bool ConfigNode::has(std::string_view key) const {
   return isMap() && static_cast<bool>(impl_->node[std::string(key)]);
@@ -214,7 +216,13 @@ std::string ConfigNode::where(std::string_view key) const {
 
 // ---------------------------------------------------------------------------------------------
 
-ConfigReader::ConfigReader(const ConfigNode& node, Errors& errors) : node_(node), errors_(errors) {}
+ConfigReader::ConfigReader(const ConfigNode& node, Errors& errors, MissingKeys missing)
+    : node_(node), errors_(errors), missing_(missing) {}
+
+std::string ConfigReader::given(const ConfigNode& node) {
+  std::string text;
+  return node.read(text) ? ", got '" + text + "'" : std::string();
+}
 
 void ConfigReader::finish() {
   std::vector<std::string> keys;

@@ -1,14 +1,16 @@
 #include "barn/core/world_file.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
-#include <map>
-#include <set>
+#include <limits>
+#include <optional>
 #include <sstream>
+#include <string>
+#include <vector>
 
-#include <yaml-cpp/yaml.h>
-
+#include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/core/protocol.hpp"
 #include "barn/core/text_io.hpp"
@@ -30,49 +32,160 @@ std::string worldFileName(int id) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Writing
+// The file's fields
+//
+// WorldFileFields lists the fields once, in file order; WorldSpec holds what they describe. The
+// fields that are not plain scalars are small types that read themselves (readConfigValue,
+// called by the config reader) and are written by WorldFileWriter in the file's flow style.
 
 namespace {
 
-std::string cellText(Cell cell) { return "[" + std::to_string(cell.row) + ", " + std::to_string(cell.col) + "]"; }
+struct GeneratorFields {
+  double fill_pct = 0.0;  // [-]
+  int smooth_iter = 0;    // [-]
+  template <class V> void visit(V& v) { v("fill_pct", fill_pct); v("smooth_iter", smooth_iter); }
+};
 
-std::string metricsText(const DifficultyMetrics& m) {
-  std::string text = "{";
-  const auto values = m.toArray();
-  for (std::size_t k = 0; k < values.size(); ++k) {
-    if (k) text += ", ";
-    text += std::string(DifficultyMetrics::kNames[k]) + ": " + formatDouble(values[k]);
+struct SeedField {
+  std::optional<std::uint64_t> value;  // null for imported worlds
+};
+
+// Cells and the grid remember whether they read, so the cross-field checks run only on
+// fields that hold something.
+struct CellField {
+  Cell cell;
+  bool read = false;
+};
+
+struct PathField {
+  std::vector<Cell> cells;
+  bool read = false;
+};
+
+struct GridField {
+  Grid grid;
+  bool read = false;
+};
+
+struct MetricsField {
+  DifficultyMetrics metrics;
+};
+
+struct WorldFileFields {
+  std::string format;
+  int id = 0;
+  std::string source;
+  SeedField seed;
+  GeneratorFields generator;
+  CellField start_cell;
+  CellField goal_cell;
+  // Derived from the path under barn2023 and stored for readers of the file; NaN until read.
+  double path_length_m = std::numeric_limits<double>::quiet_NaN();   // [m]
+  double optimal_time_s = std::numeric_limits<double>::quiet_NaN();  // [s]
+  MetricsField metrics;
+  MetricsField norm_metrics;
+  PathField path;
+  GridField grid;
+
+  template <class V> void visit(V& v) {
+    v("format", format); v("id", id); v("source", source); v("seed", seed); v("generator", generator);
+    v("start_cell", start_cell); v("goal_cell", goal_cell); v("path_length_m", path_length_m);
+    v("optimal_time_s", optimal_time_s); v("metrics", metrics); v("norm_metrics", norm_metrics);
+    v("path", path); v("grid", grid);
   }
-  return text + "}";
+};
+
+WorldFileFields fieldsOf(const WorldSpec& world) {
+  const Protocol protocol = protocolPreset("barn2023");
+  WorldFileFields f;
+  f.format = kWorldFormat;
+  f.id = world.id;
+  f.source = std::string(toString(world.source));
+  f.seed.value = world.seed;
+  f.generator = {world.fill_pct, world.smooth_iter};
+  f.start_cell = {world.start_cell, true};
+  f.goal_cell = {world.goal_cell, true};
+  f.path_length_m = referencePathLength(world.path, protocol);
+  f.optimal_time_s = optimalTime(world.path, protocol);
+  f.metrics.metrics = world.metrics;
+  f.norm_metrics.metrics = world.norm_metrics;
+  f.path = {world.path, true};
+  f.grid = {world.grid, true};
+  return f;
 }
+
+// ---------------------------------------------------------------------------------------------
+// Writing
+
+// One "key: value" line per field; maps and cells in flow style, the grid as a block list of
+// quoted rows (one line per row, so a diff shows the changed row).
+class WorldFileWriter {
+ public:
+  template <class T>
+  void operator()(const char* key, const T& value) {
+    text_ += std::string(key) + ":" + valueText(value) + "\n";
+  }
+
+  const std::string& text() const { return text_; }
+
+ private:
+  // A flow map "{key: value, ...}" of a field list.
+  class FlowMap {
+   public:
+    template <class T>
+    void operator()(const char* key, const T& value) {
+      text_ += std::string(text_.size() > 1 ? ", " : "") + key + ":" + valueText(value);
+    }
+    std::string text() const { return text_ + "}"; }
+
+   private:
+    std::string text_ = "{";
+  };
+
+  static std::string valueText(const std::string& value) { return " " + value; }
+  static std::string valueText(int value) { return " " + std::to_string(value); }
+  static std::string valueText(double value) { return " " + formatDouble(value); }
+  static std::string valueText(const SeedField& seed) {
+    return " " + (seed.value ? std::to_string(*seed.value) : std::string("null"));
+  }
+  static std::string cellText(Cell cell) { return "[" + std::to_string(cell.row) + ", " + std::to_string(cell.col) + "]"; }
+  static std::string valueText(const CellField& cell) { return " " + cellText(cell.cell); }
+  static std::string valueText(const PathField& path) {
+    std::string text = " [";
+    for (std::size_t i = 0; i < path.cells.size(); ++i) text += (i ? ", " : "") + cellText(path.cells[i]);
+    return text + "]";
+  }
+  static std::string valueText(const GridField& grid) {
+    std::string text;
+    for (const std::string& row : grid.grid.toRowStrings()) text += "\n  - \"" + row + "\"";
+    return text;
+  }
+  static std::string valueText(const GeneratorFields& generator) {
+    FlowMap map;
+    const_cast<GeneratorFields&>(generator).visit(map);  // visit only reads through this visitor
+    return " " + map.text();
+  }
+  static std::string valueText(const MetricsField& field) {
+    FlowMap map;
+    const auto values = field.metrics.toArray();
+    for (std::size_t k = 0; k < values.size(); ++k) map(std::string(DifficultyMetrics::kNames[k]).c_str(), values[k]);
+    return " " + map.text();
+  }
+
+  std::string text_;
+};
 
 }  // namespace
 
 std::string formatWorldFile(const WorldSpec& world) {
-  const Protocol protocol = protocolPreset("barn2023");
-  std::ostringstream out;
-  out << "# barnbench world file. Grid row r runs along world x, column c along y (the driving\n"
+  WorldFileWriter writer;
+  fieldsOf(world).visit(writer);
+  return "# barnbench world file. Grid row r runs along world x, column c along y (the driving\n"
          "# direction); '1' = obstacle cell of 0.15 m, centred at (-4.425 + 0.15 r, 5.175 + 0.15 c) m.\n"
          "# path: A* cells (row, col) on the C-space, start duplicated as in BARN.\n"
          "# path_length_m / optimal_time_s: run.py's reference under the barn2023 protocol\n"
-         "# (start (-2, 3) -> path cells at (-4.575 + 0.15 r, 5.075 + 0.15 c) -> goal (-2, 13); OT = L / 2 m/s).\n";
-  out << "format: " << kWorldFormat << "\n";
-  out << "id: " << world.id << "\n";
-  out << "source: " << toString(world.source) << "\n";
-  out << "seed: " << (world.seed ? std::to_string(*world.seed) : std::string("null")) << "\n";
-  out << "generator: {fill_pct: " << formatDouble(world.fill_pct) << ", smooth_iter: " << world.smooth_iter << "}\n";
-  out << "start_cell: " << cellText(world.start_cell) << "\n";
-  out << "goal_cell: " << cellText(world.goal_cell) << "\n";
-  out << "path_length_m: " << formatDouble(referencePathLength(world.path, protocol)) << "\n";
-  out << "optimal_time_s: " << formatDouble(optimalTime(world.path, protocol)) << "\n";
-  out << "metrics: " << metricsText(world.metrics) << "\n";
-  out << "norm_metrics: " << metricsText(world.norm_metrics) << "\n";
-  out << "path: [";
-  for (std::size_t i = 0; i < world.path.size(); ++i) out << (i ? ", " : "") << cellText(world.path[i]);
-  out << "]\n";
-  out << "grid:\n";
-  for (const std::string& row : world.grid.toRowStrings()) out << "  - \"" << row << "\"\n";
-  return out.str();
+         "# (start (-2, 3) -> path cells at (-4.575 + 0.15 r, 5.075 + 0.15 c) -> goal (-2, 13); OT = L / 2 m/s).\n" +
+         writer.text();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -80,274 +193,185 @@ std::string formatWorldFile(const WorldSpec& world) {
 
 namespace {
 
-// "line 12" (1-based) for error messages; yaml-cpp counts lines from 0.
-std::string lineOf(const YAML::Node& node) {
-  const YAML::Mark mark = node.Mark();
-  return mark.is_null() ? std::string("unknown line") : "line " + std::to_string(mark.line + 1);
+bool readWholeNumber(const ConfigNode& node, Errors& errors, int& value) {
+  if (node.read(value)) return true;
+  std::string text;
+  errors.add(node.where(), "expected an integer" + (node.read(text) ? ", got '" + text + "'" : std::string()));
+  return false;
 }
 
-// "line 3, column 7: message" for a yaml-cpp exception, or just the message if it has no position.
-std::string describeYamlError(const YAML::Exception& e) {
-  if (e.mark.is_null()) return e.msg;
-  return "line " + std::to_string(e.mark.line + 1) + ", column " + std::to_string(e.mark.column + 1) + ": " + e.msg;
-}
-
-// Strict field access on a YAML map: every failure is recorded in `errors` with its key path.
-class FieldReader {
- public:
-  FieldReader(const YAML::Node& map, Errors& errors) : map_(map), errors_(errors) {}
-
-  const YAML::Node* get(const std::string& key) {
-    seen_.insert(key);
-    const YAML::Node node = map_[key];
-    if (!node) {
-      errors_.add(key, "missing");
-      return nullptr;
-    }
-    nodes_[key] = node;
-    return &nodes_[key];
+// [row, col] inside the 30 x 30 grid.
+bool readCell(const ConfigNode& node, Errors& errors, Cell& cell) {
+  if (!node.isSequence() || node.size() != 2) {
+    errors.add(node.where(), "expected [row, col]");
+    return false;
   }
-
-  void markSeen(const std::string& key) { seen_.insert(key); }
-
-  // yaml-cpp keeps the first of two equal keys and drops the second silently; both are errors.
-  void rejectUnknownKeys(const std::string& prefix = {}) {
-    std::set<std::string> listed;
-    for (const auto& item : map_) {
-      // A list or map as a key (`[1]: 2`, or a grid row written `? - "0101..."`, which ends the
-      // grid list and makes the rows after it a key) has no name to look up or report;
-      // yaml-cpp's as<std::string>() would throw a bare "bad conversion" naming neither file
-      // nor line.
-      if (!item.first.IsScalar()) {
-        const std::string owner = prefix.empty() ? "a key" : "a key in " + prefix.substr(0, prefix.size() - 1);
-        errors_.add(lineOf(item.first), owner + " is a list or a map, expected a plain name");
-        continue;
-      }
-      const std::string key = item.first.Scalar();
-      if (!listed.insert(key).second) errors_.add(prefix + key, "duplicate key");
-      else if (!seen_.count(key)) errors_.add(prefix + key, "unknown key");
-    }
-  }
-
- private:
-  YAML::Node map_;
-  Errors& errors_;
-  std::set<std::string> seen_;
-  std::map<std::string, YAML::Node> nodes_;
-};
-
-bool readInt(const YAML::Node& node, const std::string& field, Errors& errors, long long& value) {
-  if (!node.IsScalar()) return errors.check(false, field, "expected an integer");
-  const std::string text = node.Scalar();
-  std::size_t used = 0;
-  try {
-    value = std::stoll(text, &used);
-  } catch (...) {
-    used = 0;
-  }
-  return errors.check(used == text.size() && !text.empty(), field, "expected an integer, got '" + text + "'");
-}
-
-bool readDouble(const YAML::Node& node, const std::string& field, Errors& errors, double& value) {
-  if (!node.IsScalar()) return errors.check(false, field, "expected a number");
-  const std::string text = node.Scalar();
-  return errors.check(parseDouble(text, value) && std::isfinite(value), field,
-                      "expected a finite number, got '" + text + "'");
-}
-
-bool readCell(const YAML::Node& node, const std::string& field, Errors& errors, Cell& cell) {
-  if (!node.IsSequence() || node.size() != 2) return errors.check(false, field, "expected [row, col]");
-  long long r = 0, c = 0;
-  if (!readInt(node[0], field + "[0]", errors, r) || !readInt(node[1], field + "[1]", errors, c)) return false;
-  if (!errors.check(r >= 0 && r < kBarnGridSize && c >= 0 && c < kBarnGridSize, field,
+  int r = 0, c = 0;
+  if (!readWholeNumber(node.element(0), errors, r) || !readWholeNumber(node.element(1), errors, c)) return false;
+  if (!errors.check(r >= 0 && r < kBarnGridSize && c >= 0 && c < kBarnGridSize, node.where(),
                     "cell [" + std::to_string(r) + ", " + std::to_string(c) + "] is outside the 30 x 30 grid"))
     return false;
-  cell = {static_cast<int>(r), static_cast<int>(c)};
+  cell = {r, c};
   return true;
 }
 
-bool readMetrics(const YAML::Node& node, const std::string& field, Errors& errors, DifficultyMetrics& metrics) {
-  if (!node.IsMap()) return errors.check(false, field, "expected a map of the five metrics");
+void readConfigValue(const ConfigNode& node, CellField& field, Errors& errors) {
+  field.read = readCell(node, errors, field.cell);
+}
+
+void readConfigValue(const ConfigNode& node, PathField& field, Errors& errors) {
+  if (!node.isSequence()) {
+    errors.add(node.where(), "expected a list of [row, col] cells");
+    return;
+  }
+  for (std::size_t i = 0; i < node.size(); ++i) {
+    Cell cell;
+    if (!readCell(node.element(i), errors, cell)) return;  // the first bad cell is enough
+    field.cells.push_back(cell);
+  }
+  field.read = true;
+}
+
+void readConfigValue(const ConfigNode& node, SeedField& field, Errors& errors) {
+  if (node.isNull()) return;  // an imported world
+  std::uint64_t seed = 0;
+  if (errors.check(node.read(seed), node.where(), "expected an unsigned integer or null")) field.value = seed;
+}
+
+void readConfigValue(const ConfigNode& node, MetricsField& field, Errors& errors) {
+  if (!node.isMap()) {
+    errors.add(node.where(), "expected a map of the five metrics");
+    return;
+  }
+  ConfigReader reader(node, errors, MissingKeys::Error);
   std::array<double, 5> values{};
-  bool ok = true;
-  FieldReader reader(node, errors);
-  for (std::size_t k = 0; k < values.size(); ++k) {
-    reader.markSeen(std::string(DifficultyMetrics::kNames[k]));
-    const std::string key(DifficultyMetrics::kNames[k]);
-    const YAML::Node value = node[key];
-    if (!value) {
-      errors.add(field + "." + key, "missing");
-      ok = false;
-      continue;
-    }
-    ok = readDouble(value, field + "." + key, errors, values[k]) && ok;
-  }
-  const std::size_t before = errors.messages().size();
-  reader.rejectUnknownKeys(field + ".");
-  ok = ok && errors.messages().size() == before;
-  metrics = DifficultyMetrics::fromArray(values);
-  return ok;
+  for (std::size_t k = 0; k < values.size(); ++k) reader(std::string(DifficultyMetrics::kNames[k]).c_str(), values[k]);
+  reader.finish();
+  field.metrics = DifficultyMetrics::fromArray(values);
 }
 
-bool readGrid(const YAML::Node& node, Errors& errors, Grid& grid) {
-  if (!node.IsSequence()) return errors.check(false, "grid", "expected a list of 30 row strings");
-  if (!errors.check(node.size() == static_cast<std::size_t>(kBarnGridSize), "grid",
-                    "expected 30 rows, got " + std::to_string(node.size())))
+// The grid row `r` ("0101..."), or false with the problem recorded.
+bool readGridRow(const ConfigNode& node, Errors& errors, Grid& grid, int r) {
+  std::string text;
+  if (!node.read(text)) {
+    errors.add(node.where(), "expected a string of 30 '0'/'1' characters");
     return false;
-  grid = Grid(kBarnGridSize, kBarnGridSize);
-  bool ok = true;
-  for (int r = 0; r < kBarnGridSize; ++r) {
-    const std::string field = "grid[" + std::to_string(r) + "]";
-    const YAML::Node row = node[static_cast<std::size_t>(r)];
-    if (!row.IsScalar()) {
-      ok = errors.check(false, field, "expected a string of 30 '0'/'1' characters");
-      continue;
-    }
-    const std::string text = row.Scalar();
-    if (!errors.check(text.size() == static_cast<std::size_t>(kBarnGridSize), field,
-                      "expected 30 characters, got " + std::to_string(text.size()))) {
-      ok = false;
-      continue;
-    }
-    for (int c = 0; c < kBarnGridSize; ++c) {
-      const char ch = text[static_cast<std::size_t>(c)];
-      if (ch != '0' && ch != '1') {
-        ok = errors.check(false, field, std::string("character '") + ch + "' at column " + std::to_string(c) + " is not 0 or 1");
-        break;
-      }
-      grid.at(r, c) = ch == '1';
-    }
   }
-  return ok;
+  if (!errors.check(text.size() == static_cast<std::size_t>(kBarnGridSize), node.where(),
+                    "expected 30 characters, got " + std::to_string(text.size())))
+    return false;
+  for (int c = 0; c < kBarnGridSize; ++c) {
+    const char ch = text[static_cast<std::size_t>(c)];
+    if (ch != '0' && ch != '1')
+      return errors.check(false, node.where(), std::string("character '") + ch + "' at column " + std::to_string(c) + " is not 0 or 1");
+    grid.at(r, c) = ch == '1';
+  }
+  return true;
 }
 
+void readConfigValue(const ConfigNode& node, GridField& field, Errors& errors) {
+  if (!node.isSequence()) {
+    errors.add(node.where(), "expected a list of 30 row strings");
+    return;
+  }
+  if (!errors.check(node.size() == static_cast<std::size_t>(kBarnGridSize), node.where(),
+                    "expected 30 rows, got " + std::to_string(node.size())))
+    return;
+  field.grid = Grid(kBarnGridSize, kBarnGridSize);
+  bool ok = true;
+  for (int r = 0; r < kBarnGridSize; ++r) ok = readGridRow(node.element(static_cast<std::size_t>(r)), errors, field.grid, r) && ok;
+  field.read = ok;
+}
+
+void readConfigValue(const ConfigNode& node, GeneratorFields& generator, Errors& errors) {
+  if (!node.isMap()) {
+    errors.add(node.where(), "expected {fill_pct, smooth_iter}");
+    return;
+  }
+  ConfigReader reader(node, errors, MissingKeys::Error);
+  generator.visit(reader);
+  reader.finish();
+}
 bool isAdjacentStep(Cell a, Cell b) {
   return std::abs(a.row - b.row) <= 1 && std::abs(a.col - b.col) <= 1 && !(a == b);
 }
 
-// Cross-field checks once every field parsed.
-void validateWorld(const WorldSpec& world, double stored_length, double stored_time, Errors& errors) {
-  errors.check(world.grid.at(world.start_cell) == 0, "start_cell", "lies inside an obstacle cell");
-  errors.check(world.grid.at(world.goal_cell) == 0, "goal_cell", "lies inside an obstacle cell");
-  if (!errors.check(world.path.size() >= 2, "path", "needs at least the duplicated start cell and the goal"))
+// Range checks of the scalar fields.
+void validateScalars(const WorldFileFields& f, const ConfigNode& root, Errors& errors) {
+  if (root.has("format")) errors.check(f.format == kWorldFormat, root.where("format"), std::string("expected '") + kWorldFormat + "'");
+  if (root.has("id")) errors.check(f.id >= 0 && f.id < 1000000, root.where("id"), "must be in [0, 1000000)");
+  if (root.has("source"))
+    errors.check(f.source == toString(WorldSource::Generated) || f.source == toString(WorldSource::BarnDataset),
+                 root.where("source"), "expected 'generated' or 'barn-dataset'");
+  if (root.has("seed"))
+    errors.check(f.source != toString(WorldSource::Generated) || f.seed.value.has_value(), root.where("seed"),
+                 "a generated world must record its seed");
+  if (root.child("generator").has("fill_pct"))
+    errors.check(f.generator.fill_pct >= 0.0 && f.generator.fill_pct <= 1.0, root.where("generator.fill_pct"),
+                 "must be in [0, 1]");
+  if (root.child("generator").has("smooth_iter"))
+    errors.check(f.generator.smooth_iter >= 0 && f.generator.smooth_iter <= 100, root.where("generator.smooth_iter"),
+                 "must be in [0, 100]");
+}
+
+// Cross-field checks, on a grid, cells, path and numbers that all read.
+void validateWorld(const WorldSpec& world, double stored_length, double stored_time, const ConfigNode& root, Errors& errors) {
+  errors.check(world.grid.at(world.start_cell) == 0, root.where("start_cell"), "lies inside an obstacle cell");
+  errors.check(world.grid.at(world.goal_cell) == 0, root.where("goal_cell"), "lies inside an obstacle cell");
+  if (!errors.check(world.path.size() >= 2, root.where("path"), "needs at least the duplicated start cell and the goal"))
     return;
-  errors.check(world.path.front() == world.start_cell && world.path[1] == world.start_cell, "path",
+  errors.check(world.path.front() == world.start_cell && world.path[1] == world.start_cell, root.where("path"),
                "must begin with start_cell twice (BARN's duplicated start)");
-  errors.check(world.path.back() == world.goal_cell, "path", "must end at goal_cell");
+  errors.check(world.path.back() == world.goal_cell, root.where("path"), "must end at goal_cell");
   for (std::size_t i = 2; i < world.path.size(); ++i) {
     if (!isAdjacentStep(world.path[i - 1], world.path[i])) {
-      errors.add("path[" + std::to_string(i) + "]", "is not a neighbour of the previous cell");
+      errors.add(root.where("path[" + std::to_string(i) + "]"), "is not a neighbour of the previous cell");
       break;
     }
     if (world.grid.at(world.path[i])) {
-      errors.add("path[" + std::to_string(i) + "]", "lies inside an obstacle cell");
+      errors.add(root.where("path[" + std::to_string(i) + "]"), "lies inside an obstacle cell");
       break;
     }
   }
   // The derived numbers must agree with the path: a mismatch means a hand-edited file.
   const Protocol protocol = protocolPreset("barn2023");
   const double length = referencePathLength(world.path, protocol);
-  errors.check(std::abs(length - stored_length) <= 1e-9 * std::max(1.0, length), "path_length_m",
+  errors.check(std::abs(length - stored_length) <= 1e-9 * std::max(1.0, length), root.where("path_length_m"),
                "is " + formatDouble(stored_length) + " but the path gives " + formatDouble(length));
   const double time = optimalTime(world.path, protocol);
-  errors.check(std::abs(time - stored_time) <= 1e-9 * std::max(1.0, time), "optimal_time_s",
+  errors.check(std::abs(time - stored_time) <= 1e-9 * std::max(1.0, time), root.where("optimal_time_s"),
                "is " + formatDouble(stored_time) + " but the path gives " + formatDouble(time));
 }
 
-WorldSpec readWorldNode(const YAML::Node& root, const std::string& source_name) {
-  Errors errors(source_name);
-  if (!root.IsMap()) throw InputError(source_name + ": expected a YAML map (a barnbench world file)");
-
+WorldSpec worldOf(const WorldFileFields& f) {
   WorldSpec world;
-  FieldReader fields(root, errors);
-  if (const auto* node = fields.get("format")) {
-    const bool ok = node->IsScalar() && node->Scalar() == kWorldFormat;
-    errors.check(ok, "format", std::string("expected '") + kWorldFormat + "'");
-  }
-  long long integer = 0;
-  if (const auto* node = fields.get("id"); node && readInt(*node, "id", errors, integer)) {
-    if (errors.check(integer >= 0 && integer < 1000000, "id", "must be in [0, 1000000)")) world.id = static_cast<int>(integer);
-  }
-  if (const auto* node = fields.get("source")) {
-    const std::string value = node->IsScalar() ? node->Scalar() : "";
-    if (value == "generated") {
-      world.source = WorldSource::Generated;
-    } else if (value == "barn-dataset") {
-      world.source = WorldSource::BarnDataset;
-    } else {
-      errors.add("source", "expected 'generated' or 'barn-dataset'");
-    }
-  }
-  if (const auto* node = fields.get("seed")) {
-    if (!(node->IsNull())) {
-      const std::string value = node->IsScalar() ? node->Scalar() : "";
-      std::size_t used = 0;
-      unsigned long long seed = 0;
-      try {
-        seed = std::stoull(value, &used);
-      } catch (...) {
-        used = 0;
-      }
-      if (errors.check(!value.empty() && used == value.size() && value[0] != '-', "seed",
-                       "expected an unsigned integer or null"))
-        world.seed = seed;
-    }
-    errors.check(world.source != WorldSource::Generated || world.seed.has_value(), "seed",
-                 "a generated world must record its seed");
-  }
-  if (const auto* node = fields.get("generator")) {
-    if (!node->IsMap()) {
-      errors.add("generator", "expected {fill_pct, smooth_iter}");
-    } else {
-      FieldReader generator(*node, errors);
-      double fill = 0.0;
-      if (const YAML::Node f = (*node)["fill_pct"]; f && readDouble(f, "generator.fill_pct", errors, fill)) {
-        if (errors.check(fill >= 0.0 && fill <= 1.0, "generator.fill_pct", "must be in [0, 1]")) world.fill_pct = fill;
-      } else if (!f) {
-        errors.add("generator.fill_pct", "missing");
-      }
-      if (const YAML::Node s = (*node)["smooth_iter"]; s && readInt(s, "generator.smooth_iter", errors, integer)) {
-        if (errors.check(integer >= 0 && integer <= 100, "generator.smooth_iter", "must be in [0, 100]"))
-          world.smooth_iter = static_cast<int>(integer);
-      } else if (!s) {
-        errors.add("generator.smooth_iter", "missing");
-      }
-      generator.markSeen("fill_pct");
-      generator.markSeen("smooth_iter");
-      generator.rejectUnknownKeys("generator.");
-    }
-  }
-  const bool grid_ok = [&] { const auto* node = fields.get("grid"); return node && readGrid(*node, errors, world.grid); }();
-  bool cells_ok = true;
-  if (const auto* node = fields.get("start_cell")) cells_ok = readCell(*node, "start_cell", errors, world.start_cell) && cells_ok; else cells_ok = false;
-  if (const auto* node = fields.get("goal_cell")) cells_ok = readCell(*node, "goal_cell", errors, world.goal_cell) && cells_ok; else cells_ok = false;
-  if (const auto* node = fields.get("path")) {
-    if (!node->IsSequence()) {
-      errors.add("path", "expected a list of [row, col] cells");
-      cells_ok = false;
-    } else {
-      for (std::size_t i = 0; i < node->size(); ++i) {
-        Cell cell;
-        if (!readCell((*node)[i], "path[" + std::to_string(i) + "]", errors, cell)) {
-          cells_ok = false;
-          break;
-        }
-        world.path.push_back(cell);
-      }
-    }
-  } else {
-    cells_ok = false;
-  }
-  double stored_length = 0.0;
-  double stored_time = 0.0;
-  bool numbers_ok = true;
-  if (const auto* node = fields.get("path_length_m")) numbers_ok = readDouble(*node, "path_length_m", errors, stored_length) && numbers_ok; else numbers_ok = false;
-  if (const auto* node = fields.get("optimal_time_s")) numbers_ok = readDouble(*node, "optimal_time_s", errors, stored_time) && numbers_ok; else numbers_ok = false;
-  if (const auto* node = fields.get("metrics")) readMetrics(*node, "metrics", errors, world.metrics);
-  if (const auto* node = fields.get("norm_metrics")) readMetrics(*node, "norm_metrics", errors, world.norm_metrics);
-  fields.rejectUnknownKeys();
+  world.id = f.id;
+  world.source = f.source == toString(WorldSource::BarnDataset) ? WorldSource::BarnDataset : WorldSource::Generated;
+  world.seed = f.seed.value;
+  world.fill_pct = f.generator.fill_pct;
+  world.smooth_iter = f.generator.smooth_iter;
+  world.grid = f.grid.grid;
+  world.start_cell = f.start_cell.cell;
+  world.goal_cell = f.goal_cell.cell;
+  world.path = f.path.cells;
+  world.metrics = f.metrics.metrics;
+  world.norm_metrics = f.norm_metrics.metrics;
+  return world;
+}
 
-  if (grid_ok && cells_ok && numbers_ok) validateWorld(world, stored_length, stored_time, errors);
+// Every field is required: a world file is data, not a config with defaults.
+WorldSpec readWorld(const ConfigNode& root) {
+  if (!root.isMap()) throw InputError(root.source() + ": expected a YAML map (a barnbench world file)");
+  Errors errors;
+  WorldFileFields fields;
+  ConfigReader reader(root, errors, MissingKeys::Error);
+  fields.visit(reader);
+  reader.finish();
+  validateScalars(fields, root, errors);
+  const WorldSpec world = worldOf(fields);
+  const bool geometry_read = fields.grid.read && fields.start_cell.read && fields.goal_cell.read && fields.path.read &&
+                             std::isfinite(fields.path_length_m) && std::isfinite(fields.optimal_time_s);
+  if (geometry_read) validateWorld(world, fields.path_length_m, fields.optimal_time_s, root, errors);
   errors.throwIfAny();
   return world;
 }
@@ -355,20 +379,7 @@ WorldSpec readWorldNode(const YAML::Node& root, const std::string& source_name) 
 }  // namespace
 
 WorldSpec parseWorldFile(const std::string& text, const std::string& source_name) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    throw InputError(source_name + ": not valid YAML: " + describeYamlError(e));
-  }
-  // The reader checks every node's type before converting it, so yaml-cpp should not throw
-  // here; if a document still trips it, the user gets the file and line, not a bare yaml-cpp
-  // message and exit code 1.
-  try {
-    return readWorldNode(root, source_name);
-  } catch (const YAML::Exception& e) {
-    throw InputError(source_name + ": " + describeYamlError(e));
-  }
+  return readWorld(ConfigNode::parseString(text, source_name));
 }
 
 WorldSpec readWorldFile(const std::filesystem::path& path) {

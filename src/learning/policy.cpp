@@ -30,27 +30,163 @@ constexpr const char* kGoal = "unit vector to the local goal in the robot frame,
 constexpr const char* kOutput = "v [m/s], w [rad/s]";
 constexpr const char* kLayout = "float32 little-endian; w1 b1 w2 b2 w3 b3; matrices column-major";
 
-// Keys in file order; all are required.
-const std::vector<std::string>& headerKeys() {
-  static const std::vector<std::string> keys = {
-      "format", "version", "architecture", "activation", "input", "beams", "range_clip", "goal", "output",
-      "layout", "payload_bytes", "name", "config_hash", "trained", "seed", "epochs", "train_loss",
-      "validation_loss", "mean_predictor_loss"};
-  return keys;
-}
-
-std::string hex(std::uint64_t value) {
-  std::ostringstream out;
-  out << "0x" << std::hex << value;
-  return out.str();
-}
-
 std::string activationText(const PolicyInfo& info) {
   if (info.activation == Activation::Relu) return kRelu;
   return std::string(kLeakyRelu) + " " + core::formatDouble(info.slope);
 }
 
-std::string lossText(double loss) { return std::isnan(loss) ? std::string(kUnknown) : core::formatDouble(loss); }
+// ---------------------------------------------------------------------------------------------
+// The header: "key: value" lines, every key required, listed once in PolicyHeader::visit.
+
+// The range a header integer must lie in.
+struct IntRange {
+  long long lo, hi;
+};
+
+// The format version: read and checked before anything else depends on it.
+struct FormatVersion {
+  int value = kVersion;
+};
+
+// A text fixed by the format (the input and output conventions): part of the contract, so a
+// file written for another convention fails to load instead of driving the robot backwards.
+struct FixedText {
+  const char* text;
+};
+
+struct HexNumber {
+  std::uint64_t value = 0;
+};
+
+// A loss; NaN (written "unknown") for an imported policy.
+struct Loss {
+  double value = 0.0;
+};
+
+// The header's values as written; Policy::parse checks the ones that depend on each other.
+struct PolicyHeader {
+  std::string format = kFormat;
+  FormatVersion version;
+  std::string architecture;  // inputs-hidden-hidden-outputs
+  std::string activation;    // relu | leaky_relu <slope>
+  int beams = 0;
+  double range_clip = 0.0;
+  long long payload_bytes = 0;
+  std::string name;
+  HexNumber config_hash;
+  std::string trained;
+  std::uint64_t seed = 0;
+  int epochs = 0;
+  Loss train_loss, validation_loss, mean_predictor_loss;
+
+  template <class V> void visit(V& v) {
+    const long long max = std::numeric_limits<long long>::max();
+    v("format", format); v("version", version); v("architecture", architecture); v("activation", activation);
+    v("input", FixedText{kInput}); v("beams", beams, IntRange{1, 100000}); v("range_clip", range_clip);
+    v("goal", FixedText{kGoal}); v("output", FixedText{kOutput}); v("layout", FixedText{kLayout});
+    v("payload_bytes", payload_bytes, IntRange{0, max}); v("name", name); v("config_hash", config_hash);
+    v("trained", trained); v("seed", seed, IntRange{0, max}); v("epochs", epochs, IntRange{0, 100000000});
+    v("train_loss", train_loss); v("validation_loss", validation_loss); v("mean_predictor_loss", mean_predictor_loss);
+  }
+};
+
+class HeaderWriter {
+ public:
+  void operator()(const char* key, const std::string& value) { line(key, value); }
+  void operator()(const char* key, FormatVersion version) { line(key, std::to_string(version.value)); }
+  void operator()(const char* key, FixedText fixed) { line(key, fixed.text); }
+  void operator()(const char* key, double value) { line(key, core::formatDouble(value)); }
+  void operator()(const char* key, HexNumber number) {
+    std::ostringstream out;
+    out << "0x" << std::hex << number.value;
+    line(key, out.str());
+  }
+  void operator()(const char* key, Loss loss) {
+    line(key, std::isnan(loss.value) ? std::string(kUnknown) : core::formatDouble(loss.value));
+  }
+  template <class Int>
+  void operator()(const char* key, Int value, IntRange) {
+    line(key, std::to_string(value));
+  }
+
+  const std::string& text() const { return text_; }
+
+ private:
+  void line(const char* key, const std::string& value) { text_ += std::string(key) + ": " + value + "\n"; }
+  std::string text_;
+};
+
+// Converts the header's texts (checked against the key list already) into values; throws an
+// InputError naming the key and its text at the first that does not convert.
+class HeaderReader {
+ public:
+  HeaderReader(std::map<std::string, std::string>& header, std::string where) : header_(header), where_(std::move(where)) {}
+
+  void operator()(const char* key, std::string& value) { value = header_[key]; }
+  void operator()(const char* key, FormatVersion& version) {
+    version.value = static_cast<int>(integer(key, IntRange{0, 1000000}));
+    if (version.value != 1 && version.value != 2)
+      fail("unsupported version " + header_[key] + " (this build reads versions 1 and 2)");
+  }
+  void operator()(const char* key, FixedText fixed) {
+    if (header_[key] != fixed.text) fail("header: " + std::string(key) + " is '" + header_[key] + "', expected '" + fixed.text + "'");
+  }
+  void operator()(const char* key, double& value) { value = number(key); }
+  void operator()(const char* key, HexNumber& number) {
+    const std::string& text = header_[key];
+    const char* begin = text.data() + (text.rfind("0x", 0) == 0 ? 2 : 0);
+    const auto [end, ec] = std::from_chars(begin, text.data() + text.size(), number.value, 16);
+    if (ec != std::errc() || end != text.data() + text.size()) fail("header: " + std::string(key) + " '" + text + "': expected hexadecimal");
+  }
+  void operator()(const char* key, Loss& loss) {
+    loss.value = header_[key] == kUnknown ? std::numeric_limits<double>::quiet_NaN() : number(key);
+  }
+  template <class Int>
+  void operator()(const char* key, Int& value, IntRange range) {
+    value = static_cast<Int>(integer(key, range));
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& message) const { throw core::InputError(where_ + message); }
+
+  long long integer(const char* key, IntRange range) const {
+    const std::string& text = header_.at(key);
+    long long value = 0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (ec != std::errc() || end != text.data() + text.size() || value < range.lo || value > range.hi)
+      fail("header: " + std::string(key) + " '" + text + "': expected an integer in [" + std::to_string(range.lo) + ", " +
+           std::to_string(range.hi) + "]");
+    return value;
+  }
+
+  double number(const char* key) const {
+    const std::string& text = header_.at(key);
+    double value = 0.0;
+    if (!core::parseDouble(text, value) || !std::isfinite(value)) fail("header: " + std::string(key) + " '" + text + "': expected a number");
+    return value;
+  }
+
+  std::map<std::string, std::string>& header_;
+  std::string where_;
+};
+
+// The header's keys in file order.
+struct HeaderKeys {
+  std::vector<std::string> keys;
+  template <class T, class... Range>
+  void operator()(const char* key, const T&, Range...) {
+    keys.emplace_back(key);
+  }
+};
+
+const std::vector<std::string>& headerKeys() {
+  static const std::vector<std::string> keys = [] {
+    HeaderKeys list;
+    PolicyHeader().visit(list);
+    return list.keys;
+  }();
+  return keys;
+}
 
 std::uint32_t toLittle(std::uint32_t bits) {
   if constexpr (std::endian::native == std::endian::little) return bits;
@@ -61,28 +197,24 @@ std::uint32_t toLittle(std::uint32_t bits) {
 
 void writePolicyFile(const std::filesystem::path& path, const PolicyInfo& info, const MlpParameters<float>& weights) {
   const std::size_t payload = 4 * weights.count();
-  std::string text;
-  const auto line = [&](const char* key, const std::string& value) { text += std::string(key) + ": " + value + "\n"; };
-  line("format", kFormat);
-  line("version", std::to_string(kVersion));
-  line("architecture", std::to_string(weights.inputs()) + "-" + std::to_string(weights.hidden()) + "-" +
-                           std::to_string(weights.hidden()) + "-" + std::to_string(weights.outputs()));
-  line("activation", activationText(info));
-  line("input", kInput);
-  line("beams", std::to_string(info.beams));
-  line("range_clip", core::formatDouble(info.range_clip));
-  line("goal", kGoal);
-  line("output", kOutput);
-  line("layout", kLayout);
-  line("payload_bytes", std::to_string(payload));
-  line("name", info.name);
-  line("config_hash", hex(info.config_hash));
-  line("trained", info.trained);
-  line("seed", std::to_string(info.seed));
-  line("epochs", std::to_string(info.epochs));
-  line("train_loss", lossText(info.train_loss));
-  line("validation_loss", lossText(info.validation_loss));
-  line("mean_predictor_loss", lossText(info.mean_predictor_loss));
+  PolicyHeader fields;
+  fields.architecture = std::to_string(weights.inputs()) + "-" + std::to_string(weights.hidden()) + "-" +
+                        std::to_string(weights.hidden()) + "-" + std::to_string(weights.outputs());
+  fields.activation = activationText(info);
+  fields.beams = info.beams;
+  fields.range_clip = info.range_clip;
+  fields.payload_bytes = static_cast<long long>(payload);
+  fields.name = info.name;
+  fields.config_hash.value = info.config_hash;
+  fields.trained = info.trained;
+  fields.seed = info.seed;
+  fields.epochs = info.epochs;
+  fields.train_loss.value = info.train_loss;
+  fields.validation_loss.value = info.validation_loss;
+  fields.mean_predictor_loss.value = info.mean_predictor_loss;
+  HeaderWriter writer;
+  fields.visit(writer);
+  std::string text = writer.text();
   text += kEndHeader;
   text += '\n';
   const std::size_t header = text.size();
@@ -146,34 +278,15 @@ Policy Policy::parse(const std::string& file, const std::string& source_name) {
   for (const std::string& key : headerKeys()) {
     if (!header.count(key)) fail("header: missing key '" + key + "'");
   }
-  const auto integer = [&](const std::string& key, long long lo, long long hi) {
-    const std::string& text = header[key];
-    long long value = 0;
-    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (ec != std::errc() || end != text.data() + text.size() || value < lo || value > hi)
-      fail("header: " + key + " '" + text + "': expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-    return value;
-  };
-  const auto number = [&](const std::string& key) {
-    double value = 0.0;
-    if (!core::parseDouble(header[key], value) || !std::isfinite(value)) fail("header: " + key + " '" + header[key] + "': expected a number");
-    return value;
-  };
-  const auto loss = [&](const std::string& key) {
-    return header[key] == kUnknown ? std::numeric_limits<double>::quiet_NaN() : number(key);
-  };
-  const auto exact = [&](const std::string& key, const std::string& expected) {
-    if (header[key] != expected) fail("header: " + key + " is '" + header[key] + "', expected '" + expected + "'");
-  };
-  const long long version = integer("version", 0, 1000000);
-  if (version != 1 && version != 2)
-    fail("unsupported version " + header["version"] + " (this build reads versions 1 and 2)");
+  PolicyHeader fields;
+  HeaderReader reader(header, where);
+  fields.visit(reader);
 
   PolicyInfo info;
-  if (version == 1) {
-    exact("activation", kRelu);
+  if (fields.version.value == 1) {
+    if (fields.activation != kRelu) fail("header: activation is '" + fields.activation + "', expected '" + kRelu + "'");
   } else {
-    const std::string& text = header["activation"];
+    const std::string& text = fields.activation;
     const std::string leaky = std::string(kLeakyRelu) + " ";
     if (text == kRelu) {
       info.activation = Activation::Relu;
@@ -184,32 +297,22 @@ Policy Policy::parse(const std::string& file, const std::string& source_name) {
       fail("header: activation '" + text + "': expected 'relu' or 'leaky_relu S' with the slope S in (0, 1)");
     }
   }
-  exact("input", kInput);
-  exact("goal", kGoal);
-  exact("output", kOutput);
-  exact("layout", kLayout);
-
-  info.beams = static_cast<int>(integer("beams", 1, 100000));
-  info.range_clip = number("range_clip");
+  info.beams = fields.beams;
+  info.range_clip = fields.range_clip;
   if (!(info.range_clip > 0.0)) fail("header: range_clip must be > 0");
-  info.name = header["name"];
-  {
-    std::string text = header["config_hash"];
-    const char* begin = text.data() + (text.rfind("0x", 0) == 0 ? 2 : 0);
-    const auto [end, ec] = std::from_chars(begin, text.data() + text.size(), info.config_hash, 16);
-    if (ec != std::errc() || end != text.data() + text.size()) fail("header: config_hash '" + text + "': expected hexadecimal");
-  }
-  info.trained = header["trained"];
-  info.seed = static_cast<std::uint64_t>(integer("seed", 0, std::numeric_limits<long long>::max()));
-  info.epochs = static_cast<int>(integer("epochs", 0, 100000000));
-  info.train_loss = loss("train_loss");
-  info.validation_loss = loss("validation_loss");
-  info.mean_predictor_loss = loss("mean_predictor_loss");
+  info.name = fields.name;
+  info.config_hash = fields.config_hash.value;
+  info.trained = fields.trained;
+  info.seed = fields.seed;
+  info.epochs = fields.epochs;
+  info.train_loss = fields.train_loss.value;
+  info.validation_loss = fields.validation_loss.value;
+  info.mean_predictor_loss = fields.mean_predictor_loss.value;
 
   // Architecture "inputs-hidden-hidden-outputs" against the input layout.
   int sizes[4] = {0, 0, 0, 0};
   {
-    const std::string& text = header["architecture"];
+    const std::string& text = fields.architecture;
     const char* p = text.data();
     const char* end = text.data() + text.size();
     for (int k = 0; k < 4; ++k) {
@@ -220,11 +323,11 @@ Policy Policy::parse(const std::string& file, const std::string& source_name) {
     }
   }
   if (sizes[0] != info.beams + 2)
-    fail("wrong shape: architecture " + header["architecture"] + " has " + std::to_string(sizes[0]) +
+    fail("wrong shape: architecture " + fields.architecture + " has " + std::to_string(sizes[0]) +
          " inputs, the input layout needs beams + 2 = " + std::to_string(info.beams + 2));
   if (sizes[1] != sizes[2] || sizes[1] > 4096)
-    fail("wrong shape: architecture " + header["architecture"] + ": both hidden layers must have the same size (<= 4096)");
-  if (sizes[3] != 2) fail("wrong shape: architecture " + header["architecture"] + " has " + std::to_string(sizes[3]) + " outputs, expected 2 (v, w)");
+    fail("wrong shape: architecture " + fields.architecture + ": both hidden layers must have the same size (<= 4096)");
+  if (sizes[3] != 2) fail("wrong shape: architecture " + fields.architecture + " has " + std::to_string(sizes[3]) + " outputs, expected 2 (v, w)");
   info.hidden = sizes[1];
 
   // The payload size follows from the architecture; check it against the header and the file
@@ -234,9 +337,9 @@ Policy Policy::parse(const std::string& file, const std::string& source_name) {
   const auto hidden = static_cast<std::size_t>(sizes[1]);
   const auto outputs = static_cast<std::size_t>(sizes[3]);
   const std::size_t expected = 4 * (hidden * inputs + hidden + hidden * hidden + hidden + outputs * hidden + outputs);
-  if (static_cast<std::size_t>(integer("payload_bytes", 0, std::numeric_limits<long long>::max())) != expected)
+  if (static_cast<std::size_t>(fields.payload_bytes) != expected)
     fail("wrong shape: payload_bytes " + header["payload_bytes"] + " does not match architecture " +
-         header["architecture"] + " (" + std::to_string(expected) + " bytes)");
+         fields.architecture + " (" + std::to_string(expected) + " bytes)");
   const std::size_t available = file.size() - pos;
   if (available < expected)
     fail("truncated: expected " + std::to_string(expected) + " bytes of weights, found " + std::to_string(available));

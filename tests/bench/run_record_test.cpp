@@ -202,6 +202,99 @@ TEST(Manifest, RealEffectiveConfigsRoundTrip) {
   expectSameManifest(roundTrip(m), m);
 }
 
+TEST(Manifest, CommittedBaselineManifestsReadAndWriteBackByteForByte) {
+  // Written by earlier versions: they must still read, and writing what was read must give the
+  // same bytes (the relative worlds folder comes back absolute, then relative again).
+  const fs::path baseline = fs::path(BARN_SOURCE_DIR) / "results" / "baseline";
+  int checked = 0;
+  for (const auto& entry : fs::directory_iterator(baseline)) {
+    const fs::path file = entry.path() / kManifestFile;
+    if (!fs::exists(file)) continue;
+    EXPECT_EQ(formatManifest(readManifest(file), entry.path()), readFile(file)) << file;
+    ++checked;
+  }
+  EXPECT_GT(checked, 0);
+}
+
+// An imported record as earlier versions wrote it: no controller_config or seed lines, the
+// source lines after trials, and no sim_time_s (unknown).
+constexpr char kImportedManifest[] = R"(# barnbench run record; `barn run --resume` and `barn merge` read it back.
+controller: "ext"
+episode_config: |
+  protocol: barn2023
+worlds_spec: "0,6"
+worlds_folder: "./worlds"
+world_ids: [0, 6]
+worlds_digest: "00000000000000aa"
+trials: 1
+source: "out.txt"
+source_digest: "00000000000000bb"
+shard_index: 0
+shard_count: 0
+episodes_total: 2
+episodes_done: 2
+complete: true
+barnbench_version: "0.1.0"
+git_commit: "abc"
+host: "vm"
+threads: 1
+started: "2026-11-22T00:27:30Z"
+wall_time_s: 0
+)";
+
+TEST(Manifest, ImportedRecordHasNoSeedOrControllerConfigAndWritesBackByteForByte) {
+  TempDir dir;
+  const fs::path file = dir.path() / kManifestFile;
+  writeFile(file, kImportedManifest);
+  const RunManifest m = readManifest(file);
+  EXPECT_EQ(m.source, "out.txt");
+  EXPECT_EQ(m.source_digest, "00000000000000bb");
+  EXPECT_EQ(m.worlds_folder, (dir.path() / "worlds").string());
+  EXPECT_EQ(m.world_ids, (std::vector<int>{0, 6}));
+  EXPECT_EQ(m.sim_time_s, 0.0);
+  RunManifest unknown_sim_time = m;
+  unknown_sim_time.sim_time_s = std::numeric_limits<double>::quiet_NaN();  // left out
+  EXPECT_EQ(formatManifest(unknown_sim_time, dir.path()), std::string(kImportedManifest));
+}
+
+TEST(Manifest, ARunRecordHasNoSourceLines) {
+  TempDir dir;
+  const std::string text = formatManifest(fullManifest(), dir.path());
+  EXPECT_THAT(text, HasSubstr("\nseed: 18446744073709551615\n"));
+  EXPECT_EQ(text.find("source"), std::string::npos) << text;
+}
+
+TEST(Manifest, AWorldIdThatIsNotAWholeNumberIsAnErrorNamingTheField) {
+  TempDir dir;
+  const fs::path file = dir.path() / kManifestFile;
+  for (const std::string ids : {"[0, 1e300]", "[0, -1]", "[2.5]", "[a]", "[]"}) {
+    std::string text = formatManifest(fullManifest(), dir.path());
+    const std::string line = "world_ids: [12, 3, 7, 299, 0]";
+    text.replace(text.find(line), line.size(), "world_ids: " + ids);
+    writeFile(file, text);
+    try {
+      readManifest(file);
+      ADD_FAILURE() << ids << ": expected an InputError";
+    } catch (const core::InputError& e) {
+      EXPECT_THAT(e.what(), HasSubstr(file.string() + ": world_ids: ")) << ids;
+    }
+  }
+}
+
+TEST(Manifest, ANegativeEpisodeCountIsAnErrorNamingTheField) {
+  TempDir dir;
+  const fs::path file = dir.path() / kManifestFile;
+  std::string text = formatManifest(fullManifest(), dir.path());
+  text.replace(text.find("episodes_done: 2"), 16, "episodes_done: -2");
+  writeFile(file, text);
+  try {
+    readManifest(file);
+    FAIL() << "expected an InputError";
+  } catch (const core::InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("episodes_done: "));
+  }
+}
+
 TEST(Manifest, MissingControllerIsAnErrorNamingFileAndField) {
   TempDir dir;
   const fs::path file = dir.path() / kManifestFile;
@@ -260,6 +353,8 @@ TEST(ExperimentDifference, NamesEachDifferingField) {
       {"worlds_digest", [](RunManifest& m) { m.worlds_digest = "0000000000000000"; }},
       {"trials", [](RunManifest& m) { m.trials = 4; }},
       {"seed", [](RunManifest& m) { m.seed = 1; }},
+      {"source", [](RunManifest& m) { m.source = "out.txt"; }},
+      {"source_digest", [](RunManifest& m) { m.source_digest = "00000000000000bb"; }},
   };
   for (const auto& [field, change] : cases) {
     RunManifest other = base;

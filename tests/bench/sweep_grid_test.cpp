@@ -52,20 +52,62 @@ TEST(SweepGrid, CellConfigSetsTheValuesInTheTypesBlock) {
   EXPECT_DOUBLE_EQ(lookahead, 0.6);
 }
 
-TEST(SweepGrid, SweepFileRoundTrips) {
-  std::random_device device;
-  const auto dir = std::filesystem::temp_directory_path() / ("barn_sweep_grid_test_" + std::to_string(device()));
-  std::filesystem::create_directories(dir);
+// A sweep folder of its own, removed afterwards.
+class SweepFile : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::random_device device;
+    dir_ = std::filesystem::temp_directory_path() / ("barn_sweep_grid_test_" + std::to_string(device()));
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  SweepGrid readBack(const std::string& text) {
+    std::ofstream(dir_ / kSweepFile) << text;
+    return readSweepFile(dir_);
+  }
+  std::filesystem::path dir_;
+};
+
+TEST_F(SweepFile, RoundTrips) {
   const SweepGrid grid = makeSweepGrid("inventec_fi", {parseSweepParameter("safety.front_pad_y=0.0,0.04"),
-                                                       parseSweepParameter("max_speed=1.0,2.0")});
-  std::ofstream(dir / kSweepFile) << formatSweepFile(grid);
-  const SweepGrid back = readSweepFile(dir);
-  std::filesystem::remove_all(dir);
+                                                       parseSweepParameter("max_speed=1.0,2.0"),
+                                                       parseSweepParameter("label=a b,\"q\",true,null")});
+  const SweepGrid back = readBack(formatSweepFile(grid));
   EXPECT_EQ(back.controller, grid.controller);
-  ASSERT_EQ(back.parameters.size(), 2u);
+  ASSERT_EQ(back.parameters.size(), 3u);
   EXPECT_EQ(back.parameters[0].key, "safety.front_pad_y");
+  EXPECT_EQ(back.parameters[0].values, grid.parameters[0].values);  // "0.0" stays "0.0", not 0
   EXPECT_EQ(back.parameters[1].values, grid.parameters[1].values);
+  EXPECT_EQ(back.parameters[2].values, grid.parameters[2].values);  // strings that look like YAML
   EXPECT_EQ(back.cells, grid.cells);
+  EXPECT_EQ(formatSweepFile(back), formatSweepFile(grid));
+}
+
+TEST_F(SweepFile, AFileWrittenByEarlierVersionsStillReads) {
+  // Every string quoted, one cell per line.
+  const SweepGrid back = readBack(R"(# barnbench sweep: one run record per cell in the folders below
+controller: "dwa"
+parameters:
+  - key: "max_vel_x"
+    values: ["0.5", "1"]
+cells:
+  - "cell_0_max_vel_x=0.5"
+  - "cell_1_max_vel_x=1"
+)");
+  EXPECT_EQ(back.controller, "dwa");
+  ASSERT_EQ(back.parameters.size(), 1u);
+  EXPECT_EQ(back.parameters[0].key, "max_vel_x");
+  EXPECT_THAT(back.parameters[0].values, ElementsAre("0.5", "1"));
+  EXPECT_THAT(back.cells, ElementsAre("cell_0_max_vel_x=0.5", "cell_1_max_vel_x=1"));
+}
+
+TEST_F(SweepFile, AMalformedFieldIsAnErrorNamingIt) {
+  EXPECT_THAT([&] { readBack("controller: dwa\nparameters:\n  - key: a\n    values: {x: 1}\n"); },
+              ThrowsMessage<core::InputError>(HasSubstr("sweep.yaml: parameters[0].values: expected a list of strings")));
+  EXPECT_THAT([&] { readBack("controller: dwa\nparameters: 3\n"); },
+              ThrowsMessage<core::InputError>(HasSubstr("sweep.yaml: parameters: expected a list of maps")));
+  EXPECT_THAT([&] { readBack("controller: dwa\ncels: []\n"); },
+              ThrowsMessage<core::InputError>(HasSubstr("sweep.yaml: cels: unknown key")));
 }
 
 }  // namespace

@@ -124,7 +124,7 @@ TEST(ControllerRegistry, EveryProblemIsReportedAtOnce) {
 }
 
 TEST(ControllerRegistry, WrongValueTypeIsAnError) {
-  EXPECT_THAT(factoryError("type: straight\nstraight: {speed: fast}"), HasSubstr("straight.speed: expected a number"));
+  EXPECT_THAT(factoryError("type: straight\nstraight: {speed: fast}"), HasSubstr("straight.speed: expected a finite number"));
 }
 
 TEST(ControllerRegistry, StrayTopLevelKeyIsAnError) {

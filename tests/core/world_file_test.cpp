@@ -1,6 +1,9 @@
 #include "barn/core/world_file.hpp"
 
 #include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -56,6 +59,55 @@ TEST(WorldFile, RoundTripsByteForByte) {
   EXPECT_EQ(back.grid, w.grid);
   EXPECT_EQ(back.metrics.characteristic_dimension, 23.0);
   EXPECT_EQ(back.norm_metrics.avg_visibility, -0.25);
+}
+
+TEST(WorldFile, EveryCommittedWorldReadsAndWritesBackByteForByte) {
+  // The worlds/ files were written by earlier versions of the writer.
+  int checked = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(BARN_SOURCE_DIR) / "worlds")) {
+    if (entry.path().extension() != ".yaml") continue;
+    std::ifstream in(entry.path(), std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    EXPECT_EQ(formatWorldFile(readWorldFile(entry.path())), text.str()) << entry.path();
+    ++checked;
+  }
+  EXPECT_EQ(checked, 300);
+}
+
+TEST(WorldFile, AnImportedWorldRoundTripsWithoutASeed) {
+  WorldSpec w = straightWorld();
+  w.source = WorldSource::BarnDataset;
+  w.seed.reset();
+  const WorldSpec back = parseWorldFile(formatWorldFile(w), "test.yaml");
+  EXPECT_EQ(back.source, WorldSource::BarnDataset);
+  EXPECT_FALSE(back.seed.has_value());
+}
+
+TEST(WorldFile, NamesTheFieldOfEachMalformedValue) {
+  const std::string text = formatWorldFile(straightWorld());
+  EXPECT_THAT(errorOf(replaced(text, "source: generated", "source: gazebo")),
+              HasSubstr("test.yaml: source: expected 'generated' or 'barn-dataset'"));
+  EXPECT_THAT(errorOf(replaced(text, "seed: 123", "seed: -1")), HasSubstr("test.yaml: seed: expected an unsigned integer or null"));
+  EXPECT_THAT(errorOf(replaced(text, "seed: 123", "seed: null")), HasSubstr("test.yaml: seed: a generated world must record its seed"));
+  EXPECT_THAT(errorOf(replaced(text, "fill_pct: 0.15", "fill_pct: 1.5")), HasSubstr("test.yaml: generator.fill_pct: must be in [0, 1]"));
+  EXPECT_THAT(errorOf(replaced(text, "generator: {fill_pct: 0.15, smooth_iter: 2}", "generator: 3")),
+              HasSubstr("test.yaml: generator: expected {fill_pct, smooth_iter}"));
+  EXPECT_THAT(errorOf(replaced(text, "start_cell: [15, 0]", "start_cell: [15, 30]")),
+              HasSubstr("test.yaml: start_cell: cell [15, 30] is outside the 30 x 30 grid"));
+  EXPECT_THAT(errorOf(replaced(text, "goal_cell: [15, 29]", "goal_cell: [15]")), HasSubstr("test.yaml: goal_cell: expected [row, col]"));
+  EXPECT_THAT(errorOf(replaced(text, "goal_cell: [15, 29]", "goal_cell: [15, x]")), HasSubstr("test.yaml: goal_cell[1]: expected an integer"));
+  EXPECT_THAT(errorOf(replaced(text, "path: [[15, 0], [15, 0]", "path: [[15, 0], [15]")), HasSubstr("test.yaml: path[1]: expected [row, col]"));
+  EXPECT_THAT(errorOf(replaced(text, "[15, 0], [15, 1],", "[15, 0], [15, 3],")),
+              HasSubstr("test.yaml: path[2]: is not a neighbour of the previous cell"));
+  EXPECT_THAT(errorOf(replaced(text, "metrics: {", "metrics: 4\nunused: {")), HasSubstr("test.yaml: metrics: expected a map of the five metrics"));
+  EXPECT_THAT(errorOf(replaced(text, "closest_wall: 12, ", "")), HasSubstr("test.yaml: metrics.closest_wall: missing"));
+  EXPECT_THAT(errorOf(replaced(text, "format: barnbench-world/1", "format: barnbench-world/2")),
+              HasSubstr("test.yaml: format: expected 'barnbench-world/1'"));
+  const std::string row = "  - \"000000000000000000000000000000\"\n";
+  EXPECT_THAT(errorOf(replaced(text, row, "  - \"0000000000000000000000000000x0\"\n")),
+              HasSubstr("test.yaml: grid[1]: character 'x' at column 28 is not 0 or 1"));
+  EXPECT_THAT(errorOf(replaced(text, row, "  - [0]\n")), HasSubstr("test.yaml: grid[1]: expected a string of 30 '0'/'1' characters"));
 }
 
 TEST(WorldFile, StoresTheBarn2023OptimalTime) {

@@ -133,6 +133,9 @@ TEST_F(PolicyLoadErrors, HeaderContractFields) {
   EXPECT_THAT(errorOf(replaced("seed: 3\n", "seed: 3\ncolour: red\n")), HasSubstr("unknown key 'colour'"));
   EXPECT_THAT(errorOf(replaced("range_clip: 2", "range_clip: two")), HasSubstr("range_clip 'two': expected a number"));
   EXPECT_THAT(errorOf(replaced("train_loss: 0.125", "train_loss: lots")), HasSubstr("train_loss 'lots': expected a number"));
+  EXPECT_THAT(errorOf(replaced("beams: 720", "beams: 0")), HasSubstr("header: beams '0': expected an integer in [1, 100000]"));
+  EXPECT_THAT(errorOf(replaced("config_hash: 0x", "config_hash: 0xg")), HasSubstr("header: config_hash '0xg"));
+  EXPECT_THAT(errorOf(replaced("layout: float32", "layout: float64")), HasSubstr("header: layout is 'float64"));
 }
 
 // ---- Format versions: 1 (relu only) still loads; 2 records the activation ----
@@ -262,6 +265,41 @@ TEST(Policy, ScanWithTheWrongBeamCountIsAnInputError) {
 }
 
 // CI never retrains: it loads the committed weights and checks they belong to the configs.
+TEST(ShippedPolicies, WriteBackByteForByte) {
+  // Loading and writing a policy gives its file again, header and weights.
+  const fs::path dir = tempDir("shipped");
+  for (const std::string name : {"lflh_1ms", "lflh_2ms"}) {
+    const fs::path file = fs::path(BARN_SOURCE_DIR) / "configs" / "policies" / (name + ".policy");
+    const Policy policy = Policy::load(file);
+    writePolicyFile(dir / "back.policy", policy.info(), policy.weights());
+    EXPECT_EQ(core::readTextFile(dir / "back.policy"), core::readTextFile(file)) << file;
+  }
+}
+
+TEST(PolicyFile, TheFuzzSeedsLoadAndTheVersionTwoOneWritesBackByteForByte) {
+  const fs::path seeds = fs::path(BARN_SOURCE_DIR) / "tests" / "fuzz" / "seeds" / "policy";
+  EXPECT_EQ(Policy::load(seeds / "tiny.policy").info().activation, Activation::Relu);  // version 1
+  const Policy leaky = Policy::load(seeds / "tiny_v2_leaky.policy");
+  EXPECT_EQ(leaky.info().activation, Activation::LeakyRelu);
+  const fs::path back = tempDir("seeds") / "back.policy";
+  writePolicyFile(back, leaky.info(), leaky.weights());
+  EXPECT_EQ(core::readTextFile(back), core::readTextFile(seeds / "tiny_v2_leaky.policy"));
+}
+
+TEST(ShippedPolicies, TheVersionOneFormOfAShippedPolicyLoadsTheSameNetwork) {
+  // Version 1 files differ only in their version line (their activation was always relu).
+  const fs::path file = fs::path(BARN_SOURCE_DIR) / "configs" / "policies" / "lflh_1ms.policy";
+  std::string v1 = core::readTextFile(file);
+  v1.replace(v1.find("\nversion: 2\n"), 12, "\nversion: 1\n");
+  const Policy old = Policy::parse(v1, "v1.policy");
+  const Policy current = Policy::load(file);
+  EXPECT_EQ(old.weights().w1, current.weights().w1);
+  EXPECT_EQ(old.weights().b3, current.weights().b3);
+  EXPECT_EQ(old.info().activation, Activation::Relu);
+  EXPECT_EQ(old.info().config_hash, current.info().config_hash);
+  EXPECT_EQ(old.info().validation_loss, current.info().validation_loss);
+}
+
 TEST(ShippedPolicies, LoadAndMatchTheirTrainingConfigs) {
   for (const std::string name : {"1ms", "2ms"}) {
     const fs::path file = fs::path(BARN_SOURCE_DIR) / "configs" / "policies" / ("lflh_" + name + ".policy");

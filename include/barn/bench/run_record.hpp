@@ -26,6 +26,16 @@ inline constexpr const char* kJournalFile = "episodes.partial.csv";
 inline constexpr const char* kEpisodesFile = "episodes.csv";
 inline constexpr const char* kSummaryFile = "summary.json";
 
+/// What the manifest does with a field besides writing and reading it (flags, or-ed).
+namespace manifest_field {
+inline constexpr unsigned kExperiment = 1u << 0;  // what was run: experimentDifference compares it
+inline constexpr unsigned kYamlText = 1u << 1;    // multi-line YAML, written as a literal block
+inline constexpr unsigned kPath = 1u << 2;        // an absolute path, written relative to the record
+inline constexpr unsigned kPathValues = 1u << 3;  // YAML text whose path values are written relative to the record
+inline constexpr unsigned kRunOnly = 1u << 4;     // left out of an imported record (nothing was run)
+inline constexpr unsigned kImportOnly = 1u << 5;  // written for an imported record only
+}  // namespace manifest_field
+
 struct RunManifest {
   // What was run: two records with equal fields here hold parts of the same experiment.
   std::string controller;         // name given to --controller
@@ -54,7 +64,37 @@ struct RunManifest {
   int threads = 0;
   std::string started;       // UTC, ISO 8601
   double wall_time_s = 0.0;  // summed over resumed sessions
-  double sim_time_s = 0.0;
+  double sim_time_s = 0.0;   // left out of the file when not finite (unknown)
+
+  /// The manifest file's fields in file order, each with its manifest_field flags. The
+  /// experiment fields are listed in the order experimentDifference reports them.
+  template <class V>
+  void visit(V& v) {
+    using namespace manifest_field;
+    v("controller", controller, kExperiment);
+    v("controller_config", controller_config, kExperiment | kYamlText | kPathValues | kRunOnly);
+    v("episode_config", episode_config, kExperiment | kYamlText);
+    v("worlds_spec", worlds_spec, 0u);
+    v("worlds_folder", worlds_folder, kPath);
+    v("world_ids", world_ids, kExperiment);
+    v("worlds_digest", worlds_digest, kExperiment);
+    v("trials", trials, kExperiment);
+    v("seed", seed, kExperiment | kRunOnly);
+    v("source", source, kExperiment | kImportOnly);
+    v("source_digest", source_digest, kExperiment | kImportOnly);
+    v("shard_index", shard_index, 0u);
+    v("shard_count", shard_count, 0u);
+    v("episodes_total", episodes_total, 0u);
+    v("episodes_done", episodes_done, 0u);
+    v("complete", complete, 0u);
+    v("barnbench_version", barnbench_version, 0u);
+    v("git_commit", git_commit, 0u);
+    v("host", host, 0u);
+    v("threads", threads, 0u);
+    v("started", started, 0u);
+    v("wall_time_s", wall_time_s, 0u);
+    v("sim_time_s", sim_time_s, 0u);
+  }
 };
 
 /// The manifest of a new run: what is run (controller name and effective config text, the

@@ -17,6 +17,7 @@ namespace barn::bench {
 struct SweepParameter {
   std::string key;
   std::vector<std::string> values;
+  template <class V> void visit(V& v) { v("key", key); v("values", values); }
 };
 
 /// Parses "KEY=V1,V2,..." (--param); InputError naming the text if malformed.
@@ -26,6 +27,8 @@ struct SweepGrid {
   std::string controller;                  // as given to --controller
   std::vector<SweepParameter> parameters;  // no key twice
   std::vector<std::string> cells;          // folder names, in grid order (last parameter fastest)
+  /// sweep.yaml's fields.
+  template <class V> void visit(V& v) { v("controller", controller); v("parameters", parameters); v("cells", cells); }
 };
 
 /// The grid of `parameters` (InputError if a key is given twice or there are too many cells).
@@ -40,7 +43,8 @@ core::ConfigNode cellConfig(const SweepGrid& grid, const core::ConfigNode& base,
 
 inline constexpr const char* kSweepFile = "sweep.yaml";
 
-/// sweep.yaml's text, and the grid read back from a sweep folder's sweep.yaml.
+/// sweep.yaml's text, and the grid read back from a sweep folder's sweep.yaml (InputError
+/// naming the file and field if it is malformed).
 std::string formatSweepFile(const SweepGrid& grid);
 SweepGrid readSweepFile(const std::filesystem::path& sweep_dir);
 

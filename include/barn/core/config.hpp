@@ -14,6 +14,11 @@
 /// effective config in a run's manifest). yaml-cpp stays inside config.cpp: ConfigNode is an
 /// opaque handle.
 ///
+/// A field of a type that is neither a scalar nor a struct with a field list (a grid cell
+/// written `[row, col]`, say) reads itself: the reader calls
+/// `readConfigValue(const ConfigNode&, T&, Errors&)`, found by argument-dependent lookup,
+/// which records its problems with `node.where()`.
+///
 /// An enum field is read and written by name. Its namespace declares the names, in the
 /// enum's order (the first for value 0, ...):
 ///
@@ -27,6 +32,7 @@
 #include <string>
 #include <string_view>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "barn/core/errors.hpp"
@@ -73,6 +79,9 @@ class ConfigNode {
 
   bool isNull() const;  // absent or empty document
   bool isMap() const;
+  bool isSequence() const;
+  /// Elements of a sequence (0 if this is not one).
+  std::size_t size() const;
   bool has(std::string_view key) const;
   ConfigNode child(std::string_view key) const;
   /// Element `index` of a sequence (a null node past the end or if this is not a sequence).
@@ -109,24 +118,39 @@ class ConfigNode {
   std::string source_;
 };
 
+/// A type that reads itself from a node (see the header comment).
+template <class T>
+concept SelfReading = requires(const ConfigNode& node, T& value, Errors& errors) { readConfigValue(node, value, errors); };
+
+/// What a missing key means: configs keep the struct default; data files (a world file)
+/// must give every field.
+enum class MissingKeys { KeepDefault, Error };
+
 /// Reads a struct's fields from a map node (see the header comment). Errors are collected.
 class ConfigReader {
  public:
-  ConfigReader(const ConfigNode& node, Errors& errors);
+  ConfigReader(const ConfigNode& node, Errors& errors, MissingKeys missing = MissingKeys::KeepDefault);
 
   template <class T>
   void operator()(const char* key, T& value) {
     seen_.emplace_back(key);
-    if (!node_.has(key)) return;  // missing keys keep the default
+    if (!node_.has(key)) {
+      if (missing_ == MissingKeys::Error) errors_.add(node_.where(key), "missing");
+      return;
+    }
     const ConfigNode child = node_.child(key);
-    if constexpr (requires { value.visit(*this); }) {
+    if constexpr (SelfReading<T>) {
+      readConfigValue(child, value, errors_);
+    } else if constexpr (requires { value.visit(*this); }) {
       if (!child.isMap()) {
         errors_.add(child.where(), "expected a map");
         return;
       }
-      ConfigReader nested(child, errors_);
+      ConfigReader nested(child, errors_, missing_);
       value.visit(nested);
       nested.finish();
+    } else if constexpr (requires(ConfigReader& r) { value.front().visit(r); }) {
+      readList(child, value);
     } else if constexpr (NamedEnum<T>) {
       std::string name;
       if (!child.read(name) || !enumFromName(name, value)) {
@@ -135,7 +159,7 @@ class ConfigReader {
         errors_.add(child.where(), "expected one of " + names);
       }
     } else {
-      if (!child.read(value)) errors_.add(child.where(), std::string("expected ") + typeName(value));
+      if (!child.read(value)) errors_.add(child.where(), std::string("expected ") + typeName(value) + given(child));
     }
   }
 
@@ -143,7 +167,32 @@ class ConfigReader {
   void finish();
 
  private:
-  static const char* typeName(const double&) { return "a number"; }
+  // A list of structs with field lists, each element a map ("parameters[1].key").
+  template <class T>
+  void readList(const ConfigNode& list, std::vector<T>& values) {
+    if (!list.isSequence()) {
+      errors_.add(list.where(), "expected a list of maps");
+      return;
+    }
+    std::vector<T> read(list.size());
+    for (std::size_t i = 0; i < read.size(); ++i) {
+      const ConfigNode element = list.element(i);
+      if (!element.isMap()) {
+        errors_.add(element.where(), "expected a map");
+        continue;
+      }
+      ConfigReader nested(element, errors_, missing_);
+      read[i].visit(nested);
+      nested.finish();
+    }
+    values = std::move(read);
+  }
+
+  // Not-a-number and infinities are rejected too, so say so.
+  // ", got 'text'" for a scalar node, so the message shows what was written; "" otherwise.
+  static std::string given(const ConfigNode& node);
+
+  static const char* typeName(const double&) { return "a finite number"; }
   static const char* typeName(const int&) { return "an integer"; }
   static const char* typeName(const std::uint64_t&) { return "an unsigned integer"; }
   static const char* typeName(const bool&) { return "true or false"; }
@@ -153,6 +202,7 @@ class ConfigReader {
 
   ConfigNode node_;
   Errors& errors_;
+  MissingKeys missing_;
   std::vector<std::string> seen_;
 };
 
@@ -168,6 +218,8 @@ class ConfigWriter {
       ConfigWriter nested(indent_ + 2);
       const_cast<T&>(value).visit(nested);
       text_ += nested.text_;
+    } else if constexpr (requires(ConfigWriter& w) { const_cast<T&>(value).front().visit(w); }) {
+      writeList(key, value);
     } else if constexpr (NamedEnum<T>) {
       line(key, scalar(std::string(enumName(value))));
     } else {
@@ -178,6 +230,18 @@ class ConfigWriter {
   const std::string& text() const { return text_; }
 
  private:
+  // A block list of maps, each element's first field after "- ".
+  template <class T>
+  void writeList(const char* key, const std::vector<T>& values) {
+    line(key, values.empty() ? "[]" : "");
+    for (const T& element : values) {
+      ConfigWriter nested(indent_ + 4);
+      const_cast<T&>(element).visit(nested);
+      if (nested.text_.empty()) nested.text_ = std::string(static_cast<std::size_t>(indent_ + 4), ' ') + "{}\n";
+      text_ += nested.text_.replace(static_cast<std::size_t>(indent_ + 2), 2, "- ");
+    }
+  }
+
   void line(const char* key, const std::string& value);
   static std::string scalar(double value);
   static std::string scalar(int value);

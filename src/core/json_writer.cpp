@@ -1,48 +1,52 @@
-#include "json_writer.hpp"
+#include "barn/core/json_writer.hpp"
 
 #include <cmath>
 #include <cstdio>
 
 #include "barn/core/text_io.hpp"
 
-namespace barn::cli {
+namespace barn::core {
+
+void JsonWriter::newLine(std::size_t depth) {
+  out_ += '\n';
+  out_.append(2 * depth, ' ');
+}
 
 void JsonWriter::separate() {
   if (after_key_) {
     after_key_ = false;
     return;
   }
-  if (!first_in_scope_.empty()) {
-    if (!first_in_scope_.back()) out_ += ", ";
-    first_in_scope_.back() = false;
+  if (scopes_.empty()) return;
+  Scope& scope = scopes_.back();
+  if (scope.layout == Layout::OneItemPerLine) {
+    if (!scope.first) out_ += ',';
+    newLine(scopes_.size());
+  } else if (!scope.first) {
+    out_ += ", ";
   }
+  scope.first = false;
 }
 
-JsonWriter& JsonWriter::beginObject() {
+JsonWriter& JsonWriter::open(char bracket, Layout layout) {
   separate();
-  out_ += '{';
-  first_in_scope_.push_back(true);
+  out_ += bracket;
+  scopes_.push_back({layout});
   return *this;
 }
 
-JsonWriter& JsonWriter::endObject() {
-  out_ += '}';
-  first_in_scope_.pop_back();
+JsonWriter& JsonWriter::close(char bracket) {
+  const bool own_line = scopes_.back().layout == Layout::OneItemPerLine;
+  scopes_.pop_back();
+  if (own_line) newLine(scopes_.size());
+  out_ += bracket;
   return *this;
 }
 
-JsonWriter& JsonWriter::beginArray() {
-  separate();
-  out_ += '[';
-  first_in_scope_.push_back(true);
-  return *this;
-}
-
-JsonWriter& JsonWriter::endArray() {
-  out_ += ']';
-  first_in_scope_.pop_back();
-  return *this;
-}
+JsonWriter& JsonWriter::beginObject(Layout layout) { return open('{', layout); }
+JsonWriter& JsonWriter::endObject() { return close('}'); }
+JsonWriter& JsonWriter::beginArray(Layout layout) { return open('[', layout); }
+JsonWriter& JsonWriter::endArray() { return close(']'); }
 
 JsonWriter& JsonWriter::key(std::string_view name) {
   value(name);
@@ -77,7 +81,7 @@ JsonWriter& JsonWriter::value(std::string_view text) {
 JsonWriter& JsonWriter::value(double number) {
   if (!std::isfinite(number)) return null();
   separate();
-  out_ += core::formatDouble(number);
+  out_ += formatDouble(number);
   return *this;
 }
 
@@ -105,4 +109,4 @@ JsonWriter& JsonWriter::null() {
   return *this;
 }
 
-}  // namespace barn::cli
+}  // namespace barn::core
