@@ -194,6 +194,10 @@ RunManifest readManifest(const std::filesystem::path& path) {
   return m;
 }
 
+core::ProtocolName recordProtocol(const RunManifest& manifest, const std::string& where) {
+  return core::readConfig<EpisodeConfig>(core::ConfigNode::parseString(manifest.episode_config, where)).protocol;
+}
+
 std::string experimentDifference(const RunManifest& a, const RunManifest& b) {
   if (a.controller != b.controller) return "controller";
   if (a.controller_config != b.controller_config) return "controller_config";

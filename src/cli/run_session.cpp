@@ -72,8 +72,7 @@ void printRecordSummary(const fs::path& dir, const bench::RunManifest& m, const 
                         bool every_bucket) {
   const std::vector<bench::EpisodeResult> results = bench::readEpisodesCsv(dir / bench::kEpisodesFile);
   const bench::RunSummary summary = bench::summarise(results);
-  const std::string protocol =
-      core::readConfig<bench::EpisodeConfig>(core::ConfigNode::parseString(m.episode_config, "manifest")).protocol;
+  const std::string protocol(core::toString(bench::recordProtocol(m, "manifest")));
   std::printf("%s", bench::summaryTable(summary, m.controller + " on " + bench::worldSetName(worlds) + " worlds " +
                                                      m.worlds_spec + " x " + std::to_string(m.trials) + " trials (" +
                                                      protocol + ")").c_str());

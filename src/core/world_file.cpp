@@ -49,7 +49,7 @@ std::string metricsText(const DifficultyMetrics& m) {
 }  // namespace
 
 std::string formatWorldFile(const WorldSpec& world) {
-  const Protocol protocol = protocolPreset("barn2023");
+  const Protocol protocol = protocolPreset(ProtocolName::Barn2023);
   std::ostringstream out;
   out << "# barnbench world file. Grid row r runs along world x, column c along y (the driving\n"
          "# direction); '1' = obstacle cell of 0.15 m, centred at (-4.425 + 0.15 r, 5.175 + 0.15 c) m.\n"
@@ -245,7 +245,7 @@ void validateWorld(const WorldSpec& world, double stored_length, double stored_t
     }
   }
   // The derived numbers must agree with the path: a mismatch means a hand-edited file.
-  const Protocol protocol = protocolPreset("barn2023");
+  const Protocol protocol = protocolPreset(ProtocolName::Barn2023);
   const double length = referencePathLength(world.path, protocol);
   errors.check(std::abs(length - stored_length) <= 1e-9 * std::max(1.0, length), "path_length_m",
                "is " + formatDouble(stored_length) + " but the path gives " + formatDouble(length));
@@ -396,7 +396,7 @@ std::vector<WorldSpec> readWorldSet(const std::filesystem::path& dir) {
 }
 
 std::string formatWorldIndex(const std::vector<WorldSpec>& worlds) {
-  const Protocol protocol = protocolPreset("barn2023");
+  const Protocol protocol = protocolPreset(ProtocolName::Barn2023);
   std::ostringstream out;
   out << "id,file,source,seed,fill_pct,smooth_iter,filled_cells,start_row,goal_row,path_cells,"
          "path_length_m,optimal_time_s";

@@ -73,6 +73,10 @@ std::string formatManifest(const RunManifest& manifest, const std::filesystem::p
 /// written relative to the record (see formatManifest) come back absolute.
 RunManifest readManifest(const std::filesystem::path& path);
 
+/// The protocol the record's episodes ran under, read from its episode_config; InputError
+/// naming `where` if that does not read.
+core::ProtocolName recordProtocol(const RunManifest& manifest, const std::string& where);
+
 /// Empty if `a` and `b` describe the same experiment (configs, worlds, trials, seed), else
 /// the first field that differs.
 std::string experimentDifference(const RunManifest& a, const RunManifest& b);
