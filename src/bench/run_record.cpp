@@ -294,7 +294,8 @@ void checkRows(const RunManifest& manifest, const std::vector<EpisodeResult>& ro
                              std::to_string(index % trials) + " is missing");
 }
 
-void writeCompleteRecord(const std::filesystem::path& dir, RunManifest manifest, std::vector<EpisodeResult> results,
+std::vector<EpisodeResult> writeCompleteRecord(const std::filesystem::path& dir, RunManifest manifest,
+                                               std::vector<EpisodeResult> results,
                          const std::vector<core::WorldSpec>& worlds) {
   sortResults(results, manifest.world_ids);
   const RunSummary summary = summarise(results);
@@ -307,6 +308,7 @@ void writeCompleteRecord(const std::filesystem::path& dir, RunManifest manifest,
                                {kManifestFile, formatManifest(manifest, dir)}});
   std::error_code ec;
   std::filesystem::remove(dir / kJournalFile, ec);
+  return results;
 }
 
 }  // namespace barn::bench

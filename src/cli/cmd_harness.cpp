@@ -86,10 +86,10 @@ void importOut(const ImportOutOptions& o) {
   m.episodes_total = imported.results.size();
   m.barnbench_version = BARN_VERSION;
   m.git_commit = bench::gitCommit();
-  bench::writeCompleteRecord(o.out, m, imported.results, worlds);
+  const std::vector<bench::EpisodeResult> written = bench::writeCompleteRecord(o.out, m, imported.results, worlds);
   std::printf("imported %zu episodes on %zu worlds from %s (scored with %s)\n", imported.results.size(),
               imported.world_ids.size(), o.file.c_str(), std::string(core::toString(protocol.name)).c_str());
-  printRecordSummary(o.out, bench::readManifest(fs::path(o.out) / bench::kManifestFile), worlds);
+  printRecordSummary(o.out, m, worlds, written, protocol.name);
   std::printf("wrote %s\n", o.out.c_str());
 }
 

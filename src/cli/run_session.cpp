@@ -69,13 +69,12 @@ Session resumedSession(const fs::path& dir) {
 }
 
 void printRecordSummary(const fs::path& dir, const bench::RunManifest& m, const std::vector<core::WorldSpec>& worlds,
+                        const std::vector<bench::EpisodeResult>& results, core::ProtocolName protocol,
                         bool every_bucket) {
-  const std::vector<bench::EpisodeResult> results = bench::readEpisodesCsv(dir / bench::kEpisodesFile);
   const bench::RunSummary summary = bench::summarise(results);
-  const std::string protocol(core::toString(bench::recordProtocol(m, "manifest")));
   std::printf("%s", bench::summaryTable(summary, m.controller + " on " + bench::worldSetName(worlds) + " worlds " +
                                                      m.worlds_spec + " x " + std::to_string(m.trials) + " trials (" +
-                                                     protocol + ")").c_str());
+                                                     std::string(core::toString(protocol)) + ")").c_str());
   // A bucket of a few worlds says little: a group is shown only when each of its buckets has
   // kMinWorldsPerBucket worlds (all of them with every_bucket; summary.json has them all).
   constexpr int kMinWorldsPerBucket = 5;
@@ -108,7 +107,10 @@ std::vector<Session*> sessionsToRun(const std::vector<Session*>& sessions, bool 
       continue;
     }
     std::printf("%s is already complete\n", record.dir.c_str());
-    if (print_summaries) printRecordSummary(record.dir, record.manifest, record.worlds);
+    // Complete in an earlier session: its episodes are only on disk.
+    if (print_summaries)
+      printRecordSummary(record.dir, record.manifest, record.worlds, bench::readEpisodesCsv(record.dir / bench::kEpisodesFile),
+                         session->episode.protocol);
   }
   return running;
 }
@@ -228,11 +230,13 @@ int executeSessions(const std::vector<Session*>& sessions, const SessionOptions&
     for (const auto& r : record.previous) episode_error = episode_error || r.outcome == bench::Outcome::Error;
     std::optional<std::vector<core::FileContent>> written;
     if (options.trajectories) written = std::move(pool.trajectories[batch]);
-    if (!prepared.journals[batch]->finish(std::move(pool.results[batch]), pool.wall / static_cast<double>(running.size()), written)) {
+    const std::optional<std::vector<bench::EpisodeResult>> complete =
+        prepared.journals[batch]->finish(std::move(pool.results[batch]), pool.wall / static_cast<double>(running.size()), written);
+    if (!complete) {
       interrupted = true;
       continue;
     }
-    if (print_summaries) printRecordSummary(record.dir, record.manifest, record.worlds);
+    if (print_summaries) printRecordSummary(record.dir, record.manifest, record.worlds, *complete, running[batch]->episode.protocol);
     if (episode_error) status = 1;
   }
   std::printf("  performance: wall %.2f s, simulated %.1f s, %.0f simulated s per wall s (%.0f per core, %d threads)\n",

@@ -101,8 +101,9 @@ void checkRows(const RunManifest& manifest, const std::vector<EpisodeResult>& ro
                const std::vector<std::size_t>& allowed, bool complete);
 
 /// Writes the finished record: episodes.csv (sorted), summary.json and the manifest marked
-/// complete; removes the journal. `results` must hold every episode of the record.
-void writeCompleteRecord(const std::filesystem::path& dir, RunManifest manifest, std::vector<EpisodeResult> results,
+/// complete; removes the journal. `results` must hold every episode of the record. Returns
+/// them as written (sorted), so callers can go on without reading episodes.csv back.
+std::vector<EpisodeResult> writeCompleteRecord(const std::filesystem::path& dir, RunManifest manifest, std::vector<EpisodeResult> results,
                          const std::vector<core::WorldSpec>& worlds);
 
 }  // namespace barn::bench
