@@ -64,7 +64,7 @@ Session resumedSession(const fs::path& dir) {
   session.make_controller =
       controllers::makeControllerFactory(core::ConfigNode::parseString(m.controller_config, "manifest controller_config"));
   session.episode = bench::validatedEpisodeConfig(core::ConfigNode::parseString(m.episode_config, "manifest episode_config"),
-                                                       (dir / bench::kManifestFile).string());
+                                                  (dir / bench::kManifestFile).string());
   return session;
 }
 
