@@ -17,13 +17,15 @@ std::vector<std::size_t> shardEpisodes(std::size_t total, int index, int count) 
   return episodes;
 }
 
-std::vector<EpisodeResult> runBatch(const BatchSpec& spec, const ProgressCallback& progress) {
+std::vector<EpisodeResult> runBatch(const BatchSpec& spec, const BatchExecution& execution,
+                                    const ProgressCallback& progress) {
   MultiProgressCallback multi;
   if (progress) multi = [&](std::size_t, const EpisodeResult& r, std::size_t done, std::size_t total) { progress(r, done, total); };
-  return runBatches({&spec}, multi).front();
+  return runBatches({&spec}, execution, multi).front();
 }
 
 std::vector<std::vector<EpisodeResult>> runBatches(const std::vector<const BatchSpec*>& specs,
+                                                   const BatchExecution& execution,
                                                    const MultiProgressCallback& progress) {
   sim::prepareForThreads();
   // Shared, immutable per-world data, built once per batch before the parallel region.
@@ -55,13 +57,12 @@ std::vector<std::vector<EpisodeResult>> runBatches(const std::vector<const Batch
   std::vector<EpisodeResult> results(jobs.size());
   std::vector<char> ran(jobs.size(), 0);
   std::size_t done = 0;
-  const BatchSpec& first = *specs.front();
-  const int threads = first.jobs > 0 ? first.jobs : omp_get_max_threads();
+  const int threads = execution.jobs > 0 ? execution.jobs : omp_get_max_threads();
 
   // Dynamic schedule: episode lengths vary from seconds to the 100 s timeout.
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
   for (long k = 0; k < total; ++k) {
-    if (first.stop && first.stop->load()) continue;
+    if (execution.stop && execution.stop->load()) continue;
     const auto [b, index] = jobs[static_cast<std::size_t>(k)];
     const BatchSpec& spec = *specs[b];
     const std::size_t trials = static_cast<std::size_t>(spec.trials);

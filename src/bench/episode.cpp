@@ -44,11 +44,7 @@ void countStateEntry(std::vector<std::pair<std::string, int>>& entries, std::str
 }  // namespace
 
 void validate(const EpisodeConfig& config, core::Errors& errors) {
-  try {
-    core::protocolPreset(config.protocol);
-  } catch (const core::InputError& e) {
-    errors.add("protocol", e.what());
-  }
+  // protocol needs no check: reading the config resolved its name (or named the field).
   sim::validate(config.physics, errors);
   core::validate(config.robot, errors);
   core::validate(config.lidar, errors);

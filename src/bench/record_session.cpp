@@ -152,8 +152,9 @@ bool RecordJournal::append(const EpisodeResult& result) {
   return static_cast<bool>(journal_);
 }
 
-bool RecordJournal::finish(std::vector<EpisodeResult> finished, double wall_time_s,
-                           const std::optional<std::vector<core::FileContent>>& trajectories) {
+std::optional<std::vector<EpisodeResult>> RecordJournal::finish(
+    std::vector<EpisodeResult> finished, double wall_time_s,
+    const std::optional<std::vector<core::FileContent>>& trajectories) {
   if (journal_.is_open()) journal_.close();
   RunManifest& m = session_.manifest;
   m.wall_time_s += wall_time_s;
@@ -162,11 +163,11 @@ bool RecordJournal::finish(std::vector<EpisodeResult> finished, double wall_time
   if (finished.size() < m.episodes_total) {
     m.episodes_done = finished.size();
     core::writeFileAtomic(session_.dir / kManifestFile, formatManifest(m, session_.dir));
-    return false;
+    return std::nullopt;
   }
-  writeCompleteRecord(session_.dir, m, std::move(finished), session_.worlds);
+  std::vector<EpisodeResult> written = writeCompleteRecord(session_.dir, m, std::move(finished), session_.worlds);
   m.complete = true;
-  return true;
+  return written;
 }
 
 RunManifest mergeShardRecords(const std::vector<fs::path>& shards, const fs::path& out) {

@@ -244,6 +244,10 @@ RunManifest readManifest(const std::filesystem::path& path) {
   return m;
 }
 
+core::ProtocolName recordProtocol(const RunManifest& manifest, const std::string& where) {
+  return core::readConfig<EpisodeConfig>(core::ConfigNode::parseString(manifest.episode_config, where)).protocol;
+}
+
 std::string experimentDifference(const RunManifest& a, const RunManifest& b) {
   const ExperimentFields fields_a = experimentFields(a);
   const ExperimentFields fields_b = experimentFields(b);
@@ -335,7 +339,8 @@ void checkRows(const RunManifest& manifest, const std::vector<EpisodeResult>& ro
                              std::to_string(index % trials) + " is missing");
 }
 
-void writeCompleteRecord(const std::filesystem::path& dir, RunManifest manifest, std::vector<EpisodeResult> results,
+std::vector<EpisodeResult> writeCompleteRecord(const std::filesystem::path& dir, RunManifest manifest,
+                                               std::vector<EpisodeResult> results,
                          const std::vector<core::WorldSpec>& worlds) {
   sortResults(results, manifest.world_ids);
   const RunSummary summary = summarise(results);
@@ -348,6 +353,7 @@ void writeCompleteRecord(const std::filesystem::path& dir, RunManifest manifest,
                                {kManifestFile, formatManifest(manifest, dir)}});
   std::error_code ec;
   std::filesystem::remove(dir / kJournalFile, ec);
+  return results;
 }
 
 }  // namespace barn::bench

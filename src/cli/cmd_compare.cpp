@@ -38,7 +38,7 @@ struct CompareOptions {
 struct Record {
   std::string dir;
   bench::RunManifest manifest;
-  std::string protocol;
+  core::ProtocolName protocol = core::ProtocolName::Barn2023;
   std::vector<bench::EpisodeResult> results;
 };
 
@@ -47,9 +47,7 @@ Record readRecord(const std::string& dir) {
   r.dir = dir;
   r.manifest = bench::readManifest(fs::path(dir) / bench::kManifestFile);
   if (!r.manifest.complete) throw core::InputError(dir + ": the run is not complete (barn run --resume " + dir + ")");
-  r.protocol = core::readConfig<bench::EpisodeConfig>(
-                   core::ConfigNode::parseString(r.manifest.episode_config, dir + " manifest episode_config"))
-                   .protocol;
+  r.protocol = bench::recordProtocol(r.manifest, dir + " manifest episode_config");
   r.results = bench::readEpisodesCsv(fs::path(dir) / bench::kEpisodesFile);
   return r;
 }
@@ -76,7 +74,7 @@ std::vector<int> differentWorlds(const Record& a, const Record& b, const std::ve
 void writeJson(const bench::Comparison& c, const Record& a, const Record& b, const std::vector<int>& different) {
   core::JsonWriter j;
   const auto side = [&](const Record& r) {
-    j.beginObject().key("record").value(r.dir).key("controller").value(r.manifest.controller).key("protocol").value(r.protocol);
+    j.beginObject().key("record").value(r.dir).key("controller").value(r.manifest.controller).key("protocol").value(std::string(core::toString(r.protocol)));
     if (!r.manifest.source.empty()) j.key("source").value(r.manifest.source);
     j.endObject();
   };
@@ -149,8 +147,8 @@ void plotComparison(const bench::Comparison& c, const Record& a, const Record& b
   pairs.title = title;
   pairs.y_label = score ? "mean score (OT / clipped AT)" : "success rate (fraction of trials)";
   pairs.x_label = "world id, ordered by A's " + std::string(score ? "mean score" : "success rate");
-  pairs.label_a = a.manifest.controller + " (" + a.protocol + ")";
-  pairs.label_b = b.manifest.controller + " (" + b.protocol + ")";
+  pairs.label_a = a.manifest.controller + " (" + std::string(core::toString(a.protocol)) + ")";
+  pairs.label_b = b.manifest.controller + " (" + std::string(core::toString(b.protocol)) + ")";
   for (std::size_t i : order) {
     pairs.labels.push_back(std::to_string(c.a[i].world_id));
     pairs.a.push_back(value(c.a[i]));
@@ -179,13 +177,13 @@ void compare(const CompareOptions& o) {
     writeJson(c, a, b, different);
   } else {
     const auto label = [](const Record& r) {
-      return r.manifest.controller + ", " + r.protocol + ", " + r.dir + (r.manifest.source.empty() ? "" : " (imported)");
+      return r.manifest.controller + ", " + std::string(core::toString(r.protocol)) + ", " + r.dir + (r.manifest.source.empty() ? "" : " (imported)");
     };
     std::printf("%s", bench::comparisonReport(c, label(a), label(b)).c_str());
   }
   if (a.protocol != b.protocol)
     std::fprintf(stderr, "note: the records use different protocols (A %s, B %s): scores are on different scales\n",
-                 a.protocol.c_str(), b.protocol.c_str());
+                 std::string(core::toString(a.protocol)).c_str(), std::string(core::toString(b.protocol)).c_str());
   if (!different.empty()) {
     std::string list;
     for (int id : different) list += (list.empty() ? "" : ", ") + std::to_string(id);

@@ -75,7 +75,7 @@ void importOut(const ImportOutOptions& o) {
 
   bench::RunManifest m;
   m.controller = o.label.empty() ? "gazebo:" + fs::path(o.file).stem().string() : o.label;
-  m.episode_config = "protocol: " + protocol.name + "\n";
+  m.episode_config = "protocol: " + std::string(core::toString(protocol.name)) + "\n";
   for (int id : imported.world_ids) m.worlds_spec += (m.worlds_spec.empty() ? "" : ",") + std::to_string(id);
   m.worlds_folder = loaded.folder.string();
   m.world_ids = imported.world_ids;
@@ -86,10 +86,10 @@ void importOut(const ImportOutOptions& o) {
   m.episodes_total = imported.results.size();
   m.barnbench_version = BARN_VERSION;
   m.git_commit = bench::gitCommit();
-  bench::writeCompleteRecord(o.out, m, imported.results, worlds);
+  const std::vector<bench::EpisodeResult> written = bench::writeCompleteRecord(o.out, m, imported.results, worlds);
   std::printf("imported %zu episodes on %zu worlds from %s (scored with %s)\n", imported.results.size(),
-              imported.world_ids.size(), o.file.c_str(), protocol.name.c_str());
-  printRecordSummary(o.out, bench::readManifest(fs::path(o.out) / bench::kManifestFile), worlds);
+              imported.world_ids.size(), o.file.c_str(), std::string(core::toString(protocol.name)).c_str());
+  printRecordSummary(o.out, m, worlds, written, protocol.name);
   std::printf("wrote %s\n", o.out.c_str());
 }
 
@@ -103,9 +103,7 @@ void exportOut(const ExportOutOptions& o) {
     std::fprintf(stderr, "warning: %d error episodes have no counterpart in run.py's file; written with no flag set\n",
                  errors);
   core::writeFileAtomic(o.out, bench::harnessOut(results));
-  const std::string protocol =
-      core::readConfig<bench::EpisodeConfig>(core::ConfigNode::parseString(m.episode_config, o.record + " manifest"))
-          .protocol;
+  const std::string protocol(core::toString(bench::recordProtocol(m, o.record + " manifest")));
   std::printf("wrote %zu lines to %s (nav_metric = the record's %s score)\n", results.size(), o.out.c_str(),
               protocol.c_str());
 }

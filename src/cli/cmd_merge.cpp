@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "barn/bench/record_session.hpp"
+#include "barn/bench/results_io.hpp"
 #include "barn/bench/run_record.hpp"
 #include "commands.hpp"
 
@@ -27,7 +28,10 @@ void addMergeCommand(CLI::App& app, CommandContext& /*context*/) {
     const std::vector<std::filesystem::path> shards(options->shards.begin(), options->shards.end());
     const bench::RunManifest merged = bench::mergeShardRecords(shards, options->out);
     std::printf("merged %zu shards, %zu episodes\n", shards.size(), merged.episodes_total);
-    printRecordSummary(options->out, merged, bench::loadManifestWorlds(merged));
+    // mergeShardRecords wrote the merged episodes; the summary reads them back from there.
+    const std::filesystem::path out = options->out;
+    printRecordSummary(out, merged, bench::loadManifestWorlds(merged), bench::readEpisodesCsv(out / bench::kEpisodesFile),
+                       bench::recordProtocol(merged, "manifest"));
     std::printf("wrote %s\n", options->out.c_str());
   });
 }

@@ -35,9 +35,7 @@ std::string fixed(double value, int digits) {
   return text;
 }
 
-std::string protocolOf(const bench::RunManifest& m) {
-  return core::readConfig<bench::EpisodeConfig>(core::ConfigNode::parseString(m.episode_config, "manifest")).protocol;
-}
+std::string protocolOf(const bench::RunManifest& m) { return std::string(core::toString(bench::recordProtocol(m, "manifest"))); }
 
 HtmlTable summaryRows(const std::vector<std::pair<std::string, bench::RunSummary>>& rows, const std::string& id,
                        const std::string& first_column) {
@@ -133,7 +131,7 @@ HtmlReport sweepReport(const fs::path& dir, const fs::path& figures) {
   report.subtitle = std::to_string(table.cells.size()) + " cells over " + swept;
   if (!table.cells.empty())
     report.subtitle += "; " + std::to_string(table.cells.front().summary.worlds) + " worlds x " +
-                       std::to_string(table.trials) + " trials, protocol " + table.protocol;
+                       std::to_string(table.trials) + " trials, protocol " + std::string(core::toString(table.protocol));
   HtmlTable cells;
   cells.id = "cells";
   cells.header = table.keys;

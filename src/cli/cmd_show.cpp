@@ -55,8 +55,9 @@ void addShowCommand(CLI::App& app, CommandContext& /*context*/) {
       throw core::InputError(dir.string() + ": not complete (" + std::to_string(m.episodes_done) + " of " +
                              std::to_string(m.episodes_total) + " episodes); finish it with barn run --resume " + dir.string());
     const std::vector<core::WorldSpec> worlds = bench::loadManifestWorlds(m);
-    printRecordSummary(dir, m, worlds, options->breakdown);
-    std::printf("%s", worldTable(bench::readEpisodesCsv(dir / bench::kEpisodesFile)).c_str());
+    const std::vector<bench::EpisodeResult> results = bench::readEpisodesCsv(dir / bench::kEpisodesFile);
+    printRecordSummary(dir, m, worlds, results, bench::recordProtocol(m, "manifest"), options->breakdown);
+    std::printf("%s", worldTable(results).c_str());
   });
 }
 

@@ -48,7 +48,7 @@ std::string worldJson(const core::WorldSpec& w, const core::Protocol& protocol) 
   json.key("path").beginArray();
   for (const auto& cell : w.path) writeCell(json, cell);
   json.endArray();
-  json.key("protocol").value(protocol.name);
+  json.key("protocol").value(std::string(core::toString(protocol.name)));
   json.key("path_length_m").value(core::referencePathLength(w.path, protocol));
   json.key("optimal_time_s").value(core::optimalTime(w.path, protocol));
   json.key("metrics");
@@ -65,7 +65,7 @@ void printWorldText(const core::WorldSpec& w, const core::Protocol& protocol) {
   std::printf(")\n  generator      fill %.2f, smoothing %d\n", w.fill_pct, w.smooth_iter);
   std::printf("  start -> goal  (%d, %d) -> (%d, %d), %zu path cells\n", w.start_cell.row, w.start_cell.col,
               w.goal_cell.row, w.goal_cell.col, w.path.size());
-  std::printf("  %s  reference path %.4f m, optimal time %.4f s\n", protocol.name.c_str(),
+  std::printf("  %s  reference path %.4f m, optimal time %.4f s\n", std::string(core::toString(protocol.name)).c_str(),
               core::referencePathLength(w.path, protocol), core::optimalTime(w.path, protocol));
   const auto raw = w.metrics.toArray();
   const auto norm = w.norm_metrics.toArray();

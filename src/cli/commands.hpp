@@ -79,8 +79,10 @@ bench::EpisodeConfig episodeConfigFor(const std::string& sim_config, const std::
 void parseShard(const std::string& text, int& index, int& count);
 
 /// Prints a complete record's summary table and difficulty breakdown (the groups whose buckets
-/// all hold enough worlds to mean something, or every group with `every_bucket`).
+/// all hold enough worlds to mean something, or every group with `every_bucket`): `results`
+/// are its episodes as written, scored under `protocol`.
 void printRecordSummary(const std::filesystem::path& dir, const bench::RunManifest& manifest,
-                        const std::vector<core::WorldSpec>& worlds, bool every_bucket = false);
+                        const std::vector<core::WorldSpec>& worlds, const std::vector<bench::EpisodeResult>& results,
+                        core::ProtocolName protocol, bool every_bucket = false);
 
 }  // namespace barn::cli

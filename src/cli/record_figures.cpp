@@ -66,9 +66,8 @@ void renderScoreBars(const fs::path& record, const std::string& by, const fs::pa
     if (stats.count(w.id)) order.push_back(&w);
   std::stable_sort(order.begin(), order.end(),
                    [&](const auto* a, const auto* b) { return orderKey(*a, by) < orderKey(*b, by); });
-  const std::string protocol =
-      core::readConfig<bench::EpisodeConfig>(core::ConfigNode::parseString(manifest.episode_config, "manifest")).protocol;
-  const core::Protocol preset = core::protocolPreset(protocol);
+  const core::Protocol preset = core::protocolPreset(bench::recordProtocol(manifest, "manifest"));
+  const std::string protocol(core::toString(preset.name));
 
   viz::WorldBars bars;
   bars.title = manifest.controller + ": mean score per world";

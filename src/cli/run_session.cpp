@@ -45,9 +45,9 @@ Session newSession(const std::string& controller_name, const core::ConfigNode& c
   bench::checkNoRecord(dir);  // before any work, for a quick answer
   Session session;
   controllers::PreparedController controller = controllers::prepareController(controller_config);
-  session.spec.make_controller = std::move(controller.factory);
-  session.spec.episode = episode;
-  bench::checkControllerFits(*session.spec.make_controller(), episode);  // before any episode
+  session.make_controller = std::move(controller.factory);
+  session.episode = episode;
+  bench::checkControllerFits(*session.make_controller(), episode);  // before any episode
   bench::RunManifest manifest =
       bench::newManifest(controller_name, controller.effective_config, episode, loaded, worlds_spec, trials, seed);
   manifest.shard_index = shard_index;
@@ -61,22 +61,20 @@ Session resumedSession(const fs::path& dir) {
   Session session;
   session.record = bench::openRecord(dir);
   const bench::RunManifest& m = session.record.manifest;
-  session.spec.make_controller =
+  session.make_controller =
       controllers::makeControllerFactory(core::ConfigNode::parseString(m.controller_config, "manifest controller_config"));
-  session.spec.episode = bench::validatedEpisodeConfig(core::ConfigNode::parseString(m.episode_config, "manifest episode_config"),
-                                                       (dir / bench::kManifestFile).string());
+  session.episode = bench::validatedEpisodeConfig(core::ConfigNode::parseString(m.episode_config, "manifest episode_config"),
+                                                  (dir / bench::kManifestFile).string());
   return session;
 }
 
 void printRecordSummary(const fs::path& dir, const bench::RunManifest& m, const std::vector<core::WorldSpec>& worlds,
+                        const std::vector<bench::EpisodeResult>& results, core::ProtocolName protocol,
                         bool every_bucket) {
-  const std::vector<bench::EpisodeResult> results = bench::readEpisodesCsv(dir / bench::kEpisodesFile);
   const bench::RunSummary summary = bench::summarise(results);
-  const std::string protocol =
-      core::readConfig<bench::EpisodeConfig>(core::ConfigNode::parseString(m.episode_config, "manifest")).protocol;
   std::printf("%s", bench::summaryTable(summary, m.controller + " on " + bench::worldSetName(worlds) + " worlds " +
                                                      m.worlds_spec + " x " + std::to_string(m.trials) + " trials (" +
-                                                     protocol + ")").c_str());
+                                                     std::string(core::toString(protocol)) + ")").c_str());
   // A bucket of a few worlds says little: a group is shown only when each of its buckets has
   // kMinWorldsPerBucket worlds (all of them with every_bucket; summary.json has them all).
   constexpr int kMinWorldsPerBucket = 5;
@@ -109,28 +107,45 @@ std::vector<Session*> sessionsToRun(const std::vector<Session*>& sessions, bool 
       continue;
     }
     std::printf("%s is already complete\n", record.dir.c_str());
-    if (print_summaries) printRecordSummary(record.dir, record.manifest, record.worlds);
+    // Complete in an earlier session: its episodes are only on disk.
+    if (print_summaries)
+      printRecordSummary(record.dir, record.manifest, record.worlds, bench::readEpisodesCsv(record.dir / bench::kEpisodesFile),
+                         session->episode.protocol);
   }
   return running;
 }
 
-/// Fills each session's batch from its record (the episodes still pending) and opens its
-/// journal; prints what is about to run (`one_record`: the run is a single record's).
-std::vector<std::unique_ptr<bench::RecordJournal>> prepareBatches(const std::vector<Session*>& running, bool one_record,
-                                                                  const SessionOptions& options, int threads,
-                                                                  std::size_t& total, std::size_t& already) {
+/// The experiment of a session's batch, all of it in one place: the record's worlds, trials
+/// and seed, the episodes it still lacks, the session's controller and episode config.
+bench::BatchSpec pendingBatch(const Session& session, bool record_trajectories) {
+  const bench::RunManifest& m = session.record.manifest;
+  bench::BatchSpec batch;
+  batch.worlds = session.record.worlds;
+  batch.trials = m.trials;
+  batch.seed = m.seed;
+  batch.episode = session.episode;
+  batch.make_controller = session.make_controller;
+  batch.record_trajectories = record_trajectories;
+  batch.selected = bench::pendingEpisodes(session.record);
+  return batch;
+}
+
+/// Every session's batch and open journal, in order.
+struct PreparedBatches {
+  std::vector<bench::BatchSpec> batches;
   std::vector<std::unique_ptr<bench::RecordJournal>> journals;
+};
+
+/// Makes each session's batch (the episodes still pending) and opens its journal; prints what
+/// is about to run (`one_record`: the run is a single record's).
+PreparedBatches prepareBatches(const std::vector<Session*>& running, bool one_record, const SessionOptions& options,
+                               int threads, std::size_t& total, std::size_t& already) {
+  PreparedBatches prepared;
   total = already = 0;
   for (Session* session : running) {
-    bench::RunManifest& m = session->record.manifest;
-    session->spec.worlds = session->record.worlds;
-    session->spec.trials = m.trials;
-    session->spec.seed = m.seed;
-    session->spec.jobs = options.jobs;
-    session->spec.record_trajectories = options.trajectories;
-    session->spec.selected = bench::pendingEpisodes(session->record);
-    journals.push_back(std::make_unique<bench::RecordJournal>(session->record, session->spec.selected->size(), threads));
-    total += m.episodes_total;
+    const bench::BatchSpec& batch = prepared.batches.emplace_back(pendingBatch(*session, options.trajectories));
+    prepared.journals.push_back(std::make_unique<bench::RecordJournal>(session->record, batch.selected->size(), threads));
+    total += session->record.manifest.episodes_total;
     already += session->record.previous.size();
   }
   if (one_record) {
@@ -145,7 +160,7 @@ std::vector<std::unique_ptr<bench::RecordJournal>> prepareBatches(const std::vec
   }
   if (already > 0) std::printf("resuming: %zu episodes already finished\n", already);
   std::fflush(stdout);
-  return journals;
+  return prepared;
 }
 
 /// What one pool of batches produced, per batch.
@@ -157,21 +172,22 @@ struct PoolOutput {
 
 /// Runs every batch in one pool, journaling each episode as it ends; Ctrl-C, SIGTERM,
 /// --stop-after or a failed journal write stop it between episodes.
-PoolOutput runPool(const std::vector<Session*>& running, std::vector<std::unique_ptr<bench::RecordJournal>>& journals,
-                   const SessionOptions& options, std::size_t total, std::size_t already) {
+PoolOutput runPool(const std::vector<Session*>& running, PreparedBatches& prepared, const SessionOptions& options,
+                   std::size_t total, std::size_t already) {
   std::vector<const bench::BatchSpec*> specs;
-  for (Session* session : running) specs.push_back(&session->spec);
+  for (const bench::BatchSpec& batch : prepared.batches) specs.push_back(&batch);
+  std::vector<std::unique_ptr<bench::RecordJournal>>& journals = prepared.journals;
   g_interrupted.store(false);
   std::signal(SIGINT, onInterrupt);
   std::signal(SIGTERM, onInterrupt);  // Slurm's time limit and preemption
-  running.front()->spec.stop = &g_interrupted;
+  const bench::BatchExecution execution{options.jobs, &g_interrupted};
   ProgressReporter progress(total, already, ::isatty(STDOUT_FILENO));
   PoolOutput out;
   out.trajectories.resize(specs.size());
   const auto t0 = std::chrono::steady_clock::now();
   std::size_t finished_here = 0;
   std::string journal_error;  // the first failed journal write: the run stops there
-  out.results = bench::runBatches(specs, [&](std::size_t batch, const bench::EpisodeResult& r, std::size_t, std::size_t) {
+  out.results = bench::runBatches(specs, execution, [&](std::size_t batch, const bench::EpisodeResult& r, std::size_t, std::size_t) {
     if (!journals[batch]->append(r) && journal_error.empty()) {
       journal_error = (running[batch]->record.dir / bench::kJournalFile).string() + ": write failed: " + std::strerror(errno);
       g_interrupted.store(true);  // nothing more can be kept: start no new episode
@@ -197,8 +213,8 @@ int executeSessions(const std::vector<Session*>& sessions, const SessionOptions&
   const std::vector<Session*> running = sessionsToRun(sessions, print_summaries);
   if (running.empty()) return 0;
   std::size_t total = 0, already = 0;
-  std::vector<std::unique_ptr<bench::RecordJournal>> journals = prepareBatches(running, sessions.size() == 1, options, threads, total, already);
-  PoolOutput pool = runPool(running, journals, options, total, already);
+  PreparedBatches prepared = prepareBatches(running, sessions.size() == 1, options, threads, total, already);
+  PoolOutput pool = runPool(running, prepared, options, total, already);
 
   // Each record is written whole (or, interrupted, left to --resume).
   int status = 0;
@@ -214,11 +230,13 @@ int executeSessions(const std::vector<Session*>& sessions, const SessionOptions&
     for (const auto& r : record.previous) episode_error = episode_error || r.outcome == bench::Outcome::Error;
     std::optional<std::vector<core::FileContent>> written;
     if (options.trajectories) written = std::move(pool.trajectories[batch]);
-    if (!journals[batch]->finish(std::move(pool.results[batch]), pool.wall / static_cast<double>(running.size()), written)) {
+    const std::optional<std::vector<bench::EpisodeResult>> complete =
+        prepared.journals[batch]->finish(std::move(pool.results[batch]), pool.wall / static_cast<double>(running.size()), written);
+    if (!complete) {
       interrupted = true;
       continue;
     }
-    if (print_summaries) printRecordSummary(record.dir, record.manifest, record.worlds);
+    if (print_summaries) printRecordSummary(record.dir, record.manifest, record.worlds, *complete, running[batch]->episode.protocol);
     if (episode_error) status = 1;
   }
   std::printf("  performance: wall %.2f s, simulated %.1f s, %.0f simulated s per wall s (%.0f per core, %d threads)\n",

@@ -12,16 +12,18 @@
 #include "barn/bench/record_session.hpp"
 #include "barn/bench/run_record.hpp"
 #include "barn/bench/world_selection.hpp"
+#include "barn/controllers/registry.hpp"
 #include "barn/core/config.hpp"
 #include "commands.hpp"
 
 namespace barn::cli {
 
-/// A record to write (bench::RecordSession) and how to run its episodes here: the C++
-/// controller factory and the episode config, for the parallel batch.
+/// A record to write (bench::RecordSession) and what its episodes need here besides the
+/// record: the C++ controller factory and the episode config (pendingBatch makes the batch).
 struct Session {
   bench::RecordSession record;
-  bench::BatchSpec spec;
+  controllers::ControllerFactory make_controller;
+  bench::EpisodeConfig episode;
 };
 
 /// A new record in `dir` (which must not hold one): everything validated, nothing written yet.

@@ -41,7 +41,7 @@ struct Accumulator {
 }  // namespace
 
 std::string parameterSetTable(const std::vector<core::WorldSpec>& worlds) {
-  const core::Protocol protocol = core::protocolPreset("barn2023");
+  const core::Protocol protocol = core::protocolPreset(core::ProtocolName::Barn2023);
   std::vector<Accumulator> sets;
   Accumulator all;
   for (const auto& w : worlds) {

@@ -144,8 +144,7 @@ SweepTable readSweepTable(const std::filesystem::path& dir, const std::filesyste
     if (!m.complete)
       throw core::InputError(cell_dir.string() + ": not complete; finish the sweep with barn sweep --resume " + dir.string());
     if (c == 0) {
-      table.protocol =
-          core::readConfig<bench::EpisodeConfig>(core::ConfigNode::parseString(m.episode_config, "manifest")).protocol;
+      table.protocol = bench::recordProtocol(m, "manifest");
       table.trials = m.trials;
     }
     SweepCell cell;
@@ -208,7 +207,8 @@ std::vector<std::filesystem::path> writeSweepPlots(const SweepTable& table, cons
   const double max_score = core::protocolPreset(table.protocol).maxScore();
   const int worlds = table.cells.front().summary.worlds;
   const std::string scope = std::to_string(worlds) + (worlds == 1 ? " world x " : " worlds x ") +
-                            std::to_string(table.trials) + (table.trials == 1 ? " trial, " : " trials, ") + table.protocol;
+                            std::to_string(table.trials) + (table.trials == 1 ? " trial, " : " trials, ") +
+                            std::string(core::toString(table.protocol));
   const Metric metrics[] = {{"score", "BARN score", &bench::RunSummary::score, &worldScore, true, true},
                             {"success", "success rate", &bench::RunSummary::success_rate, &worldSuccess, true, false},
                             {"collision", "collision rate", &bench::RunSummary::collision_rate, &worldCollision, false, false}};
@@ -221,7 +221,7 @@ std::vector<std::filesystem::path> writeSweepPlots(const SweepTable& table, cons
       map.title = table.controller + ": " + metric.title + " (" + scope + ")";
       map.scale_min = 0.0;
       map.scale_max = scale_max;
-      map.scale_label = metric.is_score ? "score (" + table.protocol + " maximum " + scoreText(max_score) + ")"
+      map.scale_label = metric.is_score ? "score (" + std::string(core::toString(table.protocol)) + " maximum " + scoreText(max_score) + ")"
                                         : std::string(metric.title) + " (fraction of episodes)";
       viz::renderHeatMap(map, file);
     } else {

@@ -7,6 +7,7 @@
 
 #include "barn/bench/compare.hpp"
 #include "barn/bench/report.hpp"
+#include "barn/core/protocol.hpp"
 
 namespace barn::cli {
 
@@ -21,7 +22,7 @@ struct SweepTable {
   std::string controller;
   std::vector<std::string> keys;   // swept keys
   std::vector<std::string> units;  // per key, as the controller's config file states it; "" = unknown
-  std::string protocol;            // the cells' protocol preset: fixes the score scale
+  core::ProtocolName protocol = core::ProtocolName::Barn2023;  // the cells' protocol: fixes the score scale
   int trials = 0;                  // per world, in every cell
   std::vector<SweepCell> cells;    // odometer order, last key fastest
 };

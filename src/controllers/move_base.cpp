@@ -36,15 +36,111 @@ bool footprintOutlineHits(const nav::Costmap& map, const std::vector<Eigen::Vect
   return false;
 }
 
-void MoveBase::reset() {
-  mode_ = Mode::Controlling;
-  last_valid_time_ = 0.0;
-  recovery_index_ = 0;
-  recovery_trigger_ = RecoveryTrigger::Controller;
-  waiting_since_ = 0.0;
-  rotated_ = 0.0;
-  last_yaw_ = 0.0;
+// ---------------------------------------------------------------------------------------------
+// The transition function
+// ---------------------------------------------------------------------------------------------
+
+namespace {
+
+using Mode = MoveBaseMode;
+
+// move_base's four recoveries: clear (conservative), rotate, clear (aggressive), rotate.
+constexpr int kRecoveryCount = 4;
+
+MoveBaseStep doing(MoveBaseAction action, const MoveBaseState& state) { return {state, action, 0.0, std::nullopt}; }
+
+// move_base enters PLANNING: stop until the global planner finds a path.
+MoveBaseState waitingForPlan(MoveBaseState state, double time) {
+  state.mode = Mode::WaitingForPlan;
+  state.waiting_since = time;
+  return state;
 }
+
+// One tick of rotate_recovery: it keeps turning while the rest of the full turn is more than
+// the tolerance and sweeps free; then (done, or it would hit) move_base plans again.
+MoveBaseStep rotationTick(MoveBaseState state, const MoveBaseInputs& in, const MoveBaseRecoveryConfig& r) {
+  state.rotated += std::abs(core::wrapAngle(in.yaw - state.last_yaw));
+  state.last_yaw = in.yaw;
+  const double remaining = 2.0 * std::numbers::pi - state.rotated;
+  if (remaining > r.rotation_tolerance && in.turn_clear(remaining)) {
+    MoveBaseStep turn = doing(MoveBaseAction::Turn, state);
+    turn.turn_speed =
+        std::clamp(std::sqrt(2.0 * r.rotation_acceleration * remaining), r.min_rotation_speed, r.max_rotation_speed);
+    return turn;
+  }
+  return doing(MoveBaseAction::Stop, waitingForPlan(state, in.time));
+}
+
+// move_base runs its recoveries in order, each after a failing cycle, until one lets the
+// controller find a command again; after the last it aborts the goal.
+MoveBaseStep startNextRecovery(MoveBaseState state, const MoveBaseInputs& in, const MoveBaseRecoveryConfig& r) {
+  if (state.recovery_index >= kRecoveryCount) {
+    state.mode = Mode::Aborted;
+    return doing(MoveBaseAction::Stop, state);
+  }
+  const int recovery = state.recovery_index++;
+  if (recovery % 2 == 0) {
+    MoveBaseStep clearing = doing(MoveBaseAction::Stop, waitingForPlan(state, in.time));
+    if (r.clear_costmaps) clearing.clear_beyond = recovery == 0 ? r.conservative_reset_distance : r.aggressive_reset_distance;
+    return clearing;
+  }
+  state.mode = Mode::RecoveryRotate;
+  state.rotated = 0.0;
+  state.last_yaw = in.yaw;
+  return rotationTick(state, in, r);  // the rotation turns from its first cycle
+}
+
+// The start of a cycle: a running rotation turns on; PLANNING waits for a plan (recovering
+// after planner_patience); otherwise the local planner runs.
+MoveBaseStep beforeLocalPlanner(MoveBaseState state, const MoveBaseInputs& in, const MoveBaseRecoveryConfig& r) {
+  if (state.mode == Mode::Aborted) return doing(MoveBaseAction::Stop, state);
+  if (state.mode == Mode::RecoveryRotate) {
+    const MoveBaseStep rotation = rotationTick(state, in, r);
+    if (rotation.state.mode == Mode::RecoveryRotate) return rotation;
+    state = rotation.state;  // the turn is over: PLANNING, this same cycle
+  }
+  if (state.mode == Mode::WaitingForPlan) {
+    // The plan of this cycle stands for the one move_base's planner thread makes between two
+    // control cycles once woken.
+    if (!in.plan_found) {
+      if (r.enabled && in.time - state.waiting_since > r.planner_patience) {
+        state.recovery_trigger = RecoveryTrigger::Planner;
+        return startNextRecovery(state, in, r);
+      }
+      return doing(MoveBaseAction::Stop, state);
+    }
+    state.mode = Mode::Controlling;
+  }
+  // A new plan handed to the controller ends recoveries the planner started.
+  if (state.recovery_trigger == RecoveryTrigger::Planner && in.plan_found) state.recovery_index = 0;
+  return doing(MoveBaseAction::RunLocalPlanner, state);
+}
+
+// After the local planner: its command is published; a failed cycle publishes zero and waits
+// for the planner, or after controller_patience starts the next recovery.
+MoveBaseStep afterLocalPlanner(MoveBaseState state, const MoveBaseInputs& in, const MoveBaseRecoveryConfig& r) {
+  if (*in.command_found) {
+    state.last_valid_time = in.time;
+    if (state.recovery_trigger == RecoveryTrigger::Controller) state.recovery_index = 0;
+    return doing(MoveBaseAction::PublishCommand, state);
+  }
+  if (r.enabled && in.time - state.last_valid_time >= r.controller_patience) {
+    state.recovery_trigger = RecoveryTrigger::Controller;
+    return startNextRecovery(state, in, r);
+  }
+  return doing(MoveBaseAction::Stop, waitingForPlan(state, in.time));
+}
+
+}  // namespace
+
+MoveBaseStep nextMoveBaseStep(const MoveBaseState& state, const MoveBaseInputs& inputs,
+                              const MoveBaseRecoveryConfig& config) {
+  return inputs.command_found ? afterLocalPlanner(state, inputs, config) : beforeLocalPlanner(state, inputs, config);
+}
+
+// ---------------------------------------------------------------------------------------------
+// MoveBase: the transition applied to a NavStack
+// ---------------------------------------------------------------------------------------------
 
 bool MoveBase::sweepClear(const nav::NavStack& nav, const core::Pose2& pose, double sweep) const {
   const nav::Costmap& map = nav.localCostmap();
@@ -54,85 +150,38 @@ bool MoveBase::sweepClear(const nav::NavStack& nav, const core::Pose2& pose, dou
   return true;
 }
 
-core::Twist MoveBase::recover(const Observation& obs, nav::NavStack& nav) {
-  // move_base runs its recoveries in order, each after a failing controller cycle, until
-  // one lets the controller find a command again; after the last it aborts the goal.
-  const core::Pose2& pose = obs.odom_pose;
-  const MoveBaseRecoveryConfig& r = config_;
-  if (mode_ == Mode::RecoveryRotate) {
-    rotated_ += std::abs(core::wrapAngle(pose.yaw - last_yaw_));
-    last_yaw_ = pose.yaw;
-    const double remaining = 2.0 * std::numbers::pi - rotated_;
-    if (remaining > r.rotation_tolerance && sweepClear(nav, pose, remaining)) {
-      const double speed = std::clamp(std::sqrt(2.0 * r.rotation_acceleration * remaining), r.min_rotation_speed,
-                                      r.max_rotation_speed);
-      return {0.0, speed};
-    }
-    waitForPlan(obs.time);  // the turn is done (or would hit): plan again
-    return {};
-  }
-  if (recovery_index_ >= 4) {
-    mode_ = Mode::Aborted;
-    return {};
-  }
-  const int step = recovery_index_++;
-  if (step % 2 == 0) {
-    if (r.clear_costmaps) {
-      const double keep = step == 0 ? r.conservative_reset_distance : r.aggressive_reset_distance;
-      nav.clearCostmapsOutside(pose.position(), keep);
-    }
-    waitForPlan(obs.time);
-    return {};
-  }
-  mode_ = Mode::RecoveryRotate;
-  rotated_ = 0.0;
-  last_yaw_ = pose.yaw;
-  return recover(obs, nav);
+MoveBaseStep MoveBase::advance(const Observation& obs, nav::NavStack& nav, std::optional<bool> command_found) {
+  MoveBaseInputs in;
+  in.time = obs.time;
+  in.yaw = obs.odom_pose.yaw;
+  in.plan_found = nav.lastPlanFound();
+  in.command_found = command_found;
+  in.turn_clear = [this, &nav, &obs](double sweep) { return sweepClear(nav, obs.odom_pose, sweep); };
+  const MoveBaseStep step = nextMoveBaseStep(state_, in, config_);
+  state_ = step.state;
+  if (step.clear_beyond) nav.clearCostmapsOutside(obs.odom_pose.position(), *step.clear_beyond);
+  return step;
 }
 
+namespace {
+
+// What move_base publishes for a step that is not the local planner's command.
+core::Twist ownCommand(const MoveBaseStep& step) {
+  return step.action == MoveBaseAction::Turn ? core::Twist{0.0, step.turn_speed} : core::Twist{};
+}
+
+}  // namespace
+
 std::optional<core::Twist> MoveBase::beforeController(const Observation& obs, nav::NavStack& nav) {
-  if (mode_ == Mode::Aborted) return core::Twist{};
-  if (mode_ == Mode::RecoveryRotate) {
-    const core::Twist turn = recover(obs, nav);
-    if (mode_ == Mode::RecoveryRotate) return turn;
-  }
-  if (mode_ == Mode::WaitingForPlan) {
-    // The plan of this cycle (NavStack::update) stands for the one move_base's planner thread
-    // makes between two control cycles once woken.
-    if (!nav.lastPlanFound()) {
-      if (config_.enabled && obs.time - waiting_since_ > config_.planner_patience) {
-        recovery_trigger_ = RecoveryTrigger::Planner;
-        return recover(obs, nav);
-      }
-      return core::Twist{};
-    }
-    mode_ = Mode::Controlling;
-  }
-  // A new plan handed to the controller ends recoveries the planner started.
-  if (recovery_trigger_ == RecoveryTrigger::Planner && nav.lastPlanFound()) recovery_index_ = 0;
-  return std::nullopt;
+  const MoveBaseStep step = advance(obs, nav, std::nullopt);
+  if (step.action == MoveBaseAction::RunLocalPlanner) return std::nullopt;
+  return ownCommand(step);
 }
 
 core::Twist MoveBase::afterController(const Observation& obs, nav::NavStack& nav,
                                       const std::optional<core::Twist>& command) {
-  if (command) {
-    last_valid_time_ = obs.time;
-    if (recovery_trigger_ == RecoveryTrigger::Controller) recovery_index_ = 0;
-    return *command;
-  }
-  // A failed cycle publishes zero; after controller_patience, the recoveries; else it waits
-  // for the planner.
-  if (config_.enabled && obs.time - last_valid_time_ >= config_.controller_patience) {
-    recovery_trigger_ = RecoveryTrigger::Controller;
-    return recover(obs, nav);
-  }
-  waitForPlan(obs.time);
-  return {};
-}
-
-void MoveBase::waitForPlan(double time) {
-  mode_ = Mode::WaitingForPlan;
-  waiting_since_ = time;
+  const MoveBaseStep step = advance(obs, nav, command.has_value());
+  return step.action == MoveBaseAction::PublishCommand ? *command : ownCommand(step);
 }
 
 }  // namespace barn::controllers

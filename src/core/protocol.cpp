@@ -2,23 +2,40 @@
 
 #include <algorithm>
 
+#include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
 
 namespace barn::core {
 
-std::vector<std::string> protocolNames() { return {"barn2023", "barn2024"}; }
+std::span<const std::string_view> enumNames(ProtocolName) {
+  static constexpr std::string_view kNames[] = {"barn2023", "barn2024"};
+  return kNames;
+}
 
-Protocol protocolPreset(std::string_view name) {
+std::string_view toString(ProtocolName name) { return enumNames(name)[static_cast<std::size_t>(name)]; }
+
+std::vector<std::string> protocolNames() {
+  const std::span<const std::string_view> names = enumNames(ProtocolName{});
+  return {names.begin(), names.end()};
+}
+
+Protocol protocolPreset(ProtocolName name) {
   Protocol p;  // defaults are barn2023: BARN 2022 and 2023 (run.py until TBC d17f00d)
-  if (name == "barn2023") return p;
-  if (name == "barn2024") {
+  if (name == ProtocolName::Barn2024) {
     // From 2024 the start is on the corridor centre line and the lower clip is 2 * OT.
-    p.name = "barn2024";
+    p.name = ProtocolName::Barn2024;
     p.start_x = -2.25;
     p.clip_low = 2.0;
-    return p;
   }
-  throw InputError("unknown protocol '" + std::string(name) + "' (known: barn2023, barn2024)");
+  return p;
+}
+
+Protocol protocolPreset(std::string_view name) {
+  ProtocolName edition{};
+  if (enumFromName(name, edition)) return protocolPreset(edition);
+  std::string known;
+  for (const std::string& n : protocolNames()) known += (known.empty() ? "" : ", ") + n;
+  throw InputError("unknown protocol '" + std::string(name) + "' (known: " + known + ")");
 }
 
 Eigen::Vector2d otPathPoint(Cell cell) {

@@ -96,7 +96,7 @@ struct WorldFileFields {
 };
 
 WorldFileFields fieldsOf(const WorldSpec& world) {
-  const Protocol protocol = protocolPreset("barn2023");
+  const Protocol protocol = protocolPreset(ProtocolName::Barn2023);
   WorldFileFields f;
   f.format = kWorldFormat;
   f.id = world.id;
@@ -334,7 +334,7 @@ void validateWorld(const WorldSpec& world, double stored_length, double stored_t
     }
   }
   // The derived numbers must agree with the path: a mismatch means a hand-edited file.
-  const Protocol protocol = protocolPreset("barn2023");
+  const Protocol protocol = protocolPreset(ProtocolName::Barn2023);
   const double length = referencePathLength(world.path, protocol);
   errors.check(std::abs(length - stored_length) <= 1e-9 * std::max(1.0, length), root.where("path_length_m"),
                "is " + formatDouble(stored_length) + " but the path gives " + formatDouble(length));
@@ -407,7 +407,7 @@ std::vector<WorldSpec> readWorldSet(const std::filesystem::path& dir) {
 }
 
 std::string formatWorldIndex(const std::vector<WorldSpec>& worlds) {
-  const Protocol protocol = protocolPreset("barn2023");
+  const Protocol protocol = protocolPreset(ProtocolName::Barn2023);
   std::ostringstream out;
   out << "id,file,source,seed,fill_pct,smooth_iter,filled_cells,start_row,goal_row,path_cells,"
          "path_length_m,optimal_time_s";

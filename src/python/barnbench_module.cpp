@@ -197,7 +197,7 @@ class PyRecord {
   // True if the record is complete now; else it is left to resume.
   bool finish(double wall_time_s) {
     if (!journal_) throw core::InputError("record: begin() first");
-    const bool complete = journal_->finish(std::move(finished_), wall_time_s);
+    const bool complete = journal_->finish(std::move(finished_), wall_time_s).has_value();
     journal_.reset();
     finished_.clear();
     return complete;

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <filesystem>
 #include <memory>
 #include <set>
@@ -31,12 +32,11 @@ std::vector<core::WorldSpec> loadTestWorlds() {
 }
 
 // 4 real worlds x 2 trials with the pure_pursuit fixture.
-BatchSpec pursuitSpec(int jobs) {
+BatchSpec pursuitSpec() {
   BatchSpec spec;
   spec.worlds = loadTestWorlds();
   spec.trials = 2;
   spec.seed = 2024;
-  spec.jobs = jobs;
   spec.make_controller = controllers::makeControllerFactory(core::ConfigNode::parseString("type: pure_pursuit", "test"));
   return spec;
 }
@@ -52,10 +52,10 @@ struct ProgressCall {
 class BatchTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    serial_ = runBatch(pursuitSpec(1), [](const EpisodeResult& r, std::size_t done, std::size_t total) {
+    serial_ = runBatch(pursuitSpec(), {.jobs = 1}, [](const EpisodeResult& r, std::size_t done, std::size_t total) {
       serial_calls_.push_back({r.world_id, r.trial, done, total});
     });
-    parallel_ = runBatch(pursuitSpec(2), [](const EpisodeResult& r, std::size_t done, std::size_t total) {
+    parallel_ = runBatch(pursuitSpec(), {.jobs = 2}, [](const EpisodeResult& r, std::size_t done, std::size_t total) {
       parallel_calls_.push_back({r.world_id, r.trial, done, total});
     });
   }
@@ -136,7 +136,7 @@ TEST(Batch, APolicyForAnotherLidarFailsTheRunBeforeAnyEpisode) {
   spec.episode.lidar.beams = 360;
   std::size_t episodes = 0;
   try {
-    runBatch(spec, [&](const EpisodeResult&, std::size_t, std::size_t) { ++episodes; });
+    runBatch(spec, {}, [&](const EpisodeResult&, std::size_t, std::size_t) { ++episodes; });
     FAIL() << "a 720-beam policy on a 360-beam LiDAR must be an input error";
   } catch (const core::InputError& e) {
     EXPECT_THAT(std::string(e.what()), HasSubstr("reads 720 beams but the LiDAR gives 360"));
@@ -144,15 +144,19 @@ TEST(Batch, APolicyForAnotherLidarFailsTheRunBeforeAnyEpisode) {
   EXPECT_EQ(episodes, 0u);
 }
 
+TEST(Batch, AStopFlagAlreadySetStartsNoEpisode) {
+  const std::atomic<bool> stop{true};
+  EXPECT_TRUE(runBatch(pursuitSpec(), {.jobs = 2, .stop = &stop}).empty());
+}
+
 TEST(Batch, FactoryThatThrowsGivesErrorRowsNotACrash) {
   BatchSpec spec;
   spec.worlds = {core::readWorldFile(std::filesystem::path(BARN_SOURCE_DIR) / "worlds" / core::worldFileName(0))};
   spec.trials = 2;
-  spec.jobs = 2;
   spec.make_controller = []() -> std::unique_ptr<controllers::Controller> {
     throw std::runtime_error("cannot load weights");
   };
-  const std::vector<EpisodeResult> results = runBatch(spec);
+  const std::vector<EpisodeResult> results = runBatch(spec, {.jobs = 2});
   ASSERT_EQ(results.size(), 2u);
   for (int trial = 0; trial < 2; ++trial) {
     const EpisodeResult& r = results[static_cast<std::size_t>(trial)];

@@ -123,7 +123,7 @@ EpisodeResult run(const core::WorldSpec& world, controllers::Controller& control
   return runEpisode(world, field, controller, config, seed, record);
 }
 
-EpisodeConfig configFor(const std::string& protocol) {
+EpisodeConfig configFor(core::ProtocolName protocol) {
   EpisodeConfig config;
   config.protocol = protocol;
   return config;
@@ -138,6 +138,23 @@ TEST(EpisodeConfig, TheShippedSimConfigHoldsExactlyTheCodesDefaults) {
   const std::string file = std::string(BARN_SOURCE_DIR) + "/configs/sim/barn.yaml";
   const EpisodeConfig shipped = validatedEpisodeConfig(core::ConfigNode::parseFile(file), file);
   EXPECT_EQ(core::writeConfig(shipped), core::writeConfig(EpisodeConfig{}));
+}
+
+TEST(EpisodeConfig, TheProtocolIsReadByNameAndWrittenBackByName) {
+  const EpisodeConfig config =
+      validatedEpisodeConfig(core::ConfigNode::parseString("protocol: barn2024\n", "sim.yaml"), "sim.yaml");
+  EXPECT_EQ(config.protocol, core::ProtocolName::Barn2024);
+  EXPECT_THAT(core::writeConfig(config), HasSubstr("protocol: barn2024\n"));
+}
+
+TEST(EpisodeConfig, AnUnknownProtocolIsAnErrorNamingTheFieldAndTheKnownNames) {
+  try {
+    validatedEpisodeConfig(core::ConfigNode::parseString("protocol: barn2099\n", "sim.yaml"), "sim.yaml");
+    FAIL() << "barn2099 is no protocol";
+  } catch (const core::InputError& e) {
+    EXPECT_THAT(std::string(e.what()), HasSubstr("protocol"));
+    EXPECT_THAT(std::string(e.what()), HasSubstr("barn2023, barn2024"));
+  }
 }
 
 TEST(Episode, DrivingStraightAtOneMeterPerSecondSucceedsAtTheExpectedTime) {
@@ -415,7 +432,7 @@ TEST(Episode, TrajectoryIsOnlyRecordedWhenAsked) {
 
 TEST(Episode, Barn2023StartsAtMinusTwo) {
   ConstantController controller({1.0, 0.0});
-  const EpisodeResult r = run(emptyWorld(), controller, configFor("barn2023"), 1, true);
+  const EpisodeResult r = run(emptyWorld(), controller, configFor(core::ProtocolName::Barn2023), 1, true);
   ASSERT_FALSE(r.trajectory.empty());
   EXPECT_EQ(r.trajectory.front().pose.x, -2.0);
   EXPECT_EQ(r.trajectory.front().pose.y, 3.0);
@@ -425,7 +442,7 @@ TEST(Episode, Barn2023StartsAtMinusTwo) {
 TEST(Episode, Barn2024StartsOnTheCorridorCentreAndClipsAtTwiceOt) {
   ConstantController controller({2.0, 0.0});
   const core::Protocol protocol = core::protocolPreset("barn2024");
-  const EpisodeResult r = run(emptyWorld(), controller, configFor("barn2024"), 1, true);
+  const EpisodeResult r = run(emptyWorld(), controller, configFor(core::ProtocolName::Barn2024), 1, true);
   ASSERT_FALSE(r.trajectory.empty());
   EXPECT_EQ(r.trajectory.front().pose.x, -2.25);
   EXPECT_EQ(r.trajectory.front().pose.y, 3.0);

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -99,7 +100,10 @@ TEST_F(RecordSessionTest, AnInterruptedRecordResumesToTheBytesOfAnUninterruptedO
       ASSERT_TRUE(journal.append(result(i)));
       rest.push_back(result(i));
     }
-    EXPECT_TRUE(journal.finish(rest, 1.0));
+    const std::optional<std::vector<EpisodeResult>> complete = journal.finish(rest, 1.0);
+    ASSERT_TRUE(complete.has_value());
+    // What finish hands back is the record as written: the earlier and the new rows, sorted.
+    EXPECT_EQ(episodesCsv(*complete), readFile(root_ / "resumed" / kEpisodesFile));
   }
   for (const char* file : {kEpisodesFile, kSummaryFile})
     EXPECT_EQ(readFile(root_ / "resumed" / file), readFile(root_ / "whole" / file)) << file;

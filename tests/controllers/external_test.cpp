@@ -133,10 +133,9 @@ std::vector<bench::EpisodeResult> runTwoEpisodes(const ControllerFactory& make, 
   bench::BatchSpec spec;
   spec.worlds = {bench::emptyWorld(7)};
   spec.trials = 2;
-  spec.jobs = 1;
   spec.make_controller = make;
   spec.record_trajectories = record;
-  return bench::runBatch(spec);
+  return bench::runBatch(spec, {.jobs = 1});
 }
 
 std::uint64_t bits(double value) { return std::bit_cast<std::uint64_t>(value); }

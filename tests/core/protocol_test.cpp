@@ -46,7 +46,7 @@ TEST(Protocol, NamesListTheDefaultFirst) {
 
 TEST(Protocol, Barn2023StartsAtXMinus2AndClipsAtFourTimesOT) {
   const Protocol p = protocolPreset("barn2023");
-  EXPECT_EQ(p.name, "barn2023");
+  EXPECT_EQ(p.name, ProtocolName::Barn2023);
   EXPECT_DOUBLE_EQ(p.start().x(), -2.0);
   EXPECT_DOUBLE_EQ(p.start().y(), 3.0);
   EXPECT_DOUBLE_EQ(p.start_yaw, 1.57);  // run.py's 1.57, not pi/2
@@ -61,7 +61,7 @@ TEST(Protocol, Barn2023StartsAtXMinus2AndClipsAtFourTimesOT) {
 
 TEST(Protocol, Barn2024StartsOnTheCorridorCentreAndClipsAtTwiceOT) {
   const Protocol p = protocolPreset("barn2024");
-  EXPECT_EQ(p.name, "barn2024");
+  EXPECT_EQ(p.name, ProtocolName::Barn2024);
   EXPECT_DOUBLE_EQ(p.start().x(), -2.25);
   EXPECT_DOUBLE_EQ(p.start().y(), 3.0);
   // Goal = start + (0, 10) = (-2.25, 13).

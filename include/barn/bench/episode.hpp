@@ -53,7 +53,7 @@ struct LatencyConfig {
 
 /// Everything about an episode except the world and the controller.
 struct EpisodeConfig {
-  std::string protocol = "barn2023";  // protocol preset (barn2023, barn2024)
+  core::ProtocolName protocol = core::ProtocolName::Barn2023;  // preset; YAML names it (barn2023, barn2024)
   sim::PhysicsConfig physics;
   core::RobotConfig robot;
   core::LidarConfig lidar;

@@ -89,9 +89,10 @@ class RecordJournal {
 
   /// Closes the journal. If `finished` and the earlier rows hold every episode, writes the
   /// complete record (episodes.csv, summary.json, the manifest marked complete) and returns
-  /// true; else writes the manifest with what is done, for a later resume, and returns false.
-  /// `trajectories`, if given, go to trajectories/ first. `wall_time_s` adds to the manifest's.
-  bool finish(std::vector<EpisodeResult> finished, double wall_time_s,
+  /// its episodes as written; else writes the manifest with what is done, for a later resume,
+  /// and returns nothing. `trajectories`, if given, go to trajectories/ first. `wall_time_s`
+  /// adds to the manifest's.
+  std::optional<std::vector<EpisodeResult>> finish(std::vector<EpisodeResult> finished, double wall_time_s,
               const std::optional<std::vector<core::FileContent>>& trajectories = std::nullopt);
 
  private:

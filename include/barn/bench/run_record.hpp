@@ -113,6 +113,10 @@ std::string formatManifest(const RunManifest& manifest, const std::filesystem::p
 /// written relative to the record (see formatManifest) come back absolute.
 RunManifest readManifest(const std::filesystem::path& path);
 
+/// The protocol the record's episodes ran under, read from its episode_config; InputError
+/// naming `where` if that does not read.
+core::ProtocolName recordProtocol(const RunManifest& manifest, const std::string& where);
+
 /// Empty if `a` and `b` describe the same experiment (configs, worlds, trials, seed), else
 /// the first field that differs.
 std::string experimentDifference(const RunManifest& a, const RunManifest& b);
@@ -137,8 +141,9 @@ void checkRows(const RunManifest& manifest, const std::vector<EpisodeResult>& ro
                const std::vector<std::size_t>& allowed, bool complete);
 
 /// Writes the finished record: episodes.csv (sorted), summary.json and the manifest marked
-/// complete; removes the journal. `results` must hold every episode of the record.
-void writeCompleteRecord(const std::filesystem::path& dir, RunManifest manifest, std::vector<EpisodeResult> results,
+/// complete; removes the journal. `results` must hold every episode of the record. Returns
+/// them as written (sorted), so callers can go on without reading episodes.csv back.
+std::vector<EpisodeResult> writeCompleteRecord(const std::filesystem::path& dir, RunManifest manifest, std::vector<EpisodeResult> results,
                          const std::vector<core::WorldSpec>& worlds);
 
 }  // namespace barn::bench

@@ -9,6 +9,7 @@
 /// clear the costmaps beyond 3 m, rotate, clear beyond 1.84 m, rotate. After the last the goal
 /// is aborted and the robot stands until the episode ends (BARN never re-sends the goal).
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -59,18 +60,71 @@ void validate(const MoveBaseRecoveryConfig& config, core::Errors& errors, const 
 bool footprintOutlineHits(const nav::Costmap& costmap, const std::vector<Eigen::Vector2d>& footprint, double x,
                           double y, double yaw);
 
-/// move_base's state machine around a local planner. A controller calls, every cycle after
-/// updating its NavStack:
+/// What move_base is doing: CONTROLLING, PLANNING (waiting for a plan), a running
+/// rotate_recovery, or the goal aborted.
+enum class MoveBaseMode { Controlling, WaitingForPlan, RecoveryRotate, Aborted };
+
+/// What started the current recoveries: move_base forgets them when that recovers (a valid
+/// command for the controller, a plan for the planner).
+enum class RecoveryTrigger { Controller, Planner };
+
+/// Everything move_base remembers between control cycles.
+struct MoveBaseState {
+  MoveBaseMode mode = MoveBaseMode::Controlling;
+  double last_valid_time = 0.0;  // [s] of the last cycle with a valid command
+  int recovery_index = 0;        // next of move_base's four recoveries (4: none left)
+  RecoveryTrigger recovery_trigger = RecoveryTrigger::Controller;
+  double waiting_since = 0.0;    // [s] when PLANNING began
+  double rotated = 0.0;          // [rad] turned so far in the current recovery rotation
+  double last_yaw = 0.0;         // [rad] odom yaw at the previous rotation tick
+};
+
+/// What move_base knows at one point of a control cycle: at its start (command_found unset),
+/// or after the local planner ran (command_found set).
+struct MoveBaseInputs {
+  double time = 0.0;        // [s]
+  double yaw = 0.0;         // [rad] odom
+  bool plan_found = false;  // the global planner's latest attempt found a path
+  std::optional<bool> command_found;
+  /// Whether the footprint can turn in place counter-clockwise by the given angle [rad] from
+  /// `yaw` without touching an obstacle. Asked only when a recovery rotation ticks: the sweep
+  /// check costs a few hundred footprint tests.
+  std::function<bool(double)> turn_clear;
+};
+
+/// What the controller does this cycle.
+enum class MoveBaseAction {
+  RunLocalPlanner,  // (start of cycle) ask the local planner for a command
+  PublishCommand,   // (after the local planner) publish the command it found
+  Stop,             // publish zero
+  Turn,             // publish a turn in place at turn_speed
+};
+
+/// The outcome of one transition: the next state and what to do.
+struct MoveBaseStep {
+  MoveBaseState state;
+  MoveBaseAction action = MoveBaseAction::Stop;
+  double turn_speed = 0.0;             // [rad/s] counter-clockwise, for Turn
+  std::optional<double> clear_beyond;  // [m] clear the costmaps beyond this distance first
+};
+
+/// move_base's state machine as one function of its arguments (it asks inputs.turn_clear and
+/// changes nothing): the state after one part of a control cycle and what to publish. Every
+/// rule of this header's top comment lives here, so tests can drive each transition directly.
+MoveBaseStep nextMoveBaseStep(const MoveBaseState& state, const MoveBaseInputs& inputs,
+                              const MoveBaseRecoveryConfig& config);
+
+/// move_base's state machine around a local planner (nextMoveBaseStep applied to a
+/// NavStack). A controller calls, every cycle after updating its NavStack:
 ///   if (auto cmd = move_base.beforeController(obs, nav)) return *cmd;   // not CONTROLLING
 ///   ... run the local planner: a command, or none ...
 ///   return move_base.afterController(obs, nav, command);
 class MoveBase {
  public:
-  /// CONTROLLING, PLANNING (waiting for a plan), a running rotate_recovery, the goal aborted.
-  enum class Mode { Controlling, WaitingForPlan, RecoveryRotate, Aborted };
+  using Mode = MoveBaseMode;
   explicit MoveBase(const MoveBaseRecoveryConfig& config) : config_(config) {}
 
-  void reset();
+  void reset() { state_ = {}; }
   /// The part of the cycle before the local planner: a command to publish instead of running
   /// it (a recovery turning, waiting for a plan, aborted), or nothing when it is to run.
   std::optional<core::Twist> beforeController(const Observation& obs, nav::NavStack& nav);
@@ -78,25 +132,17 @@ class MoveBase {
   /// publishes.
   core::Twist afterController(const Observation& obs, nav::NavStack& nav, const std::optional<core::Twist>& command);
   /// move_base aborts the goal (e.g. the local planner refused the plan): zero from now on.
-  void abort() { mode_ = Mode::Aborted; }
-  Mode mode() const { return mode_; }
+  void abort() { state_.mode = Mode::Aborted; }
+  Mode mode() const { return state_.mode; }
 
  private:
-  /// What started the current recoveries: move_base forgets them when that recovers.
-  enum class RecoveryTrigger { Controller, Planner };
-  core::Twist recover(const Observation& obs, nav::NavStack& nav);
+  /// One transition with what `obs` and `nav` say (`command_found` unset before the local
+  /// planner ran); carries out the step's costmap clearing and returns the step.
+  MoveBaseStep advance(const Observation& obs, nav::NavStack& nav, std::optional<bool> command_found);
   bool sweepClear(const nav::NavStack& nav, const core::Pose2& pose, double sweep) const;
-  /// move_base enters PLANNING: stop until the global planner finds a path.
-  void waitForPlan(double time);
 
   MoveBaseRecoveryConfig config_;
-  Mode mode_ = Mode::Controlling;
-  double last_valid_time_ = 0.0;
-  int recovery_index_ = 0;  // next of move_base's four recoveries
-  RecoveryTrigger recovery_trigger_ = RecoveryTrigger::Controller;
-  double waiting_since_ = 0.0;  // [s] when the controller started waiting for a plan
-  double rotated_ = 0.0;        // [rad] turned in the current recovery rotation
-  double last_yaw_ = 0.0;
+  MoveBaseState state_;
 };
 
 }  // namespace barn::controllers

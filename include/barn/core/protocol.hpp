@@ -1,6 +1,7 @@
 #pragma once
 /// The official BARN episode protocol (run.py) as named presets, and the optimal time OT.
 
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -11,9 +12,20 @@
 
 namespace barn::core {
 
+/// An edition of the BARN challenge's protocol. Config files name it (`protocol: barn2023`);
+/// it is resolved once, when the config is read, and carried as this enum from then on.
+enum class ProtocolName {
+  Barn2023,  ///< BARN 2022 and 2023 (the default)
+  Barn2024,  ///< BARN 2024 on: start on the corridor centre line, lower clip 2 x OT
+};
+/// The config names, in enum order: "barn2023", "barn2024" (makes ProtocolName a NamedEnum).
+std::span<const std::string_view> enumNames(ProtocolName);
+/// The config name of `name`, for labels and messages.
+std::string_view toString(ProtocolName name);
+
 /// Start, goal and scoring rules of one edition of the BARN challenge.
 struct Protocol {
-  std::string name = "barn2023";
+  ProtocolName name = ProtocolName::Barn2023;
   double start_x = -2.0;          // [m] world frame; -2.25 from BARN 2024
   double start_y = 3.0;           // [m]
   double start_yaw = 1.57;        // [rad] run.py uses 1.57, not pi/2
@@ -38,7 +50,10 @@ struct Protocol {
 
 /// Names of the presets, default first.
 std::vector<std::string> protocolNames();
-/// The preset `name` ("barn2023" default, "barn2024"); throws InputError on an unknown name.
+/// The preset of the edition `name`.
+Protocol protocolPreset(ProtocolName name);
+/// The preset named `name` ("barn2023", "barn2024"), for names given on a command line;
+/// throws InputError on an unknown name.
 Protocol protocolPreset(std::string_view name);
 
 /// run.py's path_coord_to_gazebo_coord: (-4.575 + 0.15 r, 5.075 + 0.15 c). This is offset by
