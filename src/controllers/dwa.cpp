@@ -336,86 +336,88 @@ DwaTrajectory DwaController::rollOut(const core::Pose2& pose, const core::Twist&
   return trajectory;
 }
 
-DwaTrajectory DwaController::findBestPath(const core::Pose2& pose, const core::Twist& velocity) {
+DwaController::SampleWindow DwaController::sampleWindow(const core::Twist& velocity) const {
   // The window spans one control period (dwa mode); samples by repeated addition, as upstream.
   const double period = 1.0 / config_.rate;
-  const double max_x = std::max(std::min(config_.max_vel_x, velocity.linear + config_.acc_lim_x * period), config_.min_vel_x);
-  const double min_x = std::max(config_.min_vel_x, velocity.linear - config_.acc_lim_x * period);
-  const double max_th = std::min(config_.max_vel_theta, velocity.angular + config_.acc_lim_theta * period);
-  const double min_th = std::max(-config_.max_vel_theta, velocity.angular - config_.acc_lim_theta * period);
-  const double dvx = (max_x - min_x) / (config_.vx_samples - 1);
-  const double dvth = (max_th - min_th) / (config_.vtheta_samples - 1);
-  heading_runs_.clear();
-  heading_theta_.clear();
-  heading_cos_.clear();
-  heading_sin_.clear();
-  positions_.clear();
-  const auto endOf = [&](const RolloutPoints& points) {
-    const std::size_t last = static_cast<std::size_t>(points.count - 1);
-    const Eigen::Vector2d& p = positions_[points.first_position + last];
-    return core::Pose2{p.x(), p.y(), heading_theta_[points.first_heading + last]};
-  };
+  SampleWindow w;
+  w.max_x = std::max(std::min(config_.max_vel_x, velocity.linear + config_.acc_lim_x * period), config_.min_vel_x);
+  w.min_x = std::max(config_.min_vel_x, velocity.linear - config_.acc_lim_x * period);
+  w.max_th = std::min(config_.max_vel_theta, velocity.angular + config_.acc_lim_theta * period);
+  w.min_th = std::max(-config_.max_vel_theta, velocity.angular - config_.acc_lim_theta * period);
+  w.dvx = (w.max_x - w.min_x) / (config_.vx_samples - 1);
+  w.dvth = (w.max_th - w.min_th) / (config_.vtheta_samples - 1);
+  return w;
+}
 
-  DwaTrajectory best;
-  // Forward arcs (not while escaping): the straight sample first, then vtheta_samples - 1 turn
-  // rates from the bottom of the window (its top is never tried); ties keep the earlier one,
-  // so the winner is the lowest (cost, order). The footprint outlines are the expensive part:
-  // every arc is first scored without them, and they are walked from the most promising arc
-  // on, only for arcs that can still win.
-  if (!escaping_) {
-    arcs_.clear();
-    int order = 0;
-    double vx = min_x;
-    for (int i = 0; i < config_.vx_samples; ++i, vx += dvx) {
-      const auto consider = [&](double vth) {
-        ArcCandidate arc{vx, vth, order++, simulate(pose, velocity, vx, vth), {}, 0.0};
-        arc.centre = scoreCentres(arc.points);
-        if (!arc.centre.plausible) return;
-        arc.bound = trajectoryCost(arc.centre.path_cells, arc.centre.goal_cells, arc.centre.occupancy);
-        arcs_.push_back(arc);
-      };
-      consider(0.0);
-      double vth = min_th;
-      for (int j = 0; j < config_.vtheta_samples - 1; ++j, vth += dvth) consider(vth);
-    }
-    std::sort(arcs_.begin(), arcs_.end(), [](const ArcCandidate& a, const ArcCandidate& b) {
-      return a.bound < b.bound || (a.bound == b.bound && a.order < b.order);
-    });
-    int best_order = -1;
-    for (const ArcCandidate& arc : arcs_) {
-      const auto cannotWin = [&](double cost) {
-        return best.cost >= 0.0 && (cost > best.cost || (cost == best.cost && arc.order > best_order));
-      };
-      // Sorted by (bound, order): once one cannot win, none after it can.
-      if (cannotWin(arc.bound)) break;
-      const int occupancy = outlineOccupancy(arc.points, arc.centre.occupancy, [&](int occ) {
-        return cannotWin(trajectoryCost(arc.centre.path_cells, arc.centre.goal_cells, occ));
-      });
-      if (occupancy < 0) continue;
-      const double cost = trajectoryCost(arc.centre.path_cells, arc.centre.goal_cells, occupancy);
-      if (cannotWin(cost)) continue;
-      best = {arc.vx, arc.vtheta, cost, endOf(arc.points)};
-      best_order = arc.order;
-    }
+core::Pose2 DwaController::endPose(const RolloutPoints& points) const {
+  const std::size_t last = static_cast<std::size_t>(points.count - 1);
+  const Eigen::Vector2d& p = positions_[points.first_position + last];
+  return core::Pose2{p.x(), p.y(), heading_theta_[points.first_heading + last]};
+}
+
+void DwaController::chooseForwardArc(const core::Pose2& pose, const core::Twist& velocity, const SampleWindow& w,
+                                     DwaTrajectory& best) {
+  // The straight sample first, then vtheta_samples - 1 turn rates from the bottom of the
+  // window (its top is never tried); ties keep the earlier one, so the winner is the lowest
+  // (cost, order). The footprint outlines are the expensive part: every arc is first scored
+  // without them, and they are walked from the most promising arc on, only for arcs that can
+  // still win.
+  arcs_.clear();
+  int order = 0;
+  double vx = w.min_x;
+  for (int i = 0; i < config_.vx_samples; ++i, vx += w.dvx) {
+    const auto consider = [&](double vth) {
+      ArcCandidate arc{vx, vth, order++, simulate(pose, velocity, vx, vth), {}, 0.0};
+      arc.centre = scoreCentres(arc.points);
+      if (!arc.centre.plausible) return;
+      arc.bound = trajectoryCost(arc.centre.path_cells, arc.centre.goal_cells, arc.centre.occupancy);
+      arcs_.push_back(arc);
+    };
+    consider(0.0);
+    double vth = w.min_th;
+    for (int j = 0; j < config_.vtheta_samples - 1; ++j, vth += w.dvth) consider(vth);
   }
-  // In place: a rotation replaces the best arc if it costs no more and the point
-  // heading_lookahead ahead of its end is nearer the local goal than the rotations taken so
-  // far. stuck_right (turned clockwise on two cycles without moving) locks out
-  // counter-clockwise turns, stuck_left clockwise ones. The cheap conditions come first.
+  std::sort(arcs_.begin(), arcs_.end(), [](const ArcCandidate& a, const ArcCandidate& b) {
+    return a.bound < b.bound || (a.bound == b.bound && a.order < b.order);
+  });
+  int best_order = -1;
+  for (const ArcCandidate& arc : arcs_) {
+    const auto cannotWin = [&](double cost) {
+      return best.cost >= 0.0 && (cost > best.cost || (cost == best.cost && arc.order > best_order));
+    };
+    // Sorted by (bound, order): once one cannot win, none after it can.
+    if (cannotWin(arc.bound)) break;
+    const int occupancy = outlineOccupancy(arc.points, arc.centre.occupancy, [&](int occ) {
+      return cannotWin(trajectoryCost(arc.centre.path_cells, arc.centre.goal_cells, occ));
+    });
+    if (occupancy < 0) continue;
+    const double cost = trajectoryCost(arc.centre.path_cells, arc.centre.goal_cells, occupancy);
+    if (cannotWin(cost)) continue;
+    best = {arc.vx, arc.vtheta, cost, endPose(arc.points)};
+    best_order = arc.order;
+  }
+}
+
+void DwaController::chooseRotation(const core::Pose2& pose, const core::Twist& velocity, const SampleWindow& w,
+                                   DwaTrajectory& best) {
+  // A rotation replaces the best arc if it costs no more and the point heading_lookahead ahead
+  // of its end is nearer the local goal than the rotations taken so far. stuck_right (turned
+  // clockwise on two cycles without moving) locks out counter-clockwise turns, stuck_left
+  // clockwise ones. The cheap conditions come first.
   const nav::Costmap& map = nav_.localCostmap();
   double heading_distance = std::numeric_limits<double>::max();
-  double sample = min_th;
-  for (int j = 0; j < config_.vtheta_samples; ++j, sample += dvth) {
+  double sample = w.min_th;
+  for (int j = 0; j < config_.vtheta_samples; ++j, sample += w.dvth) {
     const double vth = sample > 0 ? std::max(sample, config_.min_in_place_vel_theta)
                                   : std::min(sample, -config_.min_in_place_vel_theta);
-    if (!(std::abs(sample) > dvth)) continue;
+    if (!(std::abs(sample) > w.dvth)) continue;
     if (!((sample < 0 && !stuck_left_) || (sample > 0 && !stuck_right_))) continue;
     const RolloutPoints points = simulate(pose, velocity, 0.0, vth);
     const CentreScore centre = scoreCentres(points);
     if (!centre.plausible) continue;
     const auto cannotWin = [&](double cost) { return best.cost >= 0.0 && cost > best.cost; };
     if (cannotWin(trajectoryCost(centre.path_cells, centre.goal_cells, centre.occupancy))) continue;
-    const core::Pose2 end = endOf(points);
+    const core::Pose2 end = endPose(points);
     nav::CellIndex ahead;
     const Eigen::Vector2d look = end.position() + config_.heading_lookahead * Eigen::Vector2d(std::cos(end.yaw), std::sin(end.yaw));
     if (!map.toCell(look, ahead)) continue;
@@ -430,17 +432,33 @@ DwaTrajectory DwaController::findBestPath(const core::Pose2& pose, const core::T
     best = {0.0, vth, cost, end};
     heading_distance = ahead_distance;
   }
+}
 
-  const auto clearOscillationIfMoved = [&] {
-    if ((pose.position() - last_rotation_position_).norm() > config_.oscillation_reset_dist)
-      rotating_left_ = rotating_right_ = stuck_left_ = stuck_right_ = false;
-  };
-  const auto checkEscapeDone = [&] {
-    if ((pose.position() - escape_pose_.position()).norm() > config_.escape_reset_dist ||
-        std::abs(core::wrapAngle(pose.yaw - escape_pose_.yaw)) > config_.escape_reset_theta)
-      escaping_ = false;
-  };
+void DwaController::clearOscillationIfMoved(const core::Pose2& pose) {
+  if ((pose.position() - last_rotation_position_).norm() > config_.oscillation_reset_dist)
+    rotating_left_ = rotating_right_ = stuck_left_ = stuck_right_ = false;
+}
+
+void DwaController::endEscapeIfDone(const core::Pose2& pose) {
+  if ((pose.position() - escape_pose_.position()).norm() > config_.escape_reset_dist ||
+      std::abs(core::wrapAngle(pose.yaw - escape_pose_.yaw)) > config_.escape_reset_theta)
+    escaping_ = false;
+}
+
+DwaTrajectory DwaController::findBestPath(const core::Pose2& pose, const core::Twist& velocity) {
+  const SampleWindow window = sampleWindow(velocity);
+  heading_runs_.clear();
+  heading_theta_.clear();
+  heading_cos_.clear();
+  heading_sin_.clear();
+  positions_.clear();
+
+  DwaTrajectory best;
+  if (!escaping_) chooseForwardArc(pose, velocity, window, best);
+  chooseRotation(pose, velocity, window, best);
   if (best.cost >= 0.0) {
+    // Oscillation flags: two cycles turning one way in place lock out the other way until the
+    // robot has moved away from where it last turned in place.
     if (!(best.vx > 0.0)) {
       if (best.vtheta < 0) {
         if (rotating_right_) stuck_right_ = true;
@@ -451,20 +469,20 @@ DwaTrajectory DwaController::findBestPath(const core::Pose2& pose, const core::T
       }
       last_rotation_position_ = pose.position();
     }
-    clearOscillationIfMoved();
-    checkEscapeDone();
+    clearOscillationIfMoved(pose);
+    endEscapeIfDone(pose);
     return best;
   }
   // Nothing forward or in place is legal: back up at escape_vel whatever the map says behind
   // ("backing up slowly is allowed even when the map shows it blocked"); only a back-up with
   // no way on from its points (-2) leaves the robot standing.
   DwaTrajectory escape = rollOut(pose, velocity, config_.escape_vel, 0.0);
-  clearOscillationIfMoved();
+  clearOscillationIfMoved(pose);
   if (!escaping_ && escape.cost > -2.0) {
     escaping_ = true;
     escape_pose_ = pose;
   }
-  checkEscapeDone();
+  endEscapeIfDone(pose);
   if (escape.cost == -1.0) escape.cost = 1.0;
   return escape;
 }

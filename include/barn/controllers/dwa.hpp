@@ -107,6 +107,19 @@ class DwaController : public Controller {
   /// rotations, else the blind back-up; updates the oscillation and escape flags as upstream.
   /// cost < 0: no command (the robot stops).
   DwaTrajectory findBestPath(const core::Pose2& pose, const core::Twist& velocity);
+  /// The velocity samples' window: one control period's acceleration around `velocity`.
+  struct SampleWindow {
+    double min_x = 0.0, max_x = 0.0, min_th = 0.0, max_th = 0.0;
+    double dvx = 0.0, dvth = 0.0;  // steps between samples
+  };
+  SampleWindow sampleWindow(const core::Twist& velocity) const;
+  // findBestPath's phases: each replaces `best` with a better legal trajectory of its kind.
+  void chooseForwardArc(const core::Pose2& pose, const core::Twist& velocity, const SampleWindow& window,
+                        DwaTrajectory& best);
+  void chooseRotation(const core::Pose2& pose, const core::Twist& velocity, const SampleWindow& window,
+                      DwaTrajectory& best);
+  void clearOscillationIfMoved(const core::Pose2& pose);
+  void endEscapeIfDone(const core::Pose2& pose);
   /// Recomputes the path and goal distance maps on the local costmap (after the path changed).
   void updateDistanceMaps(const core::Pose2& pose);
 
@@ -125,6 +138,8 @@ class DwaController : public Controller {
     std::size_t first_heading = 0;   // into heading_theta_, heading_cos_, heading_sin_
     int count = 0;
   };
+  /// A roll-out's last pose.
+  core::Pose2 endPose(const RolloutPoints& points) const;
   /// What a roll-out's points cost without its footprint outlines: the distances of its last
   /// point and the highest cost under its centre. `plausible` is false if a point leaves the
   /// map or cannot reach the path or the local goal (the roll-out is invalid then).
