@@ -77,27 +77,7 @@ LoadedWorlds loadWorlds(const std::string& spec, const std::filesystem::path& de
   loaded.folder = fs::absolute(is_folder ? fs::path(spec) : default_dir);
   if (!fs::is_directory(loaded.folder, ec)) throw core::InputError(loaded.folder.string() + ": no such folder of worlds");
 
-  std::vector<fs::path> files;
-  for (const auto& entry : fs::directory_iterator(loaded.folder, ec)) {
-    const std::string name = entry.path().filename().string();
-    if (entry.is_regular_file() && name.rfind("world_", 0) == 0 && entry.path().extension() == ".yaml")
-      files.push_back(entry.path());
-  }
-  std::sort(files.begin(), files.end());
-  if (files.empty()) throw core::InputError(loaded.folder.string() + ": no world_*.yaml files");
-  std::vector<core::WorldSpec> all;
-  for (const auto& file : files) {
-    try {
-      all.push_back(core::readWorldFile(file));
-    } catch (const core::InputError& e) {
-      if (!keep_going) throw;
-      loaded.skipped.push_back(e.what());
-    }
-  }
-  std::sort(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.id < b.id; });
-  for (std::size_t i = 1; i < all.size(); ++i)
-    if (all[i].id == all[i - 1].id)
-      throw core::InputError(loaded.folder.string() + ": two world files have id " + std::to_string(all[i].id));
+  std::vector<core::WorldSpec> all = core::readWorldSet(loaded.folder, keep_going ? &loaded.skipped : nullptr);
   if (is_folder) {
     if (all.empty()) throw core::InputError(loaded.folder.string() + ": no readable world files");
     loaded.worlds = std::move(all);

@@ -386,7 +386,7 @@ WorldSpec readWorldFile(const std::filesystem::path& path) {
   return parseWorldFile(readTextFile(path), path.string());
 }
 
-std::vector<WorldSpec> readWorldSet(const std::filesystem::path& dir) {
+std::vector<WorldSpec> readWorldSet(const std::filesystem::path& dir, std::vector<std::string>* skipped) {
   std::error_code ec;
   if (!std::filesystem::is_directory(dir, ec)) throw InputError(dir.string() + ": not a folder of world files");
   std::vector<std::filesystem::path> files;
@@ -395,9 +395,17 @@ std::vector<WorldSpec> readWorldSet(const std::filesystem::path& dir) {
     if (entry.is_regular_file() && name.rfind("world_", 0) == 0 && entry.path().extension() == ".yaml")
       files.push_back(entry.path());
   }
+  std::sort(files.begin(), files.end());  // so the first problem reported does not depend on the file system
   if (files.empty()) throw InputError(dir.string() + ": no world_*.yaml files");
   std::vector<WorldSpec> worlds;
-  for (const auto& file : files) worlds.push_back(readWorldFile(file));
+  for (const auto& file : files) {
+    try {
+      worlds.push_back(readWorldFile(file));
+    } catch (const InputError& e) {
+      if (!skipped) throw;
+      skipped->push_back(e.what());
+    }
+  }
   std::sort(worlds.begin(), worlds.end(), [](const WorldSpec& a, const WorldSpec& b) { return a.id < b.id; });
   for (std::size_t i = 1; i < worlds.size(); ++i) {
     if (worlds[i].id == worlds[i - 1].id)

@@ -25,9 +25,10 @@ WorldSpec parseWorldFile(const std::string& text, const std::string& source_name
 /// Reads and validates a world file.
 WorldSpec readWorldFile(const std::filesystem::path& path);
 
-/// All world_*.yaml files of a folder, sorted by id; InputError if there are none, if a file
-/// is invalid, or if two files share an id.
-std::vector<WorldSpec> readWorldSet(const std::filesystem::path& dir);
+/// All world_*.yaml files of a folder, sorted by id; InputError if there are none or two
+/// files share an id, and if a file is invalid unless `skipped` is given: then its message is
+/// added there and the file left out.
+std::vector<WorldSpec> readWorldSet(const std::filesystem::path& dir, std::vector<std::string>* skipped = nullptr);
 
 /// index.csv of a set: one line per world with the fields a table or a plot needs.
 std::string formatWorldIndex(const std::vector<WorldSpec>& worlds);
