@@ -32,6 +32,9 @@ Costmap::Costmap(const CostmapConfig& config) : config_(config) {
   cost_.assign(obstacle_.size(), unseen);
   inflated_state_ = obstacle_;
   inflation_cells_ = static_cast<int>(std::ceil(config.inflation_radius / config.resolution));
+}
+
+void Costmap::buildKernel() const {
   // InflationLayer's table, in cell units: a cell is inflated only within ceil(radius / res)
   // cells of its source, and the cost is taken at the cell distance times the resolution.
   const int r = inflation_cells_;
@@ -97,6 +100,7 @@ void Costmap::foldCellChangesIntoBox() {
 }
 
 void Costmap::inflatePending() const {
+  if (kernel_.empty()) buildKernel();
   bool changed = false;
   // Regions first: recomputed in full, their cells are up to date.
   for (const CellBox& box : pending_) {

@@ -158,6 +158,7 @@ class Costmap {
   void queueReinflation(CellBox box);
   void foldCellChangesIntoBox();
   void inflatePending() const;
+  void buildKernel() const;
   /// Recomputes the costs of the cells of `changed` grown by `grow` cells on every side.
   void reinflate(CellBox changed, int grow) const;
   /// Sets one cell's cost from the obstacles within the reach.
@@ -184,16 +185,18 @@ class Costmap {
   int inflation_cells_ = 0;             // ceil(inflation_radius / resolution)
   // The inflation cost of an obstacle cell at each offset (dx, dy) in [-r, r]^2, r the
   // inflation reach in cells, row-major: a cell's cost is the largest any obstacle stamps on it
-  // (cost falls with distance, so that is the cost at the nearest obstacle).
-  std::vector<std::uint8_t> kernel_;
+  // (cost falls with distance, so that is the cost at the nearest obstacle). Built by the first
+  // inflation (buildKernel): a map whose costs are never read never pays for it (a 5 m kernel
+  // has 31 000 offsets to sort).
+  mutable std::vector<std::uint8_t> kernel_;
   // The kernel's non-zero offsets (the centre excluded), nearest first.
   struct KernelOffset {
     int dx = 0, dy = 0;
     std::ptrdiff_t flat = 0;  // dy * width + dx
     std::uint8_t cost = 0;
   };
-  std::vector<KernelOffset> offsets_by_distance_;
-  std::array<std::size_t, 256> first_offset_at_most_{};  // first offset whose cost is <= the index
+  mutable std::vector<KernelOffset> offsets_by_distance_;
+  mutable std::array<std::size_t, 256> first_offset_at_most_{};  // first offset whose cost is <= the index
   // Scratch of inflatePending(): the round in which each cell was last recomputed.
   mutable std::vector<std::uint32_t> recomputed_in_round_;
   mutable std::uint32_t recompute_round_ = 0;
