@@ -95,13 +95,12 @@ namespace {
 /// a nearer one.
 double cellsToNearestObstacle(const nav::Costmap& costmap, nav::CellIndex cell, double max_cells) {
   double best_sq = std::numeric_limits<double>::infinity();
-  const int limit = static_cast<int>(std::ceil(max_cells));
-  int last_ring = limit;
+  int last_ring = static_cast<int>(std::ceil(max_cells));
   for (int ring = 0; ring <= last_ring; ++ring) {
     for (int dy = -ring; dy <= ring; ++dy) {
       const bool edge_row = dy == -ring || dy == ring;
       for (int dx = -ring; dx <= ring; dx += edge_row ? 1 : 2 * ring) {
-        if (costmap.isObstacle(cell.x + dx, cell.y + dy)) best_sq = std::min(best_sq, double(dx * dx + dy * dy));
+        if (costmap.isObstacle(cell.x + dx, cell.y + dy)) best_sq = std::min(best_sq, static_cast<double>(dx * dx + dy * dy));
         if (ring == 0) break;
       }
     }
@@ -147,7 +146,10 @@ bool rearRegionBlocked(const nav::Costmap& costmap, const core::Pose2& pose, con
   int sum = 0, nonzero = 0;
   for (const nav::CellIndex& cell : cells) {
     const double distance = cellsToNearestObstacle(costmap, cell, search_cells);
-    if (!std::isfinite(distance)) return false;
+    if (!std::isfinite(distance)) {
+      if (search_cells < max_cells) return false;  // the bound above
+      continue;                                    // beyond the inflation: cost 0, not counted
+    }
     const int value = publishedCost(costmap.inflationCostAtCells(distance));
     if (value <= 0) continue;
     sum += value;
@@ -164,7 +166,7 @@ bool rotateCheckHit(const std::vector<Eigen::Vector2d>& points, const nav::Costm
   // Turning left (w > 0) swings the tail to the right (-y), and the other way round.
   const double half = check.rear_width / 2;
   const core::Rect rear{-check.rear_centre - check.rear_depth / 2, -check.rear_centre + check.rear_depth / 2,
-                 turn_rate > 0.0 ? -half : 0.0, turn_rate > 0.0 ? 0.0 : half};
+                        turn_rate > 0.0 ? -half : 0.0, turn_rate > 0.0 ? 0.0 : half};
   return rearRegionBlocked(costmap, pose, rear, check.rear_weight);
 }
 
