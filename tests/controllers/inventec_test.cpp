@@ -362,6 +362,23 @@ TEST(SafetyChecks, RearWeightSeesObstaclesCloseBehindTheStripWithNoneInIt) {
   EXPECT_TRUE(rearRegionBlocked(far, pose, strip, 0.5));
 }
 
+TEST(SafetyChecks, RearWeightLeavesCellsBeyondTheInflationOutOfTheMean) {
+  // Inflation reaching only 0.3 m: of a 1 m wide region, the cells near an obstacle off its left
+  // end cost 79-96 of 100, the rest 0 (not counted), so the mean is over the near ones.
+  nav::CostmapConfig c;
+  c.rolling = true;
+  c.inscribed_radius = 0.085;
+  c.inflation_radius = 0.3;
+  c.cost_scaling_factor = 1.0;
+  nav::Costmap map(c);
+  map.recentre({0.0, 0.0});
+  map.markObstacle({-0.30, 0.58});
+  const core::Rect wide{-0.354, -0.254, -0.5, 0.5};
+  const core::Pose2 pose{0.0, 0.0, 0.0};
+  EXPECT_TRUE(rearRegionBlocked(map, pose, wide, 0.8));
+  EXPECT_FALSE(rearRegionBlocked(map, pose, wide, 0.0));  // nothing lethal in it
+}
+
 TEST(RotateCheck, SeesTheTurnedFootprintAndOnlyTheRearHalfTheTailSwingsInto) {
   nav::CostmapConfig c;
   c.rolling = true;
