@@ -337,26 +337,31 @@ TEST(SafetyChecks, PublishedCostIsCostmap2dsZeroToHundredScale) {
   EXPECT_EQ(publishedCost(nav::kLethalCost), 100);
 }
 
-TEST(SafetyChecks, RearWeightSeesObstaclesCloseBehindTheStripWithNoneInIt) {
-  // The team's local costmap: inscribed radius 0.085 m, inflation 5 m, scaling 1.
+// An empty rolling costmap around the origin with the team's local inflation (inscribed radius
+// 0.085 m, scaling 1), reaching `inflation_radius` (theirs: 5 m).
+nav::Costmap teamLocalCostmap(double inflation_radius) {
   nav::CostmapConfig c;
   c.rolling = true;
   c.inscribed_radius = 0.085;
-  c.inflation_radius = 5.0;
+  c.inflation_radius = inflation_radius;
   c.cost_scaling_factor = 1.0;
+  nav::Costmap map(c);
+  map.recentre({0.0, 0.0});
+  return map;
+}
+
+TEST(SafetyChecks, RearWeightSeesObstaclesCloseBehindTheStripWithNoneInIt) {
   const core::Pose2 pose{0.0, 0.0, 0.0};
   const core::Rect strip = rearStrip(core::Rect::centred(0.508, 0.43), 0.1);  // x in [-0.354, -0.254]
 
   // A wall 0.07-0.17 m behind every strip cell: each costs more than 85 of 100.
-  nav::Costmap near(c);
-  near.recentre({0.0, 0.0});
+  nav::Costmap near = teamLocalCostmap(5.0);
   for (double y = -0.4; y <= 0.4; y += 0.05) near.markObstacle({-0.42, y});
   EXPECT_FALSE(rearRegionBlocked(near, pose, strip, 0.0));  // nothing lethal in the strip
   EXPECT_TRUE(rearRegionBlocked(near, pose, strip, 0.85));
 
   // The same wall 0.65-0.75 m behind: the strip's mean cost is about 54 of 100.
-  nav::Costmap far(c);
-  far.recentre({0.0, 0.0});
+  nav::Costmap far = teamLocalCostmap(5.0);
   for (double y = -0.4; y <= 0.4; y += 0.05) far.markObstacle({-1.0, y});
   EXPECT_FALSE(rearRegionBlocked(far, pose, strip, 0.85));
   EXPECT_TRUE(rearRegionBlocked(far, pose, strip, 0.5));
@@ -365,13 +370,7 @@ TEST(SafetyChecks, RearWeightSeesObstaclesCloseBehindTheStripWithNoneInIt) {
 TEST(SafetyChecks, RearWeightLeavesCellsBeyondTheInflationOutOfTheMean) {
   // Inflation reaching only 0.3 m: of a 1 m wide region, the cells near an obstacle off its left
   // end cost 79-96 of 100, the rest 0 (not counted), so the mean is over the near ones.
-  nav::CostmapConfig c;
-  c.rolling = true;
-  c.inscribed_radius = 0.085;
-  c.inflation_radius = 0.3;
-  c.cost_scaling_factor = 1.0;
-  nav::Costmap map(c);
-  map.recentre({0.0, 0.0});
+  nav::Costmap map = teamLocalCostmap(0.3);
   map.markObstacle({-0.30, 0.58});
   const core::Rect wide{-0.354, -0.254, -0.5, 0.5};
   const core::Pose2 pose{0.0, 0.0, 0.0};
