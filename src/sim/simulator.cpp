@@ -25,12 +25,10 @@ void validate(const PhysicsConfig& c, core::Errors& errors, const std::string& p
 }
 
 bool rectOverlapsCircle(const core::Pose2& pose, const core::Rect& rect, const Eigen::Vector2d& centre, double radius) {
-  // Circle centre in the rectangle's frame; the closest rectangle point is the clamped centre.
-  const Eigen::Vector2d local = pose.inverseTransform(centre) - Eigen::Vector2d(rect.centreX(), rect.centreY());
-  const double qx = std::clamp(local.x(), -rect.halfLength(), rect.halfLength());
-  const double qy = std::clamp(local.y(), -rect.halfWidth(), rect.halfWidth());
-  const double ex = local.x() - qx;
-  const double ey = local.y() - qy;
+  // Circle centre in the robot frame; the closest rectangle point is the clamped centre.
+  const Eigen::Vector2d local = pose.inverseTransform(centre);
+  const double ex = local.x() - std::clamp(local.x(), rect.min_x, rect.max_x);
+  const double ey = local.y() - std::clamp(local.y(), rect.min_y, rect.max_y);
   return ex * ex + ey * ey < radius * radius;
 }
 
