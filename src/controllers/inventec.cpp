@@ -177,14 +177,7 @@ bool InventecController::commandUnsafe(const std::vector<Eigen::Vector2d>& point
                                        const core::Twist& command) const {
   const InventecSafetyConfig& s = config_.safety;
   if (s.type == SafetyCheck::Front) {
-    // The code's final-pose rollout compared, for each of 40 points on the 0.42 x 0.33
-    // rectangle at the final pose, the range of the beam toward that point with the point's
-    // |x| + |y| (an L1 "distance", larger than the Euclidean one) plus 0.02 m, ignoring the
-    // LiDAR offset. Here: any LiDAR point (with its offset) inside that rectangle grown by the
-    // 0.02 m tolerance, a consistent geometric version of the same test.
-    const core::Rect final_box = core::Rect::centred(s.rollout_length, s.rollout_width).grownBy(s.rollout_tolerance);
-    return rolloutHit(points, final_box, command, s.rollout_dt, s.rollout_steps, RolloutPoses::Final) ||
-           frontCheckHit(scan, info_.lidar, command, front_);
+    return beamRolloutHit(scan, command, finalPoseCheck()) || frontCheckHit(scan, info_.lidar, command, front_);
   }
   if (s.type == SafetyCheck::Mpc) {
     return rolloutHit(points, footprint_.grownBy(s.mpc_offset), command, s.mpc_dt, s.mpc_steps, RolloutPoses::Every);
@@ -203,12 +196,22 @@ bool InventecController::frontUnsafe(const std::vector<Eigen::Vector2d>& points,
   return commandUnsafe(points, scan, command);
 }
 
-bool InventecController::rotationUnsafe(const std::vector<Eigen::Vector2d>& points, const core::Twist& turn) const {
+BeamRollout InventecController::finalPoseCheck() const {
+  // The code's final-pose rollout (`_bch_safety_check`), as it computed it: beams against the
+  // L1 length of 40 points on the 0.42 x 0.33 rectangle (safety_checks.hpp).
   const InventecSafetyConfig& s = config_.safety;
-  if (s.type == SafetyCheck::Front) {
-    const core::Rect final_box = core::Rect::centred(s.rollout_length, s.rollout_width).grownBy(s.rollout_tolerance);
-    return rolloutHit(points, final_box, turn, s.rollout_dt, s.rollout_steps, RolloutPoses::Final);
-  }
+  BeamRollout check;
+  check.rectangle = core::Rect::centred(s.rollout_length, s.rollout_width);
+  check.tolerance = s.rollout_tolerance;
+  check.dt = s.rollout_dt;
+  check.steps = s.rollout_steps;
+  return check;
+}
+
+bool InventecController::rotationUnsafe(const std::vector<Eigen::Vector2d>& points, const core::LaserScan& scan,
+                                        const core::Twist& turn) const {
+  const InventecSafetyConfig& s = config_.safety;
+  if (s.type == SafetyCheck::Front) return beamRolloutHit(scan, turn, finalPoseCheck());
   if (s.type == SafetyCheck::Mpc) {
     return rolloutHit(points, footprint_.grownBy(s.mpc_offset), turn, s.mpc_dt, s.mpc_steps, RolloutPoses::Every);
   }
@@ -224,13 +227,13 @@ bool InventecController::rotateCheckFires(const std::vector<Eigen::Vector2d>& po
          rotateCheckHit(points, nav_.localCostmap(), pose, turn.angular, rotate_);
 }
 
-bool InventecController::alignmentAborted(const std::vector<Eigen::Vector2d>& points, const core::Pose2& pose,
-                                          const core::Twist& turn) const {
+bool InventecController::alignmentAborted(const std::vector<Eigen::Vector2d>& points, const core::LaserScan& scan,
+                                          const core::Pose2& pose, const core::Twist& turn) const {
   if (config_.safety.type == SafetyCheck::None) return false;
   // The code's aligning turns (BackTrack, Wiggle) stop on the rotate check's flag alone.
   if (config_.codeVariant() && config_.safety.type == SafetyCheck::Front && config_.safety.rotate_check)
     return rotateCheckFires(points, pose, turn);
-  return rotationUnsafe(points, turn);
+  return rotationUnsafe(points, scan, turn);
 }
 
 core::Twist InventecController::shape(const core::Twist& raw, const core::LaserScan& scan) const {
@@ -310,13 +313,14 @@ core::Twist InventecController::hardTurnCommand(const core::LaserScan& scan, con
   const core::Twist command = turnToward(in.heading_error);
   const InventecSafetyConfig& s = config_.safety;
   in.rotation_unsafe = s.type != SafetyCheck::None &&
-                       (rotationUnsafe(points, command) ||
+                       (rotationUnsafe(points, scan, command) ||
                         (config_.codeVariant() && s.ring && ringHit(scan, s.ring_front, s.ring_edge)) ||
                         rotateCheckFires(points, pose, command));
   return command;
 }
 
-core::Twist InventecController::backTrackCommand(const std::vector<Eigen::Vector2d>& points, const core::Pose2& pose,
+core::Twist InventecController::backTrackCommand(const core::LaserScan& scan, const std::vector<Eigen::Vector2d>& points,
+                                                const core::Pose2& pose,
                                                  InventecInputs& in) {
   core::Twist command;
   if (!aligned_) {
@@ -324,7 +328,7 @@ core::Twist InventecController::backTrackCommand(const std::vector<Eigen::Vector
     const Eigen::Vector2d away = pose.position() - backtrack_target_;
     const double error = core::wrapAngle(std::atan2(away.y(), away.x()) - pose.yaw);
     command = turnToward(error);
-    if (std::abs(error) <= degrees(config_.align_tolerance_deg) || alignmentAborted(points, pose, command)) {
+    if (std::abs(error) <= degrees(config_.align_tolerance_deg) || alignmentAborted(points, scan, pose, command)) {
       aligned_ = true;
       reverse_start_ = pose.position();
       reversed_ = 0.0;
@@ -348,11 +352,12 @@ core::Twist InventecController::backTrackCommand(const std::vector<Eigen::Vector
   return {-config_.backtrack_speed, 0.0};
 }
 
-core::Twist InventecController::wiggleCommand(const std::vector<Eigen::Vector2d>& points, const core::Pose2& pose,
+core::Twist InventecController::wiggleCommand(const core::LaserScan& scan, const std::vector<Eigen::Vector2d>& points,
+                                             const core::Pose2& pose,
                                               InventecInputs& in) const {
   const double error = core::wrapAngle(wiggle_target_ - pose.yaw);
   const core::Twist command = turnToward(error);
-  in.wiggle_done = std::abs(error) <= degrees(config_.align_tolerance_deg) || alignmentAborted(points, pose, command);
+  in.wiggle_done = std::abs(error) <= degrees(config_.align_tolerance_deg) || alignmentAborted(points, scan, pose, command);
   return command;
 }
 
@@ -386,8 +391,8 @@ core::Twist InventecController::act(const Observation& obs) {
     case InventecState::Initial: break;
     case InventecState::Lflh: command = lflhCommand(scan, points, cues.goal_direction, in); break;
     case InventecState::HardTurn: command = hardTurnCommand(scan, points, pose, in); break;
-    case InventecState::BackTrack: command = backTrackCommand(points, pose, in); break;
-    case InventecState::Wiggle: command = wiggleCommand(points, pose, in); break;
+    case InventecState::BackTrack: command = backTrackCommand(scan, points, pose, in); break;
+    case InventecState::Wiggle: command = wiggleCommand(scan, points, pose, in); break;
     case InventecState::Forward: command = forwardCommand(scan, points, obs.time, in); break;
   }
   const InventecState next = nextInventecState(state_, in, config_);

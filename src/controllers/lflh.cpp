@@ -80,12 +80,14 @@ bool nextHardTurn(bool turning, double heading_error, const LflhConfig& config) 
   return std::abs(heading_error) > config.hard_turn_enter_deg * kDeg;
 }
 
-core::Twist deployedCommand(const core::Twist& policy_command, double heading_error,
-                            const std::vector<Eigen::Vector2d>& points, const LflhConfig& config, LflhAction* action) {
-  const core::Rect box = core::Rect::centred(config.safety_length, config.safety_width).grownBy(config.safety_tolerance);
-  const auto unsafe = [&](const core::Twist& command) {
-    return rolloutHit(points, box, command, config.safety_dt, config.safety_steps, RolloutPoses::Final);
-  };
+core::Twist deployedCommand(const core::Twist& policy_command, double heading_error, const core::LaserScan& scan,
+                            const LflhConfig& config, LflhAction* action) {
+  BeamRollout check;
+  check.rectangle = core::Rect::centred(config.safety_length, config.safety_width);
+  check.tolerance = config.safety_tolerance;
+  check.dt = config.safety_dt;
+  check.steps = config.safety_steps;
+  const auto unsafe = [&](const core::Twist& command) { return beamRolloutHit(scan, command, check); };
   LflhAction chosen = LflhAction::Policy;
   core::Twist command = policy_command;
   if (unsafe(command)) {
@@ -128,8 +130,7 @@ core::Twist LflhController::act(const Observation& obs) {
     } else {
       // The check looks at the policy's own command, as the original did (it published that
       // command unclipped); what is sent is clipped below.
-      command = deployedCommand(policy_->act(*obs.scan, goal, config_.range_clip), heading_error, scanPoints(*obs.scan, info_.lidar),
-                                config_, &action_);
+      command = deployedCommand(policy_->act(*obs.scan, goal, config_.range_clip), heading_error, *obs.scan, config_, &action_);
     }
   }
   return {std::clamp(command.linear, -config_.max_speed, config_.max_speed),

@@ -40,6 +40,31 @@ bool rolloutHit(const std::vector<Eigen::Vector2d>& points, const core::Rect& fo
   return false;
 }
 
+bool beamRolloutHit(const core::LaserScan& scan, const core::Twist& command, const BeamRollout& check) {
+  double x = 0.0, y = 0.0, psi = 0.0;
+  for (int k = 0; k < check.steps; ++k) {
+    x += command.linear * std::cos(psi) * check.dt;
+    y += command.linear * std::sin(psi) * check.dt;
+    psi += command.angular * check.dt;
+  }
+  const core::Pose2 final_pose{x, y, psi};
+  const core::Rect& r = check.rectangle;
+  const int n = check.points_per_side;
+  const auto hit = [&](double local_x, double local_y) {
+    const Eigen::Vector2d p = final_pose.transform({local_x, local_y});
+    const double index = std::floor((std::atan2(p.y(), p.x()) - scan.angle_min) / scan.angle_increment);
+    if (index < 0.0 || index >= static_cast<double>(scan.ranges.size())) return false;  // outside the field of view
+    return scan.ranges[static_cast<std::size_t>(index)] < std::abs(p.x()) + std::abs(p.y()) + check.tolerance;
+  };
+  for (int i = 0; i < n; ++i) {
+    const double s = n == 1 ? 0.5 : static_cast<double>(i) / (n - 1);
+    const double along_x = r.min_x + s * (r.max_x - r.min_x);
+    const double along_y = r.min_y + s * (r.max_y - r.min_y);
+    if (hit(along_x, r.min_y) || hit(along_x, r.max_y) || hit(r.min_x, along_y) || hit(r.max_x, along_y)) return true;
+  }
+  return false;
+}
+
 bool frontCheckHit(const core::LaserScan& scan, const core::LidarConfig& lidar, const core::Twist& command,
                    const FrontCheck& check) {
   const core::Rect region{-check.half_length, check.half_length + std::max(check.pad_front, check.speed_gain * command.linear),

@@ -7,11 +7,13 @@
 #include <gtest/gtest.h>
 
 #include "policy_fixtures.hpp"
+#include "scan_fixtures.hpp"
 
 namespace barn::controllers {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
+constexpr double kInf = std::numeric_limits<double>::infinity();
 
 InventecConfig codeConfig() { return InventecConfig{}; }
 InventecConfig paperConfig() {
@@ -210,6 +212,53 @@ TEST(FinalPoseRollout, OnlyTheFinalPoseCounts) {
   // A point at 0.15 is left behind by the final pose but touched by the poses before.
   EXPECT_FALSE(rolloutHit({{0.15, 0.18}}, box, {2.0, 0.0}, 0.01, 20, RolloutPoses::Final));
   EXPECT_TRUE(rolloutHit({{0.15, 0.0}}, box, {2.0, 0.0}, 0.01, 20, RolloutPoses::Every));
+}
+
+// The code's version of the final-pose check reads ranges as if taken at the robot centre.
+core::LidarConfig centredLidar() {
+  core::LidarConfig lidar;
+  lidar.mount_x = 0.0;
+  return lidar;
+}
+
+TEST(BeamRollout, ReachesPastTheCornersByTheirLOneLength) {
+  // Standing still, the 0.42 x 0.33 rectangle's corner (0.21, 0.165) is 0.267 from the centre
+  // at 38.2 deg, but its beam is compared with |x| + |y| = 0.375. A post whose near side is 0.30
+  // out at that bearing is outside the rectangle, yet trips the check; at 0.40 it does not.
+  const core::LidarConfig lidar = centredLidar();
+  const double bearing = std::atan2(0.165, 0.21);
+  const Eigen::Vector2d direction(std::cos(bearing), std::sin(bearing));
+  const BeamRollout check;
+  const core::LaserScan near = withPost(uniformScan(lidar, kInf), lidar, 0.32 * direction, 0.02);
+  EXPECT_TRUE(beamRolloutHit(near, {0.0, 0.0}, check));
+  EXPECT_FALSE(rolloutHit(scanPoints(near, lidar), check.rectangle, {0.0, 0.0}, 0.01, 20, RolloutPoses::Final));
+  EXPECT_FALSE(beamRolloutHit(withPost(uniformScan(lidar, kInf), lidar, 0.42 * direction, 0.02), {0.0, 0.0}, check));
+}
+
+TEST(BeamRollout, WallAheadAndTheTolerance) {
+  const core::LidarConfig lidar = centredLidar();
+  BeamRollout check;
+  // 1 m/s for 0.2 s puts the front edge at 0.41, past a wall at 0.33; 0.1 m/s at 0.23, where the
+  // corner (0.23, 0.165) reads the wall 0.406 away against |x| + |y| = 0.395: clear, but not
+  // with Inventec's 0.02 tolerance.
+  const core::LaserScan wall = wallScan(lidar, 0.33);
+  EXPECT_TRUE(beamRolloutHit(wall, {1.0, 0.0}, check));
+  EXPECT_FALSE(beamRolloutHit(wall, {0.1, 0.0}, check));
+  check.tolerance = 0.02;
+  EXPECT_TRUE(beamRolloutHit(wall, {0.1, 0.0}, check));
+}
+
+TEST(BeamRollout, PointsOutsideTheFieldOfViewAreNotChecked) {
+  // Backing 0.2 m toward a wall 0.3 m behind: the rear edge (x = -0.41) lies beyond +-135 deg,
+  // where no beam looks, and the beams that do look back see the wall farther than their
+  // points' |x| + |y|. The code's check is blind behind the robot.
+  const core::LidarConfig lidar = centredLidar();
+  core::LaserScan behind = uniformScan(lidar, kInf);
+  for (std::size_t i = 0; i < behind.ranges.size(); ++i) {
+    const double c = std::cos(behind.angle(i));
+    if (c < -1e-9) behind.ranges[i] = -0.3 / c;
+  }
+  EXPECT_FALSE(beamRolloutHit(behind, {-1.0, 0.0}, BeamRollout{}));
 }
 
 TEST(MpcRollout, RolloutCatchesWhatTheCommandDrivesInto) {

@@ -10,11 +10,13 @@
 #include <gtest/gtest.h>
 
 #include "policy_fixtures.hpp"
+#include "scan_fixtures.hpp"
 
 namespace barn::controllers {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
+constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // ---- The hard turn's hysteresis: in above 60 degrees, out below 10 ----
 
@@ -48,61 +50,70 @@ TEST(LflhHardTurn, ThresholdsComeFromTheConfig) {
 
 // ---- The safety check's fallbacks: policy, else turn in place, else back up ----
 
-// A wall across the front, `x` [m] ahead of the robot centre.
-std::vector<Eigen::Vector2d> wallAhead(double x) {
-  std::vector<Eigen::Vector2d> points;
-  for (double y = -0.5; y <= 0.5 + 1e-9; y += 0.01) points.emplace_back(x, y);
-  return points;
+// The check reads ranges as if taken at the robot centre (the code ignored the LiDAR's offset):
+// a LiDAR at the centre keeps the numbers below exact.
+core::LidarConfig centredLidar() {
+  core::LidarConfig lidar;
+  lidar.mount_x = 0.0;
+  return lidar;
 }
 
 TEST(LflhSafety, AClearCommandIsThePolicysOwn) {
+  // After 0.2 s of (0.8, 0.3) the rectangle's front corner is near (0.38, 0.19): |x| + |y| = 0.57
+  // against a wall 0.8 ahead, seen 0.89 away at that bearing.
   const LflhConfig c;
   LflhAction action = LflhAction::BackUp;
-  const core::Twist command = deployedCommand({0.8, 0.3}, 0.2, wallAhead(0.5), c, &action);
+  const core::Twist command = deployedCommand({0.8, 0.3}, 0.2, wallScan(centredLidar(), 0.8), c, &action);
   EXPECT_EQ(action, LflhAction::Policy);
   EXPECT_EQ(command.linear, 0.8);
   EXPECT_EQ(command.angular, 0.3);
   // Nothing in view: always the policy.
-  EXPECT_EQ(deployedCommand({2.0, 0.0}, 0.0, {}, c).linear, 2.0);
+  EXPECT_EQ(deployedCommand({2.0, 0.0}, 0.0, uniformScan(centredLidar(), kInf), c).linear, 2.0);
 }
 
 TEST(LflhSafety, ABlockedFrontGivesTheTurnInPlace) {
-  // The 0.42 x 0.33 rectangle with tolerance 0.0: front edge at 0.21. 1 m/s for 0.2 s moves it
-  // to 0.41, past a wall at 0.31; turning in place keeps every corner within 0.27 of the centre.
+  // The 0.42 x 0.33 rectangle with tolerance 0.0: 1 m/s for 0.2 s puts its front edge at 0.41,
+  // past a wall at 0.36. Turning in place at w = 1 (0.2 rad): the corner nearest the wall,
+  // (0.239, -0.120), has |x| + |y| = 0.359 and its beam sees the wall at 0.403.
   const LflhConfig c;
+  const core::LaserScan wall = wallScan(centredLidar(), 0.36);
   LflhAction action = LflhAction::Policy;
-  const core::Twist command = deployedCommand({1.0, 0.0}, 0.5, wallAhead(0.31), c, &action);
+  const core::Twist command = deployedCommand({1.0, 0.0}, 0.5, wall, c, &action);
   EXPECT_EQ(action, LflhAction::SafetyTurn);
   EXPECT_EQ(command.linear, 0.0);
   EXPECT_DOUBLE_EQ(command.angular, 2.0 * 0.5);  // w = turn_gain * heading error
   // A slow command that stops short of the wall passes: 0.2 m/s moves 0.04 m.
-  deployedCommand({0.2, 0.0}, 0.5, wallAhead(0.31), c, &action);
+  deployedCommand({0.2, 0.0}, 0.5, wall, c, &action);
   EXPECT_EQ(action, LflhAction::Policy);
 }
 
 TEST(LflhSafety, ABlockedTurnGivesTheBackUp) {
-  // Besides the wall, a post beside the front-left corner: outside the rectangle now (y 0.18 >
-  // 0.165), inside it once the robot has turned 0.2 rad to the left, outside it 0.04 m back.
+  // Besides the wall, a post 0.33 m out at the bearing (49.6 deg) the front-left corner turns to
+  // when the robot turns 0.2 rad to the left; that corner's |x| + |y| is 0.376 > 0.33.
   const LflhConfig c;
-  std::vector<Eigen::Vector2d> points = wallAhead(0.35);
-  points.emplace_back(0.15, 0.18);
+  const core::LidarConfig lidar = centredLidar();
+  const double bearing = 49.6 * kDeg;
+  const core::LaserScan scan =
+      withPost(wallScan(lidar, 0.36), lidar, 0.36 * Eigen::Vector2d(std::cos(bearing), std::sin(bearing)), 0.03);
   LflhAction action = LflhAction::Policy;
-  const core::Twist command = deployedCommand({1.0, 0.0}, 0.5, points, c, &action);
+  const core::Twist command = deployedCommand({1.0, 0.0}, 0.5, scan, c, &action);
   EXPECT_EQ(action, LflhAction::BackUp);
   EXPECT_EQ(command.linear, -0.2);
   EXPECT_EQ(command.angular, 0.0);
   // Turning the other way (heading error to the right) swings the corner away: the turn is taken.
-  deployedCommand({1.0, 0.0}, -0.5, points, c, &action);
+  deployedCommand({1.0, 0.0}, -0.5, scan, c, &action);
   EXPECT_EQ(action, LflhAction::SafetyTurn);
 }
 
-TEST(LflhSafety, TheToleranceGrowsTheRectangle) {
-  // After 0.2 s at 0.5 m/s the front edge is at 0.21 + 0.1 = 0.31, 0.05 m short of a wall at
-  // 0.36: clear with the published tolerance 0.0, blocked when the rectangle grows by 0.06.
+TEST(LflhSafety, TheToleranceWidensTheCheck) {
+  // After 0.2 s at 0.5 m/s the front corner (0.31, 0.165) has |x| + |y| = 0.475; a wall 0.43
+  // ahead is 0.487 away along its beam: clear with the published tolerance 0.0, blocked with
+  // Inventec's 0.02.
   LflhConfig c;
-  EXPECT_EQ(deployedCommand({0.5, 0.0}, 0.0, wallAhead(0.36), c).linear, 0.5);
-  c.safety_tolerance = 0.06;
-  EXPECT_EQ(deployedCommand({0.5, 0.0}, 0.0, wallAhead(0.36), c).linear, 0.0);
+  const core::LaserScan wall = wallScan(centredLidar(), 0.43);
+  EXPECT_EQ(deployedCommand({0.5, 0.0}, 0.0, wall, c).linear, 0.5);
+  c.safety_tolerance = 0.02;
+  EXPECT_EQ(deployedCommand({0.5, 0.0}, 0.0, wall, c).linear, 0.0);
 }
 
 // ---- The controller: deployed vs the bare policy ----

@@ -215,10 +215,12 @@ class InventecController : public Controller {
                      const core::Twist& command) const;
   bool frontUnsafe(const std::vector<Eigen::Vector2d>& points, const core::LaserScan& scan,
                    const core::Twist& command) const;
-  bool rotationUnsafe(const std::vector<Eigen::Vector2d>& points, const core::Twist& turn) const;
+  bool rotationUnsafe(const std::vector<Eigen::Vector2d>& points, const core::LaserScan& scan,
+                      const core::Twist& turn) const;
+  BeamRollout finalPoseCheck() const;
   bool rotateCheckFires(const std::vector<Eigen::Vector2d>& points, const core::Pose2& pose,
                         const core::Twist& turn) const;
-  bool alignmentAborted(const std::vector<Eigen::Vector2d>& points, const core::Pose2& pose,
+  bool alignmentAborted(const std::vector<Eigen::Vector2d>& points, const core::LaserScan& scan, const core::Pose2& pose,
                         const core::Twist& turn) const;
   core::Twist shape(const core::Twist& raw, const core::LaserScan& scan) const;
   /// The path direction and the local goal the state machine and the policy steer by.
@@ -228,8 +230,9 @@ class InventecController : public Controller {
                           const Eigen::Vector2d& goal_direction, InventecInputs& in) const;
   core::Twist hardTurnCommand(const core::LaserScan& scan, const std::vector<Eigen::Vector2d>& points,
                               const core::Pose2& pose, InventecInputs& in) const;
-  core::Twist backTrackCommand(const std::vector<Eigen::Vector2d>& points, const core::Pose2& pose, InventecInputs& in);
-  core::Twist wiggleCommand(const std::vector<Eigen::Vector2d>& points, const core::Pose2& pose,
+  core::Twist backTrackCommand(const core::LaserScan& scan, const std::vector<Eigen::Vector2d>& points,
+                               const core::Pose2& pose, InventecInputs& in);
+  core::Twist wiggleCommand(const core::LaserScan& scan, const std::vector<Eigen::Vector2d>& points, const core::Pose2& pose,
                             InventecInputs& in) const;
   core::Twist forwardCommand(const core::LaserScan& scan, const std::vector<Eigen::Vector2d>& points, double time,
                              InventecInputs& in) const;

@@ -8,8 +8,9 @@
 ///
 ///   heading error e = the angle of the local goal in the robot frame (the policy's goal input)
 ///   hard turn: entered when |e| > 60 deg, left when |e| < 10 deg; while in it (0, 2 e)
-///   otherwise the policy's command (v, w), kept if the 0.2 s final-pose rollout check
-///   (safety_checks.hpp rolloutHit, 20 x 0.01 s, the 0.42 x 0.33 rectangle grown by 0.0) clears;
+///   otherwise the policy's command (v, w), kept if the 0.2 s final-pose rollout check clears
+///   (safety_checks.hpp beamRolloutHit, 20 x 0.01 s, 40 points on the 0.42 x 0.33 rectangle,
+///   each beam against the point's |x| + |y|, tolerance 0.0: the script's own arithmetic);
 ///   else the turn in place (0, 2 e) if it clears the same check; else the back-up (-0.2, 0).
 ///
 /// deployed: false (lflh_raw.yaml, lflh_2ms_raw.yaml) — the bare policy: no hard turn, no
@@ -84,9 +85,8 @@ bool nextHardTurn(bool turning, double heading_error, const LflhConfig& config);
 /// clears the points (robot frame, see safety_checks.hpp), else the turn in place
 /// (0, turn_gain * heading_error) if that clears, else the back-up (-backup_speed, 0).
 /// `action` (if set) receives which of the three it is.
-core::Twist deployedCommand(const core::Twist& policy_command, double heading_error,
-                            const std::vector<Eigen::Vector2d>& points, const LflhConfig& config,
-                            LflhAction* action = nullptr);
+core::Twist deployedCommand(const core::Twist& policy_command, double heading_error, const core::LaserScan& scan,
+                            const LflhConfig& config, LflhAction* action = nullptr);
 
 class LflhController : public Controller {
  public:

@@ -36,6 +36,25 @@ enum class RolloutPoses { Every, Final };
 bool rolloutHit(const std::vector<Eigen::Vector2d>& points, const core::Rect& footprint, const core::Twist& command,
                 double dt, int steps, RolloutPoses poses = RolloutPoses::Every);
 
+/// The final-pose rollout check as the published simulation code computed it (the team's
+/// `_bch_safety_check` with tolerance 0.02, LfLH's deployment script with 0.0): roll (v, w)
+/// forward (`steps` Euler steps of `dt`, the unicycle model of rolloutHit) and put
+/// `points_per_side` evenly spaced points, corners included, on each side of the rectangle at
+/// the final pose. Each point inside the field of view reads the beam its bearing from the robot
+/// centre falls in (index = floor((bearing - angle_min) / angle_increment); the LiDAR's mounting
+/// offset is ignored, as the code ignored it); hit if that beam's range is below |x| + |y| of the
+/// point plus the tolerance. |x| + |y| is an L1 length, up to 1.41 x the point's distance near the
+/// diagonals, so returns up to that far beyond the rectangle's corners trip the check: the
+/// code's test reaches well past the rectangle a point-in-rectangle test would check.
+struct BeamRollout {
+  core::Rect rectangle = core::Rect::centred(0.42, 0.33);  // [m] code: 0.42 x 0.33 test points
+  int points_per_side = 10;  // code: 10 points per side (40 points)
+  double tolerance = 0.0;    // [m] Inventec: 0.02 (safety.dist_tolerance); LfLH: 0.0
+  double dt = 0.01;          // [s] code: safety.dt
+  int steps = 20;            // code: safety.step (0.2 s)
+};
+bool beamRolloutHit(const core::LaserScan& scan, const core::Twist& command, const BeamRollout& check);
+
 /// The front check of the team's simulation code: a rectangle |y| <= half_width + pad_x
 /// (lateral), x from -half_length to half_length + max(pad_front, speed_gain * v) (forward),
 /// rotated about the robot centre by rotate_gain * w toward the turn. True if a return whose beam
