@@ -1,6 +1,7 @@
 #include "barn/learning/hallucination.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -49,7 +50,69 @@ Obstacle randomShape(core::Rng& rng, double circle_share, double size_min, doubl
   return makeObstacle(Eigen::Vector2d::Zero(), a, b, uniform(rng, 0.0, kPi));
 }
 
+// An obstacle placed at a gap `clearance` from the swept footprint.
+struct Placed {
+  Obstacle obstacle;
+  double clearance = 0.0;  // [m]
+};
+
 }  // namespace
+
+// ---------------------------------------------------------------------------
+// Constraining placement
+
+std::vector<SweptFootprint> alternativeSweeps(const HallucinationConfig& config, double horizon, const core::Rect& footprint) {
+  // Poses every kPoseStep of travel along each constant (v, w) motion from the origin; the sweep
+  // fills in between them.
+  constexpr double kPoseStep = 0.05;  // [m]
+  std::vector<SweptFootprint> sweeps;
+  for (int i = 1; i <= config.alternative_speeds; ++i) {
+    const double v = config.alternative_speed * i / config.alternative_speeds;
+    for (int j = 0; j < config.alternative_turns; ++j) {
+      const double w = config.alternative_turns == 1
+                           ? 0.0
+                           : config.alternative_turn_rate * (-1.0 + 2.0 * j / (config.alternative_turns - 1));
+      const int steps = std::max(1, static_cast<int>(std::ceil(v * horizon / kPoseStep)));
+      std::vector<core::Pose2> motion;
+      for (int k = 0; k <= steps; ++k) {
+        const double t = horizon * k / steps;
+        // The exact arc (a straight line in the limit w -> 0).
+        const double yaw = w * t;
+        const double x = std::abs(w) < 1e-9 ? v * t : v / w * std::sin(yaw);
+        const double y = std::abs(w) < 1e-9 ? 0.0 : v / w * (1.0 - std::cos(yaw));
+        motion.push_back({x, y, yaw});
+      }
+      sweeps.emplace_back(motion, footprint, config.sweep_step * 2.5);
+    }
+  }
+  return sweeps;
+}
+
+std::vector<std::size_t> mostConstraining(const std::vector<Obstacle>& candidates,
+                                          const std::vector<SweptFootprint>& alternatives, std::size_t most) {
+  // Which alternatives each candidate blocks, as bits.
+  std::vector<std::uint64_t> blocks(candidates.size(), 0);
+  for (std::size_t c = 0; c < candidates.size(); ++c)
+    for (std::size_t a = 0; a < alternatives.size() && a < 64; ++a)
+      if (alternatives[a].gap(candidates[c]) < 0.0) blocks[c] |= std::uint64_t{1} << a;
+  std::vector<std::size_t> chosen;
+  std::uint64_t covered = 0;
+  while (chosen.size() < most) {
+    std::size_t best = candidates.size();
+    int best_gain = 0;
+    for (std::size_t c = 0; c < candidates.size(); ++c) {
+      const int gain = std::popcount(blocks[c] & ~covered);
+      if (gain > best_gain) {  // ties: the earlier draw
+        best_gain = gain;
+        best = c;
+      }
+    }
+    if (best == candidates.size()) break;  // nothing left to rule out
+    chosen.push_back(best);
+    covered |= blocks[best];
+  }
+  return chosen;
+}
 
 // ---------------------------------------------------------------------------
 // Shapes
@@ -173,8 +236,8 @@ std::optional<Demonstration> hallucinate(const Recording& recording, std::size_t
   core::Rng rng(core::mixSeed(config.seed, record, static_cast<std::uint64_t>(render)));
   const std::size_t horizon_steps = std::max<std::size_t>(1, steps(uniform(rng, config.horizon_min, config.horizon_max)));
   for (std::size_t k = 0; k <= horizon_steps; ++k) demo.motion.push_back(relative(origin, records[record + k].pose));
-  const SweptFootprint swept(demo.motion, core::Rect::centred(robot.footprint_length, robot.footprint_width),
-                             config.sweep_step);
+  const core::Rect footprint = core::Rect::centred(robot.footprint_length, robot.footprint_width);
+  const SweptFootprint swept(demo.motion, footprint, config.sweep_step);
   const std::vector<core::Pose2>& poses = swept.poses();
 
   // Hugging obstacles: pushed out from the path until their gap is the clearance (+ the
@@ -200,26 +263,23 @@ std::optional<Demonstration> hallucinate(const Recording& recording, std::size_t
     if (missing > 0.0) return std::nullopt;
     return placed;
   };
-  const int hugging = config.constraining_min +
-                      static_cast<int>(rng.below(static_cast<std::uint64_t>(config.constraining_max - config.constraining_min + 1)));
-  for (int n = 0; n < hugging; ++n) {
+  // One hugging obstacle: from a random pose of the sweep, pushed out sideways (path normal,
+  // left or right, +- direction_jitter).
+  const auto drawHugging = [&]() -> std::optional<Placed> {
     const core::Pose2& anchor = poses[static_cast<std::size_t>(rng.below(poses.size()))];
     const double side = rng.uniform01() < 0.5 ? 1.0 : -1.0;
     const double direction = anchor.yaw + side * 0.5 * kPi + uniform(rng, -config.direction_jitter, config.direction_jitter);
     const double clearance = uniform(rng, config.clearance_min, config.clearance_max);
     const Obstacle shape = randomShape(rng, config.circle_share, config.size_min, config.size_max, config.max_aspect);
     std::optional<Obstacle> placed = pushOut(shape, anchor.position(), direction, clearance);
-    if (!placed) continue;
-    demo.obstacles.push_back(std::move(*placed));
-    demo.clearances.push_back(clearance);
-  }
-  // Blocking obstacles (the same push, but forward): they explain why the motion slows or turns.
-  // Half start at a random pose of the sweep and are pushed along that pose's heading (the last
-  // pose gives a wall just past where the motion ends); half are pushed straight ahead of the
-  // robot (x axis), so on a turning motion they land where going straight would collide.
-  const int blocking = config.blocking_max <= 0 ? 0 : config.blocking_min +
-                       static_cast<int>(rng.below(static_cast<std::uint64_t>(config.blocking_max - config.blocking_min + 1)));
-  for (int n = 0; n < blocking; ++n) {
+    if (!placed) return std::nullopt;
+    return Placed{std::move(*placed), clearance};
+  };
+  // One blocking obstacle (the same push, but forward): it explains why the motion slows or
+  // turns. Half start at a random pose of the sweep and are pushed along that pose's heading
+  // (the last pose gives a wall just past where the motion ends); half are pushed straight ahead
+  // of the robot (x axis), so on a turning motion they land where going straight would collide.
+  const auto drawBlocking = [&]() -> std::optional<Placed> {
     const bool along_pose = rng.uniform01() < 0.5;
     // Anchors biased to the later part of the motion (the square root of a uniform draw).
     const double u = std::sqrt(rng.uniform01());
@@ -229,9 +289,37 @@ std::optional<Demonstration> hallucinate(const Recording& recording, std::size_t
     const double clearance = uniform(rng, config.clearance_min, config.clearance_max);
     const Obstacle shape = randomShape(rng, config.circle_share, config.size_min, config.size_max, config.max_aspect);
     std::optional<Obstacle> placed = pushOut(shape, anchor.position(), direction, clearance);
-    if (!placed) continue;
-    demo.obstacles.push_back(std::move(*placed));
-    demo.clearances.push_back(clearance);
+    if (!placed) return std::nullopt;
+    return Placed{std::move(*placed), clearance};
+  };
+  const auto keep = [&](Placed placed) {
+    demo.obstacles.push_back(std::move(placed.obstacle));
+    demo.clearances.push_back(placed.clearance);
+  };
+  if (config.candidates == 0) {
+    const int hugging = config.constraining_min +
+                        static_cast<int>(rng.below(static_cast<std::uint64_t>(config.constraining_max - config.constraining_min + 1)));
+    for (int n = 0; n < hugging; ++n)
+      if (auto placed = drawHugging()) keep(std::move(*placed));
+    const int blocking = config.blocking_max <= 0 ? 0 : config.blocking_min +
+                         static_cast<int>(rng.below(static_cast<std::uint64_t>(config.blocking_max - config.blocking_min + 1)));
+    for (int n = 0; n < blocking; ++n)
+      if (auto placed = drawBlocking()) keep(std::move(*placed));
+  } else {
+    // Constraining placement: of `candidates` drawn obstacles, keep those that rule out the most
+    // alternative motions (hallucination.hpp, step 2c).
+    const std::vector<SweptFootprint> alternatives =
+        alternativeSweeps(config, static_cast<double>(horizon_steps) / recording.rate, footprint);
+    std::vector<Placed> pool;
+    std::vector<Obstacle> shapes;
+    for (int n = 0; n < config.candidates; ++n) {
+      std::optional<Placed> placed = rng.uniform01() < 0.5 ? drawHugging() : drawBlocking();
+      if (!placed) continue;
+      shapes.push_back(placed->obstacle);
+      pool.push_back(std::move(*placed));
+    }
+    for (const std::size_t k : mostConstraining(shapes, alternatives, static_cast<std::size_t>(config.constraining_max)))
+      keep(pool[k]);
   }
   demo.hugging = demo.obstacles.size();
 

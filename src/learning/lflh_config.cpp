@@ -48,6 +48,14 @@ void validate(const HallucinationConfig& c, core::Errors& e, const std::string& 
   e.check(c.sector_time >= 0.0, p + ".sector_time", "must be >= 0");
   e.check(c.sector_half_angle >= 0.0 && c.sector_half_angle <= 1.5707963267948966, p + ".sector_half_angle",
           "must be in [0, pi/2] rad (the sector must be convex)");
+  e.check(c.candidates >= 0 && c.candidates <= 1000, p + ".candidates", "must be in [0, 1000]");
+  e.check(c.alternative_speed > 0.0 && c.alternative_speed <= 10.0, p + ".alternative_speed", "must be in (0, 10] m/s");
+  e.check(c.alternative_speeds >= 1 && c.alternative_speeds <= 8, p + ".alternative_speeds", "must be in [1, 8]");
+  e.check(c.alternative_turn_rate >= 0.0 && c.alternative_turn_rate <= 10.0, p + ".alternative_turn_rate",
+          "must be in [0, 10] rad/s");
+  e.check(c.alternative_turns >= 1 && c.alternative_turns <= 63, p + ".alternative_turns", "must be in [1, 63]");
+  e.check(c.alternative_speeds * c.alternative_turns <= 64, p + ".alternative_turns",
+          "alternative_speeds x alternative_turns must be at most 64");
   e.check(c.sweep_step >= 0.001 && c.sweep_step <= 0.1, p + ".sweep_step", "must be in [0.001, 0.1] m");
 }
 

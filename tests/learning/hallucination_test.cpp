@@ -82,6 +82,78 @@ TEST(Hallucination, BlockingObstaclesHugTheSweepAndStandAhead) {
   EXPECT_GT(ahead, obstacles / 2);
 }
 
+// ---- Constraining placement ----
+
+// A straight motion along x from (0, y) to (2, y), swept with a 0.2 x 0.2 m footprint.
+SweptFootprint straightAt(double y) {
+  return SweptFootprint({{0.0, y, 0.0}, {2.0, y, 0.0}}, core::Rect::centred(0.2, 0.2), 0.02);
+}
+
+TEST(ConstrainingPlacement, KeepsTheCandidatesThatRuleOutTheMostNewAlternativesAndStops) {
+  const std::vector<SweptFootprint> alternatives = {straightAt(-1.0), straightAt(0.0), straightAt(1.0)};
+  const std::vector<Obstacle> candidates = {
+      makeObstacle({1.0, 0.0}, 0.05, 0.05, 0.0),   // blocks the middle one
+      makeObstacle({1.0, 0.5}, 0.55, 0.55, 0.0),   // blocks the middle and the upper one
+      makeObstacle({1.0, -1.0}, 0.05, 0.05, 0.0),  // blocks the lower one
+      makeObstacle({5.0, 5.0}, 0.05, 0.05, 0.0),   // blocks none
+  };
+  // The widest first, then the one that adds the lower line; the small middle post adds nothing.
+  EXPECT_EQ(mostConstraining(candidates, alternatives, 10), (std::vector<std::size_t>{1, 2}));
+  EXPECT_EQ(mostConstraining(candidates, alternatives, 1), (std::vector<std::size_t>{1}));
+  // Equal gains: the earlier candidate.
+  EXPECT_EQ(mostConstraining({candidates[2], candidates[0]}, alternatives, 1), (std::vector<std::size_t>{0}));
+  EXPECT_TRUE(mostConstraining({candidates[3]}, alternatives, 10).empty());
+}
+
+TEST(ConstrainingPlacement, AlternativesAreArcsOnTheGridOfSpeedsAndTurnRates) {
+  HallucinationConfig config;
+  config.alternative_speed = 1.0;
+  config.alternative_speeds = 2;   // v = 0.5, 1.0
+  config.alternative_turn_rate = 1.0;
+  config.alternative_turns = 3;    // w = -1, 0, 1
+  const std::vector<SweptFootprint> sweeps = alternativeSweeps(config, 2.0, core::Rect::centred(0.5, 0.4));
+  ASSERT_EQ(sweeps.size(), 6u);
+  // Speed-major order: (0.5, -1), (0.5, 0), (0.5, 1), (1, -1), (1, 0), (1, 1).
+  const core::Pose2 straight = sweeps[4].poses().back();
+  EXPECT_NEAR(straight.x, 2.0, 1e-12);
+  EXPECT_NEAR(straight.y, 0.0, 1e-12);
+  const core::Pose2 left = sweeps[2].poses().back();  // radius 0.5, turned 2 rad
+  EXPECT_NEAR(left.x, 0.5 * std::sin(2.0), 1e-12);
+  EXPECT_NEAR(left.y, 0.5 * (1.0 - std::cos(2.0)), 1e-12);
+  EXPECT_NEAR(left.yaw, 2.0, 1e-12);
+  const core::Pose2 right = sweeps[0].poses().back();
+  EXPECT_NEAR(right.y, -left.y, 1e-12);
+}
+
+TEST(ConstrainingPlacement, KeptObstaclesHugTheMotionAndEachRulesOutAnAlternative) {
+  HallucinationConfig config;
+  config.candidates = 12;
+  config.constraining_max = 6;
+  config.alternative_speed = 2.0;  // the recording's speed limit
+  config.alternative_turn_rate = 1.4;
+  const core::RobotConfig robot;
+  const core::Rect footprint = core::Rect::centred(robot.footprint_length, robot.footprint_width);
+  int demos = 0;
+  for (std::size_t record = 0; record < 1200; record += 37) {
+    const auto demo = hallucinate(recording(), record, 0, config);
+    if (!demo) continue;
+    ++demos;
+    EXPECT_LE(demo->hugging, 6u);
+    const SweptFootprint fine(demo->motion, footprint, 0.001);
+    const double horizon = static_cast<double>(demo->motion.size() - 1) / recording().rate;
+    const std::vector<SweptFootprint> alternatives = alternativeSweeps(config, horizon, footprint);
+    for (std::size_t k = 0; k < demo->hugging; ++k) {
+      const double gap = fine.gap(demo->obstacles[k]);
+      EXPECT_GE(gap, demo->clearances[k] - 0.0005) << "record " << record << " obstacle " << k;
+      EXPECT_LE(gap, demo->clearances[k] + 0.5 * config.sweep_step + 1e-6) << "record " << record << " obstacle " << k;
+      bool rules_out = false;
+      for (const SweptFootprint& a : alternatives) rules_out = rules_out || a.gap(demo->obstacles[k]) < 0.0;
+      EXPECT_TRUE(rules_out) << "record " << record << " obstacle " << k;
+    }
+  }
+  EXPECT_GT(demos, 25);
+}
+
 TEST(Hallucination, DistractorsStayOutOfTheVelocitySector) {
   const HallucinationConfig config;
   for (std::size_t record = 0; record < 1200; record += 101) {

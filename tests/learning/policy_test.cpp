@@ -9,6 +9,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "barn/core/errors.hpp"
 #include "barn/core/text_io.hpp"
 #include "barn/learning/hallucination.hpp"
 #include "barn/learning/lflh_config.hpp"
@@ -286,16 +287,22 @@ TEST(PolicyFile, TheFuzzSeedsLoadAndTheVersionTwoOneWritesBackByteForByte) {
   EXPECT_EQ(core::readTextFile(back), core::readTextFile(seeds / "tiny_v2_leaky.policy"));
 }
 
-TEST(ShippedPolicies, TheVersionOneFormOfAShippedPolicyLoadsTheSameNetwork) {
-  // Version 1 files differ only in their version line (their activation was always relu).
+TEST(ShippedPolicies, TheVersionOneFormOfAShippedPolicyLoadsTheSameWeightsAsRelu) {
+  // Version 1 files differ only in their version line and their activation, always relu.
   const fs::path file = fs::path(BARN_SOURCE_DIR) / "configs" / "policies" / "lflh_1ms.policy";
-  std::string v1 = core::readTextFile(file);
+  const std::string v2 = core::readTextFile(file);
+  std::string v1 = v2;
   v1.replace(v1.find("\nversion: 2\n"), 12, "\nversion: 1\n");
+  // A version 1 header cannot name another activation.
+  ASSERT_NE(v1.find("\nactivation: leaky_relu 0.01\n"), std::string::npos);
+  EXPECT_THROW(Policy::parse(v1, "v1.policy"), core::InputError);
+  v1.replace(v1.find("\nactivation: leaky_relu 0.01\n"), 29, "\nactivation: relu\n");
   const Policy old = Policy::parse(v1, "v1.policy");
   const Policy current = Policy::load(file);
   EXPECT_EQ(old.weights().w1, current.weights().w1);
   EXPECT_EQ(old.weights().b3, current.weights().b3);
   EXPECT_EQ(old.info().activation, Activation::Relu);
+  EXPECT_EQ(current.info().activation, Activation::LeakyRelu);
   EXPECT_EQ(old.info().config_hash, current.info().config_hash);
   EXPECT_EQ(old.info().validation_loss, current.info().validation_loss);
 }

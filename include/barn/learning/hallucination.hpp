@@ -22,6 +22,15 @@
 ///     so on a turning motion they stand where driving straight would collide. Without them
 ///     the space ahead is almost always free and the policy learns not to slow for walls.
 ///     They count as hugging obstacles (`Demonstration::hugging`, `clearances`).
+///  2c. Constraining placement (`candidates` > 0, instead of 2 and 2b as drawn): the published
+///     hallucination learnt to place obstacles that make the recorded motion the one to take.
+///     Here `candidates` obstacles are drawn as in 2 or 2b (even odds), each at its clearance
+///     from S, and kept greedily (at most constraining_max): each time the candidate whose
+///     overlap rules out the most alternative motions (constant (v, w) arcs over the same
+///     horizon, planning footprint) that no kept obstacle rules out yet; it stops when no
+///     candidate rules out another. So a slow motion gets the wall that stops the fast ones, a
+///     turn the obstacles that block going straight and turning the other way, a straight run
+///     the walls that close off both sides.
 ///  3. Distractors as in the original renderer: centres within `distractor_distance` at
 ///     bearings in +-135 deg, rejected if they come within clearance_min of S or enter the
 ///     velocity sector (radius |v| sector_time, +-sector_half_angle around the heading) at any
@@ -119,6 +128,18 @@ struct Demonstration {
 std::optional<Demonstration> hallucinate(const Recording& recording, std::size_t record, int render,
                                          const HallucinationConfig& config,
                                          const core::RobotConfig& robot = {}, const core::LidarConfig& lidar = {});
+
+/// The alternative motions of the constraining placement: constant (v, w) arcs from the origin
+/// over `horizon` seconds (v in alternative_speed * (1..n) / n, w in
+/// linspace(-alternative_turn_rate, alternative_turn_rate, alternative_turns)), swept with
+/// `footprint`.
+std::vector<SweptFootprint> alternativeSweeps(const HallucinationConfig& config, double horizon, const core::Rect& footprint);
+
+/// Greedy maximum coverage: indices of at most `most` candidates, each in turn the one whose
+/// footprint overlap rules out the most alternatives (at most 64) not yet ruled out (ties: the
+/// lower index); stops early when no candidate rules out another.
+std::vector<std::size_t> mostConstraining(const std::vector<Obstacle>& candidates,
+                                          const std::vector<SweptFootprint>& alternatives, std::size_t most);
 
 /// The scan of `obstacles` from a robot at the origin, cast by sim::LidarCaster; no noise if
 /// `noise` is null.

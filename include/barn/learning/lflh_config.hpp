@@ -67,6 +67,14 @@ struct HallucinationConfig {
   double distractor_size_max = 0.5; // [m]
   double sector_time = 1.0;         // [s] velocity sector radius = |v| * sector_time
   double sector_half_angle = 1.0472;  // [rad] +-60 degrees around the heading
+  int candidates = 0;               // [-] 0: the hugging and blocking obstacles as drawn; > 0: this many
+                                    //     drawn (each hugging or blocking, even odds), and kept greedily
+                                    //     while one rules out an alternative motion no kept one does,
+                                    //     at most constraining_max (hallucination.hpp, step 2c)
+  double alternative_speed = 1.0;   // [m/s] alternatives: constant (v, w) over the horizon with v in
+  int alternative_speeds = 4;       //   alternative_speed * (1..n) / n
+  double alternative_turn_rate = 1.3;  // [rad/s] and w in linspace(-rate, rate, alternative_turns)
+  int alternative_turns = 9;        // [-]
   double sweep_step = 0.02;         // [m] footprint corners move at most this between swept poses
   std::uint64_t seed = 2;           // [-]
 
@@ -81,6 +89,8 @@ struct HallucinationConfig {
     v("distractors", distractors); v("distractor_distance", distractor_distance);
     v("distractor_size_min", distractor_size_min); v("distractor_size_max", distractor_size_max);
     v("sector_time", sector_time); v("sector_half_angle", sector_half_angle);
+    v("candidates", candidates); v("alternative_speed", alternative_speed); v("alternative_speeds", alternative_speeds);
+    v("alternative_turn_rate", alternative_turn_rate); v("alternative_turns", alternative_turns);
     v("sweep_step", sweep_step); v("seed", seed);
   }
 };
