@@ -214,13 +214,6 @@ TEST(FinalPoseRollout, OnlyTheFinalPoseCounts) {
   EXPECT_TRUE(rolloutHit({{0.15, 0.0}}, box, {2.0, 0.0}, 0.01, 20, RolloutPoses::Every));
 }
 
-// The code's version of the final-pose check reads ranges as if taken at the robot centre.
-core::LidarConfig centredLidar() {
-  core::LidarConfig lidar;
-  lidar.mount_x = 0.0;
-  return lidar;
-}
-
 TEST(BeamRollout, ReachesPastTheCornersByTheirLOneLength) {
   // Standing still, the 0.42 x 0.33 rectangle's corner (0.21, 0.165) is 0.267 from the centre
   // at 38.2 deg, but its beam is compared with |x| + |y| = 0.375. A post whose near side is 0.30

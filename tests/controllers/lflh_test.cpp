@@ -50,14 +50,6 @@ TEST(LflhHardTurn, ThresholdsComeFromTheConfig) {
 
 // ---- The safety check's fallbacks: policy, else turn in place, else back up ----
 
-// The check reads ranges as if taken at the robot centre (the code ignored the LiDAR's offset):
-// a LiDAR at the centre keeps the numbers below exact.
-core::LidarConfig centredLidar() {
-  core::LidarConfig lidar;
-  lidar.mount_x = 0.0;
-  return lidar;
-}
-
 TEST(LflhSafety, AClearCommandIsThePolicysOwn) {
   // After 0.2 s of (0.8, 0.3) the rectangle's front corner is near (0.38, 0.19): |x| + |y| = 0.57
   // against a wall 0.8 ahead, seen 0.89 away at that bearing.

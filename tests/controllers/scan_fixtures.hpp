@@ -25,6 +25,14 @@ inline core::LaserScan uniformScan(const core::LidarConfig& lidar, double range)
   return scan;
 }
 
+/// The default LiDAR moved to the robot centre: the published code's checks read ranges as if
+/// taken there (they ignored the mounting offset), so with it their numbers stay exact.
+inline core::LidarConfig centredLidar() {
+  core::LidarConfig lidar;
+  lidar.mount_x = 0.0;
+  return lidar;
+}
+
 /// A scan of `lidar` (at its mount offset) seeing a straight wall across the robot's path,
 /// `x` [m] ahead of the robot centre: each beam's exact range to the line, +inf if it points away.
 inline core::LaserScan wallScan(const core::LidarConfig& lidar, double x) {
