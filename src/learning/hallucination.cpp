@@ -56,6 +56,110 @@ struct Placed {
   double clearance = 0.0;  // [m]
 };
 
+// Draws obstacles that hug a swept footprint (steps 2 and 2b of the header), from `rng`.
+class Placer {
+ public:
+  Placer(const SweptFootprint& swept, const HallucinationConfig& config, core::Rng& rng)
+      : swept_(swept), poses_(swept.poses()), config_(config), rng_(rng) {}
+
+  // One hugging obstacle: from a random pose of the sweep, pushed out sideways (path normal,
+  // left or right, +- direction_jitter).
+  std::optional<Placed> hugging() {
+    const core::Pose2& anchor = poses_[static_cast<std::size_t>(rng_.below(poses_.size()))];
+    const double side = rng_.uniform01() < 0.5 ? 1.0 : -1.0;
+    const double direction = anchor.yaw + side * 0.5 * kPi + uniform(rng_, -config_.direction_jitter, config_.direction_jitter);
+    return pushed(anchor.position(), direction);
+  }
+
+  // One blocking obstacle (the same push, but forward): it explains why the motion slows or
+  // turns. Half start at a random pose of the sweep and are pushed along that pose's heading
+  // (the last pose gives a wall just past where the motion ends); half are pushed straight ahead
+  // of the robot (x axis), so on a turning motion they land where going straight would collide.
+  std::optional<Placed> blocking() {
+    const bool along_pose = rng_.uniform01() < 0.5;
+    // Anchors biased to the later part of the motion (the square root of a uniform draw).
+    const double u = std::sqrt(rng_.uniform01());
+    const std::size_t index = std::min(poses_.size() - 1, static_cast<std::size_t>(u * static_cast<double>(poses_.size())));
+    const core::Pose2& anchor = along_pose ? poses_[index] : poses_[static_cast<std::size_t>(rng_.below(poses_.size()))];
+    const double direction = (along_pose ? anchor.yaw : 0.0) + uniform(rng_, -config_.blocking_jitter, config_.blocking_jitter);
+    return pushed(anchor.position(), direction);
+  }
+
+ private:
+  // A random shape with a random clearance, pushed from `from` along `direction`.
+  std::optional<Placed> pushed(const Eigen::Vector2d& from, double direction) {
+    const double clearance = uniform(rng_, config_.clearance_min, config_.clearance_max);
+    const Obstacle shape = randomShape(rng_, config_.circle_share, config_.size_min, config_.size_max, config_.max_aspect);
+    std::optional<Obstacle> placed = pushOut(shape, from, direction, clearance);
+    if (!placed) return std::nullopt;
+    return Placed{std::move(*placed), clearance};
+  }
+
+  // Slides `shape` from `from` along `direction` until its gap to the sweep is the clearance
+  // (+ the sweep's bulge allowance): each step covers the clearance still missing, so it stops
+  // at the first valid spot. One that has not arrived within kMaxPush (a ray grazing the
+  // sweep) is dropped.
+  std::optional<Obstacle> pushOut(const Obstacle& shape, const Eigen::Vector2d& from, double direction,
+                                  double clearance) const {
+    constexpr int kMaxIterations = 200;
+    constexpr double kMaxPush = 4.0;     // [m]
+    constexpr double kOvershoot = 1e-7;  // [m] each step goes this far past the estimate
+    const Eigen::Vector2d ray(std::cos(direction), std::sin(direction));
+    const double target = clearance + swept_.inflation();
+    double push = 0.0;
+    Obstacle placed = translated(shape, from);
+    double missing = target - swept_.gap(placed);
+    for (int it = 0; it < kMaxIterations && missing > 0.0 && push < kMaxPush; ++it) {
+      push += missing + kOvershoot;
+      placed = translated(shape, from + push * ray);
+      missing = target - swept_.gap(placed);
+    }
+    if (missing > 0.0) return std::nullopt;
+    return placed;
+  }
+
+  const SweptFootprint& swept_;
+  const std::vector<core::Pose2>& poses_;
+  const HallucinationConfig& config_;
+  core::Rng& rng_;
+};
+
+// Step 3: distractors, kept clear of the sweep and of the velocity sector along the motion.
+void addDistractors(Demonstration& demo, const SweptFootprint& swept, const Recording& recording, std::size_t record,
+                    const HallucinationConfig& config, core::Rng& rng) {
+  constexpr int kSectorPoses = 10;
+  constexpr int kTries = 10;
+  constexpr double kBearingLimit = 0.75 * kPi;  // +-135 degrees, the LiDAR's field of view
+  const std::size_t horizon_steps = demo.motion.size() - 1;
+  for (int n = 0; n < config.distractors; ++n) {
+    for (int attempt = 0; attempt < kTries; ++attempt) {
+      const double distance = uniform(rng, 0.0, config.distractor_distance);
+      const double bearing = uniform(rng, -kBearingLimit, kBearingLimit);
+      const Obstacle candidate = translated(
+          randomShape(rng, config.circle_share, config.distractor_size_min, config.distractor_size_max, config.max_aspect),
+          distance * Eigen::Vector2d(std::cos(bearing), std::sin(bearing)));
+      bool ok = swept.gap(candidate) >= config.clearance_min + swept.inflation();
+      for (int m = 0; ok && m < kSectorPoses; ++m) {
+        const std::size_t k = static_cast<std::size_t>(std::lround(static_cast<double>(m * horizon_steps) / (kSectorPoses - 1)));
+        const core::Pose2& pose = demo.motion[k];
+        const double v = recording.records[record + k].v;
+        const double heading = v >= 0.0 ? pose.yaw : pose.yaw + kPi;
+        for (const Disk& d : candidate.disks) {
+          if (sectorDistance(d.centre, pose.position(), heading, std::abs(v) * config.sector_time, config.sector_half_angle) <
+              d.radius) {
+            ok = false;
+            break;
+          }
+        }
+      }
+      if (ok) {
+        demo.obstacles.push_back(candidate);
+        break;
+      }
+    }
+  }
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------
@@ -238,60 +342,8 @@ std::optional<Demonstration> hallucinate(const Recording& recording, std::size_t
   for (std::size_t k = 0; k <= horizon_steps; ++k) demo.motion.push_back(relative(origin, records[record + k].pose));
   const core::Rect footprint = core::Rect::centred(robot.footprint_length, robot.footprint_width);
   const SweptFootprint swept(demo.motion, footprint, config.sweep_step);
-  const std::vector<core::Pose2>& poses = swept.poses();
 
-  // Hugging obstacles: pushed out from the path until their gap is the clearance (+ the
-  // sweep's bulge allowance). Each push ends at the first position along its ray with that
-  // gap; one that has not arrived within kMaxPush (a ray grazing the sweep) is dropped.
-  constexpr int kMaxIterations = 200;
-  constexpr double kMaxPush = 4.0;       // [m]
-  constexpr double kOvershoot = 1e-7;    // [m] each step goes this far past the estimate
-  // Slides `shape` from `from` along `direction` until its gap to the sweep is `clearance`:
-  // each step covers the clearance still missing, so it stops at the first valid spot.
-  const auto pushOut = [&](const Obstacle& shape, const Eigen::Vector2d& from, double direction,
-                           double clearance) -> std::optional<Obstacle> {
-    const Eigen::Vector2d ray(std::cos(direction), std::sin(direction));
-    const double target = clearance + swept.inflation();
-    double push = 0.0;
-    Obstacle placed = translated(shape, from);
-    double missing = target - swept.gap(placed);
-    for (int it = 0; it < kMaxIterations && missing > 0.0 && push < kMaxPush; ++it) {
-      push += missing + kOvershoot;
-      placed = translated(shape, from + push * ray);
-      missing = target - swept.gap(placed);
-    }
-    if (missing > 0.0) return std::nullopt;
-    return placed;
-  };
-  // One hugging obstacle: from a random pose of the sweep, pushed out sideways (path normal,
-  // left or right, +- direction_jitter).
-  const auto drawHugging = [&]() -> std::optional<Placed> {
-    const core::Pose2& anchor = poses[static_cast<std::size_t>(rng.below(poses.size()))];
-    const double side = rng.uniform01() < 0.5 ? 1.0 : -1.0;
-    const double direction = anchor.yaw + side * 0.5 * kPi + uniform(rng, -config.direction_jitter, config.direction_jitter);
-    const double clearance = uniform(rng, config.clearance_min, config.clearance_max);
-    const Obstacle shape = randomShape(rng, config.circle_share, config.size_min, config.size_max, config.max_aspect);
-    std::optional<Obstacle> placed = pushOut(shape, anchor.position(), direction, clearance);
-    if (!placed) return std::nullopt;
-    return Placed{std::move(*placed), clearance};
-  };
-  // One blocking obstacle (the same push, but forward): it explains why the motion slows or
-  // turns. Half start at a random pose of the sweep and are pushed along that pose's heading
-  // (the last pose gives a wall just past where the motion ends); half are pushed straight ahead
-  // of the robot (x axis), so on a turning motion they land where going straight would collide.
-  const auto drawBlocking = [&]() -> std::optional<Placed> {
-    const bool along_pose = rng.uniform01() < 0.5;
-    // Anchors biased to the later part of the motion (the square root of a uniform draw).
-    const double u = std::sqrt(rng.uniform01());
-    const std::size_t index = std::min(poses.size() - 1, static_cast<std::size_t>(u * static_cast<double>(poses.size())));
-    const core::Pose2& anchor = along_pose ? poses[index] : poses[static_cast<std::size_t>(rng.below(poses.size()))];
-    const double direction = (along_pose ? anchor.yaw : 0.0) + uniform(rng, -config.blocking_jitter, config.blocking_jitter);
-    const double clearance = uniform(rng, config.clearance_min, config.clearance_max);
-    const Obstacle shape = randomShape(rng, config.circle_share, config.size_min, config.size_max, config.max_aspect);
-    std::optional<Obstacle> placed = pushOut(shape, anchor.position(), direction, clearance);
-    if (!placed) return std::nullopt;
-    return Placed{std::move(*placed), clearance};
-  };
+  Placer placer(swept, config, rng);
   const auto keep = [&](Placed placed) {
     demo.obstacles.push_back(std::move(placed.obstacle));
     demo.clearances.push_back(placed.clearance);
@@ -300,11 +352,11 @@ std::optional<Demonstration> hallucinate(const Recording& recording, std::size_t
     const int hugging = config.constraining_min +
                         static_cast<int>(rng.below(static_cast<std::uint64_t>(config.constraining_max - config.constraining_min + 1)));
     for (int n = 0; n < hugging; ++n)
-      if (auto placed = drawHugging()) keep(std::move(*placed));
+      if (auto placed = placer.hugging()) keep(std::move(*placed));
     const int blocking = config.blocking_max <= 0 ? 0 : config.blocking_min +
                          static_cast<int>(rng.below(static_cast<std::uint64_t>(config.blocking_max - config.blocking_min + 1)));
     for (int n = 0; n < blocking; ++n)
-      if (auto placed = drawBlocking()) keep(std::move(*placed));
+      if (auto placed = placer.blocking()) keep(std::move(*placed));
   } else {
     // Constraining placement: of `candidates` drawn obstacles, keep those that rule out the most
     // alternative motions (hallucination.hpp, step 2c).
@@ -313,7 +365,7 @@ std::optional<Demonstration> hallucinate(const Recording& recording, std::size_t
     std::vector<Placed> pool;
     std::vector<Obstacle> shapes;
     for (int n = 0; n < config.candidates; ++n) {
-      std::optional<Placed> placed = rng.uniform01() < 0.5 ? drawHugging() : drawBlocking();
+      std::optional<Placed> placed = rng.uniform01() < 0.5 ? placer.hugging() : placer.blocking();
       if (!placed) continue;
       shapes.push_back(placed->obstacle);
       pool.push_back(std::move(*placed));
@@ -322,38 +374,7 @@ std::optional<Demonstration> hallucinate(const Recording& recording, std::size_t
       keep(pool[k]);
   }
   demo.hugging = demo.obstacles.size();
-
-  // Distractors, kept clear of the sweep and of the velocity sector along the motion.
-  constexpr int kSectorPoses = 10;
-  constexpr int kTries = 10;
-  constexpr double kBearingLimit = 0.75 * kPi;  // +-135 degrees, the LiDAR's field of view
-  for (int n = 0; n < config.distractors; ++n) {
-    for (int attempt = 0; attempt < kTries; ++attempt) {
-      const double distance = uniform(rng, 0.0, config.distractor_distance);
-      const double bearing = uniform(rng, -kBearingLimit, kBearingLimit);
-      const Obstacle candidate = translated(
-          randomShape(rng, config.circle_share, config.distractor_size_min, config.distractor_size_max, config.max_aspect),
-          distance * Eigen::Vector2d(std::cos(bearing), std::sin(bearing)));
-      bool ok = swept.gap(candidate) >= config.clearance_min + swept.inflation();
-      for (int m = 0; ok && m < kSectorPoses; ++m) {
-        const std::size_t k = static_cast<std::size_t>(std::lround(static_cast<double>(m * horizon_steps) / (kSectorPoses - 1)));
-        const core::Pose2& pose = demo.motion[k];
-        const double v = records[record + k].v;
-        const double heading = v >= 0.0 ? pose.yaw : pose.yaw + kPi;
-        for (const Disk& d : candidate.disks) {
-          if (sectorDistance(d.centre, pose.position(), heading, std::abs(v) * config.sector_time, config.sector_half_angle) <
-              d.radius) {
-            ok = false;
-            break;
-          }
-        }
-      }
-      if (ok) {
-        demo.obstacles.push_back(candidate);
-        break;
-      }
-    }
-  }
+  addDistractors(demo, swept, recording, record, config, rng);
 
   core::FastNoise noise(rng.below(std::numeric_limits<std::uint64_t>::max()));
   demo.ranges = renderScan(demo.obstacles, lidar, &noise);
