@@ -180,7 +180,7 @@ bool InventecController::commandUnsafe(const std::vector<Eigen::Vector2d>& point
     return beamRolloutHit(scan, command, finalPoseCheck()) || frontCheckHit(scan, info_.lidar, command, front_);
   }
   if (s.type == SafetyCheck::Mpc) {
-    return rolloutHit(points, footprint_.grownBy(s.mpc_offset), command, s.mpc_dt, s.mpc_steps, RolloutPoses::Every);
+    return rolloutHit(points, footprint_.grownBy(s.mpc_offset), command, s.mpc_dt, s.mpc_steps);
   }
   if (s.type == SafetyCheck::Fi) {
     // The paper's static check: nothing inside the grown rectangle, all around.
@@ -213,10 +213,10 @@ bool InventecController::rotationUnsafe(const std::vector<Eigen::Vector2d>& poin
   const InventecSafetyConfig& s = config_.safety;
   if (s.type == SafetyCheck::Front) return beamRolloutHit(scan, turn, finalPoseCheck());
   if (s.type == SafetyCheck::Mpc) {
-    return rolloutHit(points, footprint_.grownBy(s.mpc_offset), turn, s.mpc_dt, s.mpc_steps, RolloutPoses::Every);
+    return rolloutHit(points, footprint_.grownBy(s.mpc_offset), turn, s.mpc_dt, s.mpc_steps);
   }
   if (s.type == SafetyCheck::Fi) {
-    return rolloutHit(points, footprint_, turn, s.rollout_dt, s.rollout_steps, RolloutPoses::Every);
+    return rolloutHit(points, footprint_, turn, s.rollout_dt, s.rollout_steps);
   }
   return false;
 }

@@ -24,16 +24,22 @@ bool footprintInflationHit(const std::vector<Eigen::Vector2d>& points, const cor
   return false;
 }
 
+namespace {
+
+// One Euler step of the unicycle model the rollouts share.
+core::Pose2 unicycleStep(const core::Pose2& pose, const core::Twist& command, double dt) {
+  return {pose.x + command.linear * std::cos(pose.yaw) * dt, pose.y + command.linear * std::sin(pose.yaw) * dt,
+          pose.yaw + command.angular * dt};
+}
+
+}  // namespace
+
 bool rolloutHit(const std::vector<Eigen::Vector2d>& points, const core::Rect& footprint, const core::Twist& command,
-                double dt, int steps, RolloutPoses poses) {
-  double x = 0.0, y = 0.0, psi = 0.0;
+                double dt, int steps) {
+  core::Pose2 pose{0.0, 0.0, 0.0};
   for (int k = 0; k < steps; ++k) {
-    x += command.linear * std::cos(psi) * dt;
-    y += command.linear * std::sin(psi) * dt;
-    psi += command.angular * dt;
-    if (poses == RolloutPoses::Final && k + 1 < steps) continue;
+    pose = unicycleStep(pose, command, dt);
     // The points in the frame of the rolled-out pose.
-    const core::Pose2 pose{x, y, psi};
     for (const auto& p : points)
       if (footprint.contains(pose.inverseTransform(p))) return true;
   }
@@ -41,19 +47,14 @@ bool rolloutHit(const std::vector<Eigen::Vector2d>& points, const core::Rect& fo
 }
 
 bool beamRolloutHit(const core::LaserScan& scan, const core::Twist& command, const BeamRollout& check) {
-  double x = 0.0, y = 0.0, psi = 0.0;
-  for (int k = 0; k < check.steps; ++k) {
-    x += command.linear * std::cos(psi) * check.dt;
-    y += command.linear * std::sin(psi) * check.dt;
-    psi += command.angular * check.dt;
-  }
-  const core::Pose2 final_pose{x, y, psi};
+  core::Pose2 final_pose{0.0, 0.0, 0.0};
+  for (int k = 0; k < check.steps; ++k) final_pose = unicycleStep(final_pose, command, check.dt);
   const core::Rect& r = check.rectangle;
   const int n = check.points_per_side;
   const auto hit = [&](double local_x, double local_y) {
     const Eigen::Vector2d p = final_pose.transform({local_x, local_y});
     const double index = std::floor((std::atan2(p.y(), p.x()) - scan.angle_min) / scan.angle_increment);
-    if (index < 0.0 || index >= static_cast<double>(scan.ranges.size())) return false;  // outside the field of view
+    if (!(index >= 0.0 && index < static_cast<double>(scan.ranges.size()))) return false;  // outside the field of view
     return scan.ranges[static_cast<std::size_t>(index)] < std::abs(p.x()) + std::abs(p.y()) + check.tolerance;
   };
   for (int i = 0; i < n; ++i) {

@@ -189,31 +189,6 @@ TEST(FrontCheck, TurningRotatesTheRegionTowardTheTurn) {
 
 // ---- The final-pose rollout ----
 
-TEST(FinalPoseRollout, WallTenCentimetresAheadIsUnsafeAtOneMetrePerSecondOnly) {
-  // The 0.42 x 0.33 rectangle grown by 0.02: front edge at x = 0.23. A wall 0.1 m ahead of it.
-  const core::Rect box = core::Rect::centred(0.42, 0.33).grownBy(0.02);
-  std::vector<Eigen::Vector2d> wall;
-  for (double y = -1.0; y <= 1.0; y += 0.01) wall.emplace_back(0.33, y);
-  // 20 x 0.01 s: 1 m/s moves 0.2 m > 0.1 m; 0.1 m/s moves 0.02 m.
-  EXPECT_TRUE(rolloutHit(wall, box, {1.0, 0.0}, 0.01, 20, RolloutPoses::Final));
-  EXPECT_FALSE(rolloutHit(wall, box, {0.1, 0.0}, 0.01, 20, RolloutPoses::Final));
-}
-
-TEST(FinalPoseRollout, OnlyTheFinalPoseCounts) {
-  const core::Rect box = core::Rect::centred(0.42, 0.33);  // front edge x = 0.21
-  // A thin post the robot passes through halfway but has left behind... no: ahead, the final
-  // pose at 2 m/s is 0.4 m on, its rectangle spans x in [0.19, 0.61]; a point at 0.62 is
-  // outside it, and every pose checked sees it at some step before.
-  const std::vector<Eigen::Vector2d> post = {{0.62, 0.0}};
-  EXPECT_FALSE(rolloutHit(post, box, {2.0, 0.0}, 0.01, 20, RolloutPoses::Final));
-  EXPECT_FALSE(rolloutHit(post, box, {2.0, 0.0}, 0.01, 20, RolloutPoses::Every));
-  // A point at 0.25 is passed over: the final rectangle still covers it ([0.19, 0.61]).
-  EXPECT_TRUE(rolloutHit({{0.25, 0.0}}, box, {2.0, 0.0}, 0.01, 20, RolloutPoses::Final));
-  // A point at 0.15 is left behind by the final pose but touched by the poses before.
-  EXPECT_FALSE(rolloutHit({{0.15, 0.18}}, box, {2.0, 0.0}, 0.01, 20, RolloutPoses::Final));
-  EXPECT_TRUE(rolloutHit({{0.15, 0.0}}, box, {2.0, 0.0}, 0.01, 20, RolloutPoses::Every));
-}
-
 TEST(BeamRollout, ReachesPastTheCornersByTheirLOneLength) {
   // Standing still, the 0.42 x 0.33 rectangle's corner (0.21, 0.165) is 0.267 from the centre
   // at 38.2 deg, but its beam is compared with |x| + |y| = 0.375. A post whose near side is 0.30
@@ -224,7 +199,7 @@ TEST(BeamRollout, ReachesPastTheCornersByTheirLOneLength) {
   const BeamRollout check;
   const core::LaserScan near = withPost(uniformScan(lidar, kInf), lidar, 0.32 * direction, 0.02);
   EXPECT_TRUE(beamRolloutHit(near, {0.0, 0.0}, check));
-  EXPECT_FALSE(rolloutHit(scanPoints(near, lidar), check.rectangle, {0.0, 0.0}, 0.01, 20, RolloutPoses::Final));
+  EXPECT_FALSE(footprintInflationHit(scanPoints(near, lidar), check.rectangle));  // nothing inside the rectangle
   EXPECT_FALSE(beamRolloutHit(withPost(uniformScan(lidar, kInf), lidar, 0.42 * direction, 0.02), {0.0, 0.0}, check));
 }
 

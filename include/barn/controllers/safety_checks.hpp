@@ -25,16 +25,12 @@ std::vector<Eigen::Vector2d> scanPoints(const core::LaserScan& scan, const core:
 /// A direct rectangle test, the whole of what the original did with a polygon library.
 bool footprintInflationHit(const std::vector<Eigen::Vector2d>& points, const core::Rect& inflated);
 
-/// Which poses of a rollout are checked.
-enum class RolloutPoses { Every, Final };
-
 /// Rollout: rolls (v, w) forward with the unicycle model (x += v cos(psi) dt,
 /// y += v sin(psi) dt, psi += w dt, one consistent model) for `steps` steps and returns true
-/// if the footprint at any step (RolloutPoses::Every, the team's real-world "MPC" check) or at
-/// the last step only (RolloutPoses::Final, their simulation check) contains a point. (The
+/// if the footprint at any step contains a point: the team's real-world "MPC" check. (The
 /// real-world code mirrored the lateral drift against the rotation; that is not copied here.)
 bool rolloutHit(const std::vector<Eigen::Vector2d>& points, const core::Rect& footprint, const core::Twist& command,
-                double dt, int steps, RolloutPoses poses = RolloutPoses::Every);
+                double dt, int steps);
 
 /// The final-pose rollout check as the published simulation code computed it (the team's
 /// `_bch_safety_check` with tolerance 0.02, LfLH's deployment script with 0.0): roll (v, w)
