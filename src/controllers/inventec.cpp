@@ -158,6 +158,12 @@ void InventecController::reset(const EpisodeInfo& info) {
   rotate_.rear_depth = s.rear_strip_depth;
   rotate_.rear_width = s.rear_strip_width;
   rotate_.rear_weight = config_.rear_weight;
+  // The code's final-pose rollout (`_bch_safety_check`), as it computed it: beams against the
+  // L1 length of 40 points on the 0.42 x 0.33 rectangle (safety_checks.hpp).
+  final_pose_.rectangle = core::Rect::centred(s.rollout_length, s.rollout_width);
+  final_pose_.tolerance = s.rollout_tolerance;
+  final_pose_.dt = s.rollout_dt;
+  final_pose_.steps = s.rollout_steps;
   nav_.reset(info.goal);
   rng_ = core::Rng(core::mixSeed(info.seed, kWiggleStream));
   state_ = InventecState::Initial;
@@ -177,7 +183,7 @@ bool InventecController::commandUnsafe(const std::vector<Eigen::Vector2d>& point
                                        const core::Twist& command) const {
   const InventecSafetyConfig& s = config_.safety;
   if (s.type == SafetyCheck::Front) {
-    return beamRolloutHit(scan, command, finalPoseCheck()) || frontCheckHit(scan, info_.lidar, command, front_);
+    return beamRolloutHit(scan, command, final_pose_) || frontCheckHit(scan, info_.lidar, command, front_);
   }
   if (s.type == SafetyCheck::Mpc) {
     return rolloutHit(points, footprint_.grownBy(s.mpc_offset), command, s.mpc_dt, s.mpc_steps);
@@ -196,22 +202,10 @@ bool InventecController::frontUnsafe(const std::vector<Eigen::Vector2d>& points,
   return commandUnsafe(points, scan, command);
 }
 
-BeamRollout InventecController::finalPoseCheck() const {
-  // The code's final-pose rollout (`_bch_safety_check`), as it computed it: beams against the
-  // L1 length of 40 points on the 0.42 x 0.33 rectangle (safety_checks.hpp).
-  const InventecSafetyConfig& s = config_.safety;
-  BeamRollout check;
-  check.rectangle = core::Rect::centred(s.rollout_length, s.rollout_width);
-  check.tolerance = s.rollout_tolerance;
-  check.dt = s.rollout_dt;
-  check.steps = s.rollout_steps;
-  return check;
-}
-
 bool InventecController::rotationUnsafe(const std::vector<Eigen::Vector2d>& points, const core::LaserScan& scan,
                                         const core::Twist& turn) const {
   const InventecSafetyConfig& s = config_.safety;
-  if (s.type == SafetyCheck::Front) return beamRolloutHit(scan, turn, finalPoseCheck());
+  if (s.type == SafetyCheck::Front) return beamRolloutHit(scan, turn, final_pose_);
   if (s.type == SafetyCheck::Mpc) {
     return rolloutHit(points, footprint_.grownBy(s.mpc_offset), turn, s.mpc_dt, s.mpc_steps);
   }
@@ -320,8 +314,7 @@ core::Twist InventecController::hardTurnCommand(const core::LaserScan& scan, con
 }
 
 core::Twist InventecController::backTrackCommand(const core::LaserScan& scan, const std::vector<Eigen::Vector2d>& points,
-                                                const core::Pose2& pose,
-                                                 InventecInputs& in) {
+                                                 const core::Pose2& pose, InventecInputs& in) {
   core::Twist command;
   if (!aligned_) {
     // Turn the rear toward the target; an unsafe turn ends the alignment early.
@@ -353,8 +346,7 @@ core::Twist InventecController::backTrackCommand(const core::LaserScan& scan, co
 }
 
 core::Twist InventecController::wiggleCommand(const core::LaserScan& scan, const std::vector<Eigen::Vector2d>& points,
-                                             const core::Pose2& pose,
-                                              InventecInputs& in) const {
+                                              const core::Pose2& pose, InventecInputs& in) const {
   const double error = core::wrapAngle(wiggle_target_ - pose.yaw);
   const core::Twist command = turnToward(error);
   in.wiggle_done = std::abs(error) <= degrees(config_.align_tolerance_deg) || alignmentAborted(points, scan, pose, command);

@@ -217,7 +217,6 @@ class InventecController : public Controller {
                    const core::Twist& command) const;
   bool rotationUnsafe(const std::vector<Eigen::Vector2d>& points, const core::LaserScan& scan,
                       const core::Twist& turn) const;
-  BeamRollout finalPoseCheck() const;
   bool rotateCheckFires(const std::vector<Eigen::Vector2d>& points, const core::Pose2& pose,
                         const core::Twist& turn) const;
   bool alignmentAborted(const std::vector<Eigen::Vector2d>& points, const core::LaserScan& scan, const core::Pose2& pose,
@@ -232,8 +231,8 @@ class InventecController : public Controller {
                               const core::Pose2& pose, InventecInputs& in) const;
   core::Twist backTrackCommand(const core::LaserScan& scan, const std::vector<Eigen::Vector2d>& points,
                                const core::Pose2& pose, InventecInputs& in);
-  core::Twist wiggleCommand(const core::LaserScan& scan, const std::vector<Eigen::Vector2d>& points, const core::Pose2& pose,
-                            InventecInputs& in) const;
+  core::Twist wiggleCommand(const core::LaserScan& scan, const std::vector<Eigen::Vector2d>& points,
+                            const core::Pose2& pose, InventecInputs& in) const;
   core::Twist forwardCommand(const core::LaserScan& scan, const std::vector<Eigen::Vector2d>& points, double time,
                              InventecInputs& in) const;
   void enter(InventecState state, const core::Pose2& pose, double time, double path_direction);
@@ -248,6 +247,7 @@ class InventecController : public Controller {
   core::Rect footprint_;                            // the planning footprint (info.robot: 0.508 x 0.43)
   FrontCheck front_;
   RotateCheck rotate_;
+  BeamRollout final_pose_;
   std::vector<Eigen::Vector2d> breadcrumbs_;  // odom positions driven in LfLH
   Eigen::Vector2d backtrack_target_ = Eigen::Vector2d::Zero();
   bool aligned_ = false;                     // BackTrack: rear faces the target, reversing
