@@ -303,9 +303,7 @@ double SweptFootprint::distance(const Eigen::Vector2d& p) const {
     const double wy = p.y() - poses_[k].y;
     const double lx = cos_[k] * wx + sin_[k] * wy;  // p in the frame of pose k
     const double ly = -sin_[k] * wx + cos_[k] * wy;
-    const double dx = std::max({0.0, footprint_.min_x - lx, lx - footprint_.max_x});
-    const double dy = std::max({0.0, footprint_.min_y - ly, ly - footprint_.max_y});
-    best2 = std::min(best2, dx * dx + dy * dy);
+    best2 = std::min(best2, footprint_.squaredDistance({lx, ly}));
     if (best2 == 0.0) return 0.0;
   }
   return std::sqrt(best2);

@@ -25,11 +25,7 @@ void validate(const PhysicsConfig& c, core::Errors& errors, const std::string& p
 }
 
 bool rectOverlapsCircle(const core::Pose2& pose, const core::Rect& rect, const Eigen::Vector2d& centre, double radius) {
-  // Circle centre in the robot frame; the closest rectangle point is the clamped centre.
-  const Eigen::Vector2d local = pose.inverseTransform(centre);
-  const double ex = local.x() - std::clamp(local.x(), rect.min_x, rect.max_x);
-  const double ey = local.y() - std::clamp(local.y(), rect.min_y, rect.max_y);
-  return ex * ex + ey * ey < radius * radius;
+  return rect.squaredDistance(pose.inverseTransform(centre)) < radius * radius;  // circle centre in the robot frame
 }
 
 struct Simulator::Box2D {

@@ -2,6 +2,7 @@
 /// The one rectangle type of the robot frame (x forward, y left): the robot's planning
 /// footprint, the parts of its collision shape, and the regions the safety checks test.
 
+#include <algorithm>
 #include <array>
 
 #include <Eigen/Core>
@@ -22,6 +23,12 @@ struct Rect {
 
   bool contains(const Eigen::Vector2d& p) const {
     return p.x() >= min_x && p.x() <= max_x && p.y() >= min_y && p.y() <= max_y;
+  }
+  /// Squared distance from `p` to the rectangle (0 inside): `p` minus its nearest point.
+  double squaredDistance(const Eigen::Vector2d& p) const {
+    const double dx = p.x() - std::clamp(p.x(), min_x, max_x);
+    const double dy = p.y() - std::clamp(p.y(), min_y, max_y);
+    return dx * dx + dy * dy;
   }
   /// The rectangle grown by `offset` on every side (shrunk if negative).
   Rect grownBy(double offset) const { return {min_x - offset, max_x + offset, min_y - offset, max_y + offset}; }
