@@ -360,16 +360,16 @@ std::optional<Demonstration> hallucinate(const Recording& recording, std::size_t
     // alternative motions (hallucination.hpp, step 2c).
     const std::vector<SweptFootprint> alternatives =
         alternativeSweeps(config, static_cast<double>(horizon_steps) / recording.rate, footprint);
-    std::vector<Placed> pool;
-    std::vector<Obstacle> shapes;
+    std::vector<Obstacle> candidates;
+    std::vector<double> clearances;
     for (int n = 0; n < config.candidates; ++n) {
       std::optional<Placed> placed = rng.uniform01() < 0.5 ? placer.hugging() : placer.blocking();
       if (!placed) continue;
-      shapes.push_back(placed->obstacle);
-      pool.push_back(std::move(*placed));
+      candidates.push_back(std::move(placed->obstacle));
+      clearances.push_back(placed->clearance);
     }
-    for (const std::size_t k : mostConstraining(shapes, alternatives, static_cast<std::size_t>(config.constraining_max)))
-      keep(pool[k]);
+    for (const std::size_t k : mostConstraining(candidates, alternatives, static_cast<std::size_t>(config.constraining_max)))
+      keep({candidates[k], clearances[k]});
   }
   demo.hugging = demo.obstacles.size();
   addDistractors(demo, swept, recording, record, config, rng);
