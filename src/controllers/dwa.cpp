@@ -20,10 +20,8 @@ double approach(double value, double target, double step) {
 // CostmapModel::lineCost walks them.
 int highestCostOnSegment(const std::uint8_t* costs, int width, nav::CellIndex a, nav::CellIndex b) {
   int worst = 0;
-  nav::walkLine(a.x, a.y, b.x, b.y, [&](int x, int y) {
-    worst = std::max(worst, static_cast<int>(costs[static_cast<std::ptrdiff_t>(y) * width + x]));
-    return true;
-  });
+  nav::walkLineFlat(a.x, a.y, b.x, b.y, std::max(std::abs(b.x - a.x), std::abs(b.y - a.y)), width,
+                    [&](std::ptrdiff_t at) { worst = std::max(worst, static_cast<int>(costs[at])); });
   return worst;
 }
 

@@ -194,10 +194,12 @@ void Costmap::clearRay(CellIndex from, const Eigen::Vector2d& to) {
   if (!toCell(end, stop)) stop = {std::clamp(static_cast<int>(std::floor((end.x() - lo.x()) / res)), 0, width_ - 1),
                                   std::clamp(static_cast<int>(std::floor((end.y() - lo.y()) / res)), 0, height_ - 1)};
   const double max_cells = std::ceil(config_.raytrace_range / res);
-  walkLine(from.x, from.y, stop.x, stop.y, rayStepLimit(from.x, from.y, stop.x, stop.y, max_cells), [&](int x, int y) {
-    if (inBounds(x, y)) setObstacle(x, y, kFreeCost);
-    return true;
-  });
+  // Both ends are on the map, so every cell between them is; most are free already.
+  walkLineFlat(from.x, from.y, stop.x, stop.y, rayStepLimit(from.x, from.y, stop.x, stop.y, max_cells), width_,
+               [&](std::ptrdiff_t at) {
+                 if (obstacle_[static_cast<std::size_t>(at)] != kFreeCost)
+                   changeObstacle(static_cast<int>(at % width_), static_cast<int>(at / width_), kFreeCost);
+               });
 }
 
 void Costmap::integrateScan(const core::LaserScan& scan, const core::Pose2& sensor_pose,

@@ -51,5 +51,22 @@ TEST(GridLine, AStepLimitStopsTheWalkEarly) {
   EXPECT_EQ(rayStepLimit(0, 0, 100, 100, 60.0), 42);
 }
 
+TEST(GridLine, TheFlatWalkVisitsTheSameCellsInTheSameOrder) {
+  // Every segment between two cells of a 9 x 7 grid, with and without a step limit.
+  const int width = 9, height = 7;
+  for (int a = 0; a < width * height; ++a) {
+    for (int b = 0; b < width * height; ++b) {
+      const int x0 = a % width, y0 = a / width, x1 = b % width, y1 = b / width;
+      for (const int limit : {100, 3, 0}) {
+        std::vector<std::pair<int, int>> flat;
+        walkLineFlat(x0, y0, x1, y1, limit, width, [&](std::ptrdiff_t at) {
+          flat.emplace_back(static_cast<int>(at % width), static_cast<int>(at / width));
+        });
+        ASSERT_EQ(flat, cellsOf(x0, y0, x1, y1, limit)) << "(" << x0 << ", " << y0 << ") -> (" << x1 << ", " << y1 << ")";
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace barn::nav
