@@ -132,23 +132,33 @@ void DwaController::updateDistanceMaps(const core::Pose2& pose) {
   grid.stride = grid.width + 2;
 
   // Both maps start alike: open cells unreached, blocked ones marked to take
-  // obstacle_distance_ when reached, the border at obstacle_distance_.
+  // obstacle_distance_ when reached, the border at obstacle_distance_. Each cell is written
+  // once (the vectors keep their memory from tick to tick).
   const std::size_t cells = static_cast<std::size_t>(grid.stride) * static_cast<std::size_t>(grid.height + 2);
   for (Wavefront* wave : {&grid.path, &grid.goal}) {
     wave->stride = grid.stride;
     wave->obstacle = obstacle_distance_;
     wave->unreached = obstacle_distance_ + 1;
     wave->blocked = obstacle_distance_ + 2;
-    wave->distance.assign(cells, obstacle_distance_);
+    wave->distance.resize(cells);
   }
-  const int open = obstacle_distance_ + 1, blocked = obstacle_distance_ + 2;
+  const int border = obstacle_distance_, open = obstacle_distance_ + 1, blocked = obstacle_distance_ + 2;
+  const std::size_t stride = static_cast<std::size_t>(grid.stride);
+  int* path_cells = grid.path.distance.data();
+  int* goal_cells = grid.goal.distance.data();
+  std::fill_n(path_cells, stride, border);
+  std::fill_n(goal_cells, stride, border);
+  std::fill_n(path_cells + cells - stride, stride, border);
+  std::fill_n(goal_cells + cells - stride, stride, border);
   const std::uint8_t* costs = map.costs();
   for (int y = 0; y < grid.height; ++y) {
     const std::uint8_t* row = costs + static_cast<std::size_t>(wy0 + y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(wx0);
-    const std::size_t first = static_cast<std::size_t>((y + 1) * grid.stride + 1);
-    int* path = grid.path.distance.data() + first;
-    int* goal = grid.goal.distance.data() + first;
-    for (int x = 0; x < grid.width; ++x) path[x] = goal[x] = row[x] >= nav::kInscribedCost ? blocked : open;
+    const std::size_t first = static_cast<std::size_t>(y + 1) * stride;
+    int* path_row = path_cells + first;
+    int* goal_row = goal_cells + first;
+    path_row[0] = goal_row[0] = border;
+    for (int x = 0; x < grid.width; ++x) path_row[x + 1] = goal_row[x + 1] = row[x] >= nav::kInscribedCost ? blocked : open;
+    path_row[grid.width + 1] = goal_row[grid.width + 1] = border;
   }
   // The path map passes the blocked cells under the robot.
   std::vector<Eigen::Vector2d> outline;
@@ -209,16 +219,16 @@ int DwaController::rolloutSteps(double vx, double vtheta) const {
 std::size_t DwaController::headings(const core::Pose2& pose, const core::Twist& velocity, int steps, double vtheta) {
   for (const HeadingRun& run : heading_runs_)
     if (run.steps == steps && run.vtheta == vtheta) return run.first;
-  const std::size_t first = heading_theta_.size();
+  const std::size_t first = headings_.size();
   heading_runs_.push_back({steps, vtheta, first});
+  headings_.resize(first + static_cast<std::size_t>(steps));  // the memory is kept from tick to tick
+  Heading* out = headings_.data() + first;
   // The yaw rate approaches the sample at the acceleration limit.
   const double dt = config_.sim_time / steps;
   const double omega_step = config_.acc_lim_theta * dt;
   double theta = pose.yaw, omega = velocity.angular;
   for (int i = 0; i < steps; ++i) {
-    heading_theta_.push_back(theta);
-    heading_cos_.push_back(std::cos(theta));
-    heading_sin_.push_back(std::sin(theta));
+    out[i] = {theta, std::cos(theta), std::sin(theta)};
     omega = approach(omega, vtheta, omega_step);
     theta += omega * dt;
   }
@@ -233,14 +243,15 @@ DwaController::RolloutPoints DwaController::simulate(const core::Pose2& pose, co
   const double dt = config_.sim_time / steps;
   const double v_step = config_.acc_lim_x * dt;
   const RolloutPoints points{positions_.size(), headings(pose, velocity, steps, vtheta), steps};
-  const double* cos_theta = heading_cos_.data() + points.first_heading;
-  const double* sin_theta = heading_sin_.data() + points.first_heading;
+  const Heading* heading = headings_.data() + points.first_heading;
+  positions_.resize(points.first_position + static_cast<std::size_t>(steps));
+  Eigen::Vector2d* out = positions_.data() + points.first_position;
   double x = pose.x, y = pose.y, v = velocity.linear;
   for (int i = 0; i < steps; ++i) {
-    positions_.emplace_back(x, y);
+    out[i] = {x, y};
     v = approach(v, vx, v_step);
-    x += v * cos_theta[i] * dt;
-    y += v * sin_theta[i] * dt;
+    x += v * heading[i].cos * dt;
+    y += v * heading[i].sin * dt;
   }
   return points;
 }
@@ -283,7 +294,7 @@ int DwaController::outlineOccupancy(const RolloutPoints& points, int occupancy, 
     const Eigen::Vector2d& p = positions_[points.first_position + static_cast<std::size_t>(i)];
     const std::size_t h = points.first_heading + static_cast<std::size_t>(i);
     nav::CellIndex corners[4];
-    if (!footprintCorners(p.x(), p.y(), heading_cos_[h], heading_sin_[h], corners)) return -1;
+    if (!footprintCorners(p.x(), p.y(), headings_[h].cos, headings_[h].sin, corners)) return -1;
     if (have_previous && std::equal(corners, corners + 4, previous)) continue;
     const int outline = outlineCost(corners);
     if (outline < 0) return -1;
@@ -318,7 +329,7 @@ DwaTrajectory DwaController::rollOut(const core::Pose2& pose, const core::Twist&
     const std::size_t h = points.first_heading + static_cast<std::size_t>(i);
     nav::CellIndex cell, corners[4];
     if (!map.toCell(p.x(), p.y(), cell)) return trajectory;
-    if (!footprintCorners(p.x(), p.y(), heading_cos_[h], heading_sin_[h], corners)) return trajectory;
+    if (!footprintCorners(p.x(), p.y(), headings_[h].cos, headings_[h].sin, corners)) return trajectory;
     const int outline = outlineCost(corners);
     if (outline < 0) return trajectory;
     occupancy = std::max({occupancy, outline, static_cast<int>(map.cost(cell.x, cell.y))});
@@ -328,7 +339,7 @@ DwaTrajectory DwaController::rollOut(const core::Pose2& pose, const core::Twist&
       trajectory.cost = -2.0;
       return trajectory;
     }
-    trajectory.end = {p.x(), p.y(), heading_theta_[h]};
+    trajectory.end = {p.x(), p.y(), headings_[h].theta};
   }
   trajectory.cost = trajectoryCost(path_cells, goal_cells, occupancy);
   return trajectory;
@@ -350,7 +361,7 @@ DwaController::SampleWindow DwaController::sampleWindow(const core::Twist& veloc
 core::Pose2 DwaController::endPose(const RolloutPoints& points) const {
   const std::size_t last = static_cast<std::size_t>(points.count - 1);
   const Eigen::Vector2d& p = positions_[points.first_position + last];
-  return core::Pose2{p.x(), p.y(), heading_theta_[points.first_heading + last]};
+  return core::Pose2{p.x(), p.y(), headings_[points.first_heading + last].theta};
 }
 
 void DwaController::chooseForwardArc(const core::Pose2& pose, const core::Twist& velocity, const SampleWindow& w,
@@ -446,9 +457,7 @@ void DwaController::endEscapeIfDone(const core::Pose2& pose) {
 DwaTrajectory DwaController::findBestPath(const core::Pose2& pose, const core::Twist& velocity) {
   const SampleWindow window = sampleWindow(velocity);
   heading_runs_.clear();
-  heading_theta_.clear();
-  heading_cos_.clear();
-  heading_sin_.clear();
+  headings_.clear();
   positions_.clear();
 
   DwaTrajectory best;

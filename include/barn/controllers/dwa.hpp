@@ -130,12 +130,16 @@ class DwaController : public Controller {
   struct HeadingRun {
     int steps = 0;
     double vtheta = 0.0;
-    std::size_t first = 0;  // into heading_theta_, heading_cos_, heading_sin_
+    std::size_t first = 0;  // into headings_
+  };
+  /// One roll-out step's yaw, with its cosine and sine.
+  struct Heading {
+    double theta = 0.0, cos = 1.0, sin = 0.0;
   };
   /// The points of one roll-out: positions here, headings in a HeadingRun.
   struct RolloutPoints {
     std::size_t first_position = 0;  // into positions_
-    std::size_t first_heading = 0;   // into heading_theta_, heading_cos_, heading_sin_
+    std::size_t first_heading = 0;   // into headings_
     int count = 0;
   };
   /// A roll-out's last pose.
@@ -254,7 +258,7 @@ class DwaController : public Controller {
   // Scratch, kept to reuse its memory from tick to tick.
   std::vector<int> path_seeds_;
   std::vector<HeadingRun> heading_runs_;
-  std::vector<double> heading_theta_, heading_cos_, heading_sin_;
+  std::vector<Heading> headings_;
   std::vector<Eigen::Vector2d> positions_;
   std::vector<ArcCandidate> arcs_;
 };
