@@ -98,7 +98,7 @@ void GoalField::startOver(const Costmap& costmap, CellIndex start, CellIndex goa
   // cannot be entered among them: it is never expanded); heaped at once.
   for (std::size_t i = 0; i < n; ++i)
     if (rhs_[i] != g_[i]) {
-      const std::int64_t k1 = rhs_[i] + heuristic(static_cast<int>(i));
+      const std::int64_t k1 = rhs_[i] + h_[i];  // the search's start: h_ is current
       queued_[i] = 1;
       queued_k1_[i] = k1;
       queue_.push_back({k1, rhs_[i], static_cast<int>(i)});
@@ -111,89 +111,122 @@ void GoalField::search() {
   // A* from the goal: settles cells in order of f = g + h. A settled cell has g = rhs; a
   // reached one holds its best candidate in rhs.
   const int w = width_;
-  const int start_x = start_ % w, start_y = start_ / w;
-  const int h_straight = straight_cost_[0], h_diagonal = diagonal_cost_[0];
-  const auto h = [&](int x, int y) {
-    const int dx = std::abs(x - start_x), dy = std::abs(y - start_y);
-    return h_straight * std::abs(dx - dy) + h_diagonal * std::min(dx, dy);
-  };
+  fillHeuristic();
+  const int* h = h_.data();
   const int* straight_cost = straight_cost_.data();
   const int* diagonal_cost = diagonal_cost_.data();
   const std::uint8_t* cost = cost_.data();
+  std::int64_t* g = g_.data();
+  std::int64_t* rhs = rhs_.data();
+  const auto passable = [&](int c) { return straight_cost[cost[c]] >= 0; };
   // Dial's algorithm on f: a ring of buckets, one per integer f modulo (largest f increase
   // + 1), and a bitmap of the non-empty ones so the scan jumps over the (many) empty values.
-  const int ring = diagonal_cost_[kInscribedCost - 1] + h_diagonal + 1;
+  const unsigned ring = static_cast<unsigned>(diagonal_cost_[kInscribedCost - 1] + diagonal_cost_[0] + 1);
   buckets_.resize(static_cast<std::size_t>(ring));
   for (auto& b : buckets_) b.clear();
   occupied_buckets_.assign(static_cast<std::size_t>(ring + 63) / 64, 0);
-  std::vector<std::uint64_t>& occupied = occupied_buckets_;
-  const auto push = [&](int slot, int ahead, int cell) {  // `ahead` (< ring) past slot's key
-    int target = slot + ahead;
-    if (target >= ring) target -= ring;
-    buckets_[static_cast<std::size_t>(target)].push_back(cell);
-    occupied[static_cast<std::size_t>(target) / 64] |= std::uint64_t{1} << (target % 64);
-  };
+  std::uint64_t* occupied = occupied_buckets_.data();
+  const std::size_t words = occupied_buckets_.size();
+  std::vector<int>* buckets = buckets_.data();
   const auto nextOccupied = [&](int slot) {  // first non-empty slot at or after `slot`, cyclically
     std::size_t word = static_cast<std::size_t>(slot) / 64;
     std::uint64_t bits = occupied[word] & (~std::uint64_t{0} << (slot % 64));
     while (bits == 0) {
-      word = (word + 1) % occupied.size();
+      word = word + 1 == words ? 0 : word + 1;
       bits = occupied[word];
     }
     return static_cast<int>(word * 64 + static_cast<std::size_t>(__builtin_ctzll(bits)));
   };
-  const auto inside = [&](int x, int y) { return x > 0 && y > 0 && x < w - 1 && y < height_ - 1; };
   const auto start = static_cast<std::size_t>(start_);
-  rhs_[static_cast<std::size_t>(goal_)] = 0;
-  push(0, 0, goal_);
+  rhs[goal_] = 0;
+  buckets[0].push_back(goal_);
+  occupied[0] = 1;
   std::size_t pending = 1;
   std::size_t expanded = 0;
-  std::int64_t key = h(goal_ % w, goal_ / w);  // the key of the bucket being scanned
+  std::int64_t key = h[goal_];  // the key of the bucket being scanned
   int slot = 0;
+  const int east = offset_[0], west = offset_[1], north = offset_[2], south = offset_[3];
+  const int interior_x1 = w - 1, interior_y1 = height_ - 1;
   // Stop once every cell with f up to the start's g is settled (h is 0 at the start): then
   // the start's g is final, and so is every cell the descent compares.
   while (pending > 0) {
     const int next = nextOccupied(slot);
-    const std::int64_t next_key = key + (next - slot + ring) % ring;
-    if (next_key > rhs_[start]) break;
+    const std::int64_t next_key = key + (next >= slot ? next - slot : next - slot + static_cast<int>(ring));
+    if (next_key > rhs[start]) break;
     key = next_key;
     slot = next;
-    std::vector<int>& bucket = buckets_[static_cast<std::size_t>(slot)];
+    std::vector<int>& bucket = buckets[slot];
     // Entries are appended to this bucket while it is scanned when a step leaves f unchanged
     // (a free step straight toward the start); the loop re-reads the size for them.
     for (std::size_t k = 0; k < bucket.size(); ++k) {
       const int i = bucket[k];
       --pending;
-      const auto ui = static_cast<std::size_t>(i);
-      if (g_[ui] != kInfinite) continue;  // settled already: a stale entry
-      const int x = i % w, y = i / w;
-      const int h_here = h(x, y);
-      if (rhs_[ui] + h_here != key) continue;  // a stale entry
-      g_[ui] = rhs_[ui];
+      if (g[i] != kInfinite) continue;  // settled already: a stale entry
+      const int h_here = h[i];
+      const std::int64_t g_here = rhs[i];
+      if (g_here + h_here != key) continue;  // a stale entry
+      g[i] = g_here;
       ++expanded;
-      // Backward: a neighbour p reaches this cell by entering it.
-      const std::uint8_t here = cost[i];
-      for (int dir = 0; dir < 8; ++dir) {
-        const int px = x + kSteps[dir][0], py = y + kSteps[dir][1];
-        if (!inside(px, py)) continue;
-        const int p = i + offset_[dir];
-        const bool diagonal = dir >= 4;
-        if (diagonal && (!passable(i + kSteps[dir][0]) || !passable(i + kSteps[dir][1] * w))) continue;  // no corner cutting
-        const int step = diagonal ? diagonal_cost[here] : straight_cost[here];
-        const std::int64_t candidate = g_[ui] + step;
-        if (candidate >= rhs_[static_cast<std::size_t>(p)]) continue;
-        rhs_[static_cast<std::size_t>(p)] = candidate;
-        // A cell that cannot be entered gets a candidate (a start may sit there) but is never
-        // expanded: nothing passes through it.
-        if (!passable(p)) continue;
-        push(slot, step + h(px, py) - h_here, p);
+      // Backward: a neighbour p reaches this cell by entering it; diagonally only past two
+      // open corners, which are this cell's straight neighbours.
+      const std::uint8_t c = cost[i];
+      const int straight = straight_cost[c], diagonal = diagonal_cost[c];
+      // Inlined at each of the eight uses: most offers fail the first test, so the call
+      // would cost more than the work.
+      const auto offer = [&](int p, int step) __attribute__((always_inline)) {
+        const std::int64_t candidate = g_here + step;
+        if (candidate >= rhs[p]) return;
+        if (!passable(p)) {
+          // It gets the candidate (a start may sit there) but is never queued: nothing
+          // passes through it. The closed border ring gets none.
+          const int px = p % w, py = p / w;
+          if (px > 0 && py > 0 && px < interior_x1 && py < interior_y1) rhs[p] = candidate;
+          return;
+        }
+        rhs[p] = candidate;
+        unsigned target = static_cast<unsigned>(slot + step + h[p] - h_here);  // ahead of the slot by less than the ring
+        if (target >= ring) target -= ring;
+        buckets[target].push_back(p);
+        occupied[target / 64] |= std::uint64_t{1} << (target % 64);
         ++pending;
-      }
+      };
+      offer(i + east, straight);
+      offer(i + west, straight);
+      offer(i + north, straight);
+      offer(i + south, straight);
+      const bool e = passable(i + east), wo = passable(i + west), n = passable(i + north), so = passable(i + south);
+      if (e && n) offer(i + east + north, diagonal);
+      if (e && so) offer(i + east + south, diagonal);
+      if (wo && n) offer(i + west + north, diagonal);
+      if (wo && so) offer(i + west + south, diagonal);
     }
     bucket.clear();
-    occupied[static_cast<std::size_t>(slot) / 64] &= ~(std::uint64_t{1} << (slot % 64));
+    occupied[slot / 64] &= ~(std::uint64_t{1} << (slot % 64));
   }
   last_expanded_ = expanded;
+}
+
+void GoalField::fillHeuristic() {
+  // The octile distance of every cell to the start (a search reads it for every cell it
+  // reaches, several times). It depends on |dx| and |dy| only: each row is a row of the
+  // start-independent table octile_, copied out from the start's column both ways.
+  const std::size_t n = static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_);
+  if (octile_width_ != width_ || octile_.size() != n) {
+    octile_width_ = width_;
+    const int hs = straight_cost_[0], hd = diagonal_cost_[0];
+    octile_.resize(n);
+    for (int dy = 0; dy < height_; ++dy)
+      for (int dx = 0; dx < width_; ++dx)
+        octile_[static_cast<std::size_t>(dy * width_ + dx)] = hs * std::abs(dx - dy) + hd * std::min(dx, dy);
+  }
+  h_.resize(n);
+  const int sx = start_ % width_, sy = start_ / width_;
+  for (int y = 0; y < height_; ++y) {
+    const int* table = octile_.data() + static_cast<std::ptrdiff_t>(std::abs(y - sy)) * width_;
+    int* row = h_.data() + static_cast<std::ptrdiff_t>(y) * width_;
+    std::copy(table, table + (width_ - sx), row + sx);        // x >= sx: dx = x - sx
+    std::reverse_copy(table + 1, table + sx + 1, row);        // x < sx: dx = sx - x
+  }
 }
 
 bool GoalField::applyCostChanges(const Costmap& costmap) {

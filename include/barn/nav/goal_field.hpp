@@ -68,6 +68,7 @@ class GoalField {
   int heuristic(int cell) const;  // octile distance to the start at the cheapest step costs
   void startOver(const Costmap& costmap, CellIndex start, CellIndex goal);
   void search();                  // the first field: A* from the goal
+  void fillHeuristic();           // h_ for the current start
   bool applyCostChanges(const Costmap& costmap);  // false: too many, start over instead
   void repair();                  // D* Lite's ComputeShortestPath, ties included
   void updateCell(int cell);      // D* Lite's UpdateVertex
@@ -87,6 +88,9 @@ class GoalField {
   int goal_ = -1, start_ = -1;      // flat indices
   std::vector<std::uint8_t> cost_;  // the costs the field is for
   std::vector<std::int64_t> g_, rhs_;
+  std::vector<int> h_;              // scratch of search(): heuristic() of every cell
+  std::vector<int> octile_;         // octile distance by (|dy|, |dx|), the padded map's shape
+  int octile_width_ = 0;
   std::int64_t k_m_ = 0;            // D* Lite's key modifier: h summed over the start's moves
   std::vector<QueueEntry> queue_;   // min-heap; an entry is live if it matches queued_key_
   std::vector<std::int64_t> queued_k1_;
