@@ -154,6 +154,28 @@ TEST(GlobalPlanner, PathIsTheSteepestDescentOfTheExactField) {
   }
 }
 
+TEST(GlobalPlanner, OnePlannerOnMapsOfOtherShapesMatchesExhaustiveSearch) {
+  // The search keeps tables shaped like the last map (the heuristic by row and column
+  // offset): one planner on 12 x 9, then 9 x 12 (padded 14 x 11 and 11 x 14, the same cell
+  // count), then 20 x 6, must give the exhaustive descent on each.
+  core::Rng rng(23);
+  GlobalPlanner planner({});
+  for (int trial = 0; trial < 18; ++trial) {
+    const int shapes[3][2] = {{12, 9}, {9, 12}, {20, 6}};
+    const int w = shapes[trial % 3][0], h = shapes[trial % 3][1];
+    const Costmap map = randomInflatedMap(rng, w, h, 0.1);
+    const CellIndex start{static_cast<int>(rng.uniform01() * w), static_cast<int>(rng.uniform01() * h)};
+    const CellIndex goal{static_cast<int>(rng.uniform01() * w), static_cast<int>(rng.uniform01() * h)};
+    if (planner.stepCost(map.cost(goal.x, goal.y), false) < 0) continue;
+    const Plan plan = planner.plan(map, map.cellCentre(start), map.cellCentre(goal));
+    const std::vector<CellIndex> expected = bruteForceDescent(planner, map, start, goal);
+    ASSERT_EQ(plan.found, !expected.empty()) << "trial " << trial;
+    ASSERT_EQ(plan.path.size(), expected.size()) << "trial " << trial;
+    for (std::size_t k = 0; k < expected.size(); ++k)
+      EXPECT_EQ(plan.path[k], map.cellCentre(expected[k])) << "trial " << trial << " point " << k;
+  }
+}
+
 TEST(GlobalPlanner, RepairedFieldGivesTheExhaustivePathAfterMapChangesAndMoves) {
   // One planner on one costmap through a sequence of obstacles appearing and disappearing
   // and starts moving (along the path or jumping): the repaired field must give, every time,
