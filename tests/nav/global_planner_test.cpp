@@ -109,6 +109,18 @@ std::vector<CellIndex> bruteForceDescent(const GlobalPlanner& planner, const Cos
   }
 }
 
+// Whether `plan` is the descent `expected` (empty: no path) point by point, with the first
+// difference as the message.
+::testing::AssertionResult isDescent(const Plan& plan, const std::vector<CellIndex>& expected, const Costmap& map) {
+  if (plan.found != !expected.empty())
+    return ::testing::AssertionFailure() << "found " << plan.found << ", the exhaustive search " << !expected.empty();
+  if (plan.path.size() != expected.size())
+    return ::testing::AssertionFailure() << plan.path.size() << " points, the exhaustive descent " << expected.size();
+  for (std::size_t k = 0; k < expected.size(); ++k)
+    if (plan.path[k] != map.cellCentre(expected[k])) return ::testing::AssertionFailure() << "point " << k << " differs";
+  return ::testing::AssertionSuccess();
+}
+
 // A 1 m-cell map of random obstacles, inflated so costs vary from cell to cell.
 Costmap randomInflatedMap(core::Rng& rng, int width, int height, double obstacle_fraction) {
   CostmapConfig c;
@@ -138,18 +150,13 @@ TEST(GlobalPlanner, PathIsTheSteepestDescentOfTheExactField) {
     if (planner.stepCost(map.cost(goal.x, goal.y), false) < 0) continue;
     const Plan plan = planner.plan(map, map.cellCentre(start), map.cellCentre(goal));
     const std::vector<CellIndex> expected = bruteForceDescent(planner, map, start, goal);
-    ASSERT_EQ(plan.found, !expected.empty()) << "trial " << trial;
-    ASSERT_EQ(plan.path.size(), expected.size()) << "trial " << trial;
-    for (std::size_t k = 0; k < expected.size(); ++k)
-      EXPECT_EQ(plan.path[k], map.cellCentre(expected[k])) << "trial " << trial << " point " << k;
+    ASSERT_TRUE(isDescent(plan, expected, map)) << "trial " << trial;
     // A later start on the path reuses the field and still gets the exhaustive descent.
     if (expected.size() > 2) {
       const CellIndex later = expected[expected.size() / 2];
       const Plan reused = planner.plan(map, map.cellCentre(later), map.cellCentre(goal));
       const std::vector<CellIndex> expected_later = bruteForceDescent(planner, map, later, goal);
-      ASSERT_EQ(reused.path.size(), expected_later.size()) << "trial " << trial;
-      for (std::size_t k = 0; k < expected_later.size(); ++k)
-        EXPECT_EQ(reused.path[k], map.cellCentre(expected_later[k])) << "trial " << trial << " point " << k;
+      ASSERT_TRUE(isDescent(reused, expected_later, map)) << "trial " << trial;
     }
   }
 }
@@ -169,10 +176,7 @@ TEST(GlobalPlanner, OnePlannerOnMapsOfOtherShapesMatchesExhaustiveSearch) {
     if (planner.stepCost(map.cost(goal.x, goal.y), false) < 0) continue;
     const Plan plan = planner.plan(map, map.cellCentre(start), map.cellCentre(goal));
     const std::vector<CellIndex> expected = bruteForceDescent(planner, map, start, goal);
-    ASSERT_EQ(plan.found, !expected.empty()) << "trial " << trial;
-    ASSERT_EQ(plan.path.size(), expected.size()) << "trial " << trial;
-    for (std::size_t k = 0; k < expected.size(); ++k)
-      EXPECT_EQ(plan.path[k], map.cellCentre(expected[k])) << "trial " << trial << " point " << k;
+    ASSERT_TRUE(isDescent(plan, expected, map)) << "trial " << trial;
   }
 }
 
@@ -205,10 +209,7 @@ TEST(GlobalPlanner, RepairedFieldGivesTheExhaustivePathAfterMapChangesAndMoves) 
       const Plan plan = planner.plan(map, map.cellCentre(start), map.cellCentre(goal));
       const std::vector<CellIndex> expected =
           planner.stepCost(map.cost(goal.x, goal.y), false) < 0 ? std::vector<CellIndex>{} : bruteForceDescent(planner, map, start, goal);
-      ASSERT_EQ(plan.found, !expected.empty()) << "trial " << trial << " step " << step;
-      ASSERT_EQ(plan.path.size(), expected.size()) << "trial " << trial << " step " << step;
-      for (std::size_t k = 0; k < expected.size(); ++k)
-        ASSERT_EQ(plan.path[k], map.cellCentre(expected[k])) << "trial " << trial << " step " << step << " point " << k;
+      ASSERT_TRUE(isDescent(plan, expected, map)) << "trial " << trial << " step " << step;
       // Next start: a step or two along the path, or somewhere else.
       if (expected.size() > 3 && rng.uniform01() < 0.7) start = expected[1 + static_cast<std::size_t>(rng.uniform01() * 2)];
       else start = {static_cast<int>(rng.uniform01() * 14), static_cast<int>(rng.uniform01() * 10)};
