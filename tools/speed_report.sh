@@ -4,12 +4,23 @@
 # to pure_pursuit (the simulator with a trivial controller) measured in the same round, so a
 # busy machine moves both alike. Then the scaling of --jobs 2 over --jobs 1.
 #
-#   tools/speed_report.sh [BUILD_DIR] [WORLDS] [REPEATS]
+#   tools/speed_report.sh [--against OTHER_BUILD_DIR] [BUILD_DIR] [WORLDS] [REPEATS]
 #   defaults: build, 0:300:10 (30 worlds spread over the difficulty range), 3
+#
+# --against: also runs each controller on another build (e.g. of the previous commit) right
+# before this one's, --jobs 1, and reports the median of the paired ratios: the way to tell
+# a change's speed on a machine whose rate drifts by more than the change between runs.
 #
 # Run it on an idle machine; it takes a few minutes on 2 cores.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+against=""
+if [[ "${1:-}" == "--against" ]]; then
+  against="${2:-}"
+  [[ -x "$against/barn" ]] || { echo "speed_report.sh: --against '$against': no barn program in that folder" >&2; exit 2; }
+  against="$(cd "$against" && pwd)"
+  shift 2
+fi
 build="${1:-$here/build}"
 worlds="${2:-0:300:10}"
 repeats="${3:-3}"
@@ -19,21 +30,23 @@ work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 
 # Prints the "per core" figure and the wall seconds of one run.
-measure() {  # controller jobs
+measure() {  # controller jobs [build]
   local out="$work/$1-$2-$RANDOM$RANDOM"
-  "$build/barn" run --controller "$1" --worlds "$worlds" --jobs "$2" --out "$out" 2>/dev/null |
+  "${3:-$build}/barn" run --controller "$1" --worlds "$worlds" --jobs "$2" --out "$out" 2>/dev/null |
     sed -n 's/.*performance: wall \([0-9.]*\) s, simulated [0-9.]* s, [0-9]* simulated s per wall s (\([0-9]*\) per core.*/\2 \1/p'
   rm -rf "$out"
 }
 
 median() { sort -g | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
 
-declare -A rate ratio scaling
-for c in "${controllers[@]}"; do rate[$c]=""; ratio[$c]=""; scaling[$c]=""; done
+declare -A rate ratio scaling paired
+for c in "${controllers[@]}"; do rate[$c]=""; ratio[$c]=""; scaling[$c]=""; paired[$c]=""; done
 for ((r = 1; r <= repeats; ++r)); do
   base=$(measure pure_pursuit 1 | cut -d' ' -f1)
   for c in "${controllers[@]}"; do
+    if [[ -n "$against" ]]; then read -r other _ < <(measure "$c" 1 "$against"); fi
     read -r per_core wall1 < <(measure "$c" 1)
+    if [[ -n "$against" ]]; then paired[$c]+="$(awk -v a="$per_core" -v b="$other" 'BEGIN {printf "%.4f", a / b}') "; fi
     read -r _ wall2 < <(measure "$c" 2)
     rate[$c]+="$per_core "
     ratio[$c]+="$(awk -v a="$per_core" -v b="$base" 'BEGIN {printf "%.4f", a / b}') "
@@ -43,11 +56,18 @@ for ((r = 1; r <= repeats; ++r)); do
 done
 
 echo
-echo "worlds $worlds, 1 trial, medians of $repeats rounds ($(nproc) cores)"
-printf "%-14s %18s %16s %14s\n" controller "sim-s/s per core" "vs pure_pursuit" "--jobs 2 / 1"
+echo "worlds $worlds, 1 trial, medians of $repeats rounds ($(nproc) cores)${against:+; paired against $against}"
+printf "%-14s %18s %16s %14s" controller "sim-s/s per core" "vs pure_pursuit" "--jobs 2 / 1"
+[[ -n "$against" ]] && printf " %14s" "vs --against"
+echo
 for c in "${controllers[@]}"; do
   m=$(tr ' ' '\n' <<<"${rate[$c]}" | grep . | median)
   q=$(tr ' ' '\n' <<<"${ratio[$c]}" | grep . | median)
   s=$(tr ' ' '\n' <<<"${scaling[$c]}" | grep . | median)
-  printf "%-14s %18s %16s %14s\n" "$c" "$m" "$(awk -v q="$q" 'BEGIN {printf "%.3f", q}')" "$(awk -v s="$s" 'BEGIN {printf "%.2f", s}')"
+  printf "%-14s %18s %16s %14s" "$c" "$m" "$(awk -v q="$q" 'BEGIN {printf "%.3f", q}')" "$(awk -v s="$s" 'BEGIN {printf "%.2f", s}')"
+  if [[ -n "$against" ]]; then
+    p=$(tr ' ' '\n' <<<"${paired[$c]}" | grep . | median)
+    printf " %14s" "$(awk -v p="$p" 'BEGIN {printf "%.2f", p}')"
+  fi
+  echo
 done
