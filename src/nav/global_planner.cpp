@@ -22,6 +22,15 @@ Plan GlobalPlanner::planNavFn(const Costmap& costmap, const Eigen::Vector2d& sta
   Plan result;
   CellIndex s, g;
   if (!costmap.toCell(start, s) || !costmap.toCell(goal, g)) return result;  // off the map (tolerance 0)
+  const NavFnInputs inputs{&costmap, costmap.version(), s, g, goal};
+  if (inputs == last_navfn_inputs_) return last_navfn_plan_;
+  last_navfn_inputs_ = inputs;
+  last_navfn_plan_ = computeNavFnPlan(costmap, s, g, goal);
+  return last_navfn_plan_;
+}
+
+Plan GlobalPlanner::computeNavFnPlan(const Costmap& costmap, CellIndex s, CellIndex g, const Eigen::Vector2d& goal) {
+  Plan result;
   navfn_.setCostmap(costmap);
   const bool reached = navfn_.propagate(s, g);
   last_expanded_ = navfn_.lastUpdates();

@@ -180,6 +180,52 @@ TEST(GlobalPlanner, OnePlannerOnMapsOfOtherShapesMatchesExhaustiveSearch) {
   }
 }
 
+TEST(GlobalPlanner, NavFnReusesAPlanOnlyWhenItWouldComputeTheSame) {
+  // One NavFn planner through robot moves (within a cell, to the next, jumps) and obstacles
+  // appearing and disappearing must plan what a new planner plans from scratch each time.
+  core::Rng rng(31);
+  PlannerConfig config;
+  config.algorithm = "navfn";
+  // NavFn stops after max(cells / 20, width + height) cycles, so a small map must be mostly
+  // free for it to reach the goal: a narrow inflation, a few obstacles.
+  CostmapConfig c;
+  c.resolution = 1.0;
+  c.width = 40;
+  c.height = 30;
+  c.origin_x = c.origin_y = 0.0;
+  c.inflation_radius = 1.5;
+  c.cost_scaling_factor = 3.0;
+  Costmap map(c);
+  for (int k = 0; k < 40; ++k) map.markObstacle({5.0 + rng.uniform01() * 28.0, 1.0 + rng.uniform01() * 28.0});
+  GlobalPlanner planner(config);
+  const Eigen::Vector2d goal(36.5, 15.3);
+  map.clearPolygon({goal + Eigen::Vector2d(-2, -2), goal + Eigen::Vector2d(2, -2), goal + Eigen::Vector2d(2, 2),
+                    goal + Eigen::Vector2d(-2, 2)});
+  Eigen::Vector2d robot(3.2, 15.5);
+  int reused_inputs = 0, found = 0;
+  for (int step = 0; step < 300; ++step) {
+    const double u = rng.uniform01();
+    if (u < 0.4) robot += Eigen::Vector2d(0.2, rng.uniform01() - 0.5) * 0.25;  // usually the same cell
+    else if (u < 0.5) robot = Eigen::Vector2d(2.0 + rng.uniform01() * 30.0, 2.0 + rng.uniform01() * 26.0);
+    else if (u < 0.6) map.markObstacle({5.0 + rng.uniform01() * 28.0, 2.0 + rng.uniform01() * 26.0});
+    else if (u < 0.7) {
+      const Eigen::Vector2d p(5.0 + rng.uniform01() * 28.0, 2.0 + rng.uniform01() * 26.0);
+      map.clearPolygon({p + Eigen::Vector2d(-1.5, -1.5), p + Eigen::Vector2d(1.5, -1.5), p + Eigen::Vector2d(1.5, 1.5),
+                        p + Eigen::Vector2d(-1.5, 1.5)});
+    } else {
+      ++reused_inputs;  // nothing changed: the inputs of the last plan
+    }
+    const Plan kept = planner.plan(map, robot, goal);
+    const Plan fresh = GlobalPlanner(config).plan(map, robot, goal);
+    ASSERT_EQ(kept.found, fresh.found) << "step " << step;
+    ASSERT_EQ(kept.cost, fresh.cost) << "step " << step;
+    ASSERT_EQ(kept.path, fresh.path) << "step " << step;
+    found += fresh.found ? 1 : 0;
+  }
+  EXPECT_GT(reused_inputs, 30);
+  EXPECT_GT(found, 150);  // the comparison is about real plans
+}
+
 TEST(GlobalPlanner, RepairedFieldGivesTheExhaustivePathAfterMapChangesAndMoves) {
   // One planner on one costmap through a sequence of obstacles appearing and disappearing
   // and starts moving (along the path or jumping): the repaired field must give, every time,

@@ -62,16 +62,29 @@ class GlobalPlanner {
   int stepCost(std::uint8_t c, bool diagonal) const { return field_.stepCost(c, diagonal); }
 
   /// Cells expanded by the last field update (dijkstra), or cell updates of the last
-  /// propagation (navfn) (for reports).
+  /// propagation (navfn; a reused plan propagates nothing and leaves it) (for reports).
   std::size_t lastExpanded() const { return use_navfn_ ? last_expanded_ : field_.lastExpanded(); }
 
  private:
   Plan planNavFn(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal);
+  Plan computeNavFnPlan(const Costmap& costmap, CellIndex s, CellIndex g, const Eigen::Vector2d& goal);
 
   PlannerConfig config_;
   bool use_navfn_ = false;
   NavFn navfn_;
   std::vector<Eigen::Vector2f> navfn_points_;  // scratch: the descent's points
+  // NavFn's plan depends on the costmap's costs, the robot's and the goal's cells and the goal
+  // pose only. move_base replans at 20 Hz and the robot often stays in its cell between two
+  // costmap updates; ROS then computes the same plan again, here the last one is returned.
+  struct NavFnInputs {
+    const Costmap* costmap = nullptr;
+    std::uint64_t version = 0;
+    CellIndex robot, goal_cell;
+    Eigen::Vector2d goal = Eigen::Vector2d::Zero();
+    bool operator==(const NavFnInputs&) const = default;
+  };
+  NavFnInputs last_navfn_inputs_;
+  Plan last_navfn_plan_;
   GoalField field_;
   std::size_t last_expanded_ = 0;
 };
