@@ -11,31 +11,65 @@
 
 namespace barn::nav {
 
+namespace detail {
+
+/// A walk's shape: which axis dominates, the lengths along both, the steps taken.
+struct LineShape {
+  bool x_major = true;
+  int major = 0, minor = 0, steps = 0;
+  int step_x = 1, step_y = 1;
+};
+
+inline LineShape lineShape(int x0, int y0, int x1, int y1, int max_steps) {
+  const int dx = x1 - x0, dy = y1 - y0;
+  LineShape s;
+  s.step_x = dx > 0 ? 1 : -1;
+  s.step_y = dy > 0 ? 1 : -1;
+  s.x_major = std::abs(dx) >= std::abs(dy);
+  s.major = s.x_major ? std::abs(dx) : std::abs(dy);
+  s.minor = s.x_major ? std::abs(dy) : std::abs(dx);
+  s.steps = std::min(s.major, std::max(0, max_steps));
+  return s;
+}
+
+struct GridPosition {
+  int x = 0, y = 0;
+  GridPosition& operator+=(GridPosition d) {
+    x += d.x;
+    y += d.y;
+    return *this;
+  }
+};
+
+/// The one Bresenham walk, whatever a cell's position is (a cell pair or a flat index): the
+/// position moves by `major_step` every step and by `minor_step` when the error term, which
+/// starts at half the dominant length, reaches it.
+template <class Position, class Visit>
+bool bresenham(Position at, Position major_step, Position minor_step, const LineShape& s, Visit visit) {
+  int error = s.major / 2;
+  for (int i = 0; i < s.steps; ++i) {
+    if (!visit(at)) return false;
+    at += major_step;
+    error += s.minor;
+    if (error >= s.major) {
+      at += minor_step;
+      error -= s.major;
+    }
+  }
+  return visit(at);
+}
+
+}  // namespace detail
+
 /// Visits the cells from (x0, y0) to (x1, y1), both included, taking at most `max_steps`
 /// steps along the dominant axis (the last cell visited is where the walk stopped). `visit`
 /// returns false to stop early; the function returns false then, true otherwise.
 template <class Visit>
 bool walkLine(int x0, int y0, int x1, int y1, int max_steps, Visit visit) {
-  const int dx = x1 - x0, dy = y1 - y0;
-  const int abs_dx = std::abs(dx), abs_dy = std::abs(dy);
-  const int step_x = dx > 0 ? 1 : -1, step_y = dy > 0 ? 1 : -1;
-  const bool x_major = abs_dx >= abs_dy;
-  const int major = x_major ? abs_dx : abs_dy, minor = x_major ? abs_dy : abs_dx;
-  const int steps = std::min(major, std::max(0, max_steps));
-  int error = major / 2;
-  int x = x0, y = y0;
-  for (int i = 0; i < steps; ++i) {
-    if (!visit(x, y)) return false;
-    if (x_major) x += step_x;
-    else y += step_y;
-    error += minor;
-    if (error >= major) {
-      if (x_major) y += step_y;
-      else x += step_x;
-      error -= major;
-    }
-  }
-  return visit(x, y);
+  const detail::LineShape s = detail::lineShape(x0, y0, x1, y1, max_steps);
+  const detail::GridPosition along_x{s.step_x, 0}, along_y{0, s.step_y};
+  return detail::bresenham(detail::GridPosition{x0, y0}, s.x_major ? along_x : along_y, s.x_major ? along_y : along_x, s,
+                           [&](detail::GridPosition p) { return visit(p.x, p.y); });
 }
 
 /// walkLine's cells as flat indices y * width + x, with no early stop. Both ends must be on the
@@ -43,25 +77,13 @@ bool walkLine(int x0, int y0, int x1, int y1, int max_steps, Visit visit) {
 /// Ray-trace clearing and the DWA footprint check walk tens of thousands of cells per scan.
 template <class Visit>
 void walkLineFlat(int x0, int y0, int x1, int y1, int max_steps, std::ptrdiff_t width, Visit visit) {
-  const int dx = x1 - x0, dy = y1 - y0;
-  const int abs_dx = std::abs(dx), abs_dy = std::abs(dy);
-  const std::ptrdiff_t step_x = dx > 0 ? 1 : -1, step_y = dy > 0 ? width : -width;
-  const bool x_major = abs_dx >= abs_dy;
-  const int major = x_major ? abs_dx : abs_dy, minor = x_major ? abs_dy : abs_dx;
-  const std::ptrdiff_t major_step = x_major ? step_x : step_y, minor_step = x_major ? step_y : step_x;
-  const int steps = std::min(major, std::max(0, max_steps));
-  int error = major / 2;
-  std::ptrdiff_t at = static_cast<std::ptrdiff_t>(y0) * width + x0;
-  for (int i = 0; i < steps; ++i) {
-    visit(at);
-    at += major_step;
-    error += minor;
-    if (error >= major) {
-      at += minor_step;
-      error -= major;
-    }
-  }
-  visit(at);
+  const detail::LineShape s = detail::lineShape(x0, y0, x1, y1, max_steps);
+  const std::ptrdiff_t along_x = s.step_x, along_y = s.step_y * width;
+  detail::bresenham(static_cast<std::ptrdiff_t>(y0) * width + x0, s.x_major ? along_x : along_y,
+                    s.x_major ? along_y : along_x, s, [&](std::ptrdiff_t at) {
+                      visit(at);
+                      return true;
+                    });
 }
 
 /// The whole segment (no length limit).
