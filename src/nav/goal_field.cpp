@@ -83,8 +83,8 @@ void GoalField::startOver(const Costmap& costmap, CellIndex start, CellIndex goa
   for (int y = 0; y < costmap.heightCells(); ++y)
     std::copy_n(costs + static_cast<std::ptrdiff_t>(y) * costmap.widthCells(), costmap.widthCells(),
                 cost_.begin() + static_cast<std::ptrdiff_t>(y + 1) * width_ + 1);
-  g_.assign(n, kInfinite);
-  rhs_.assign(n, kInfinite);
+  g_.resize(n);  // seedSearch() sets every cell
+  rhs_.resize(n);
   queued_.assign(n, 0);
   queued_k1_.resize(n);  // read only where queued_ is set
   queue_.clear();
@@ -107,11 +107,91 @@ void GoalField::startOver(const Costmap& costmap, CellIndex start, CellIndex goa
   repair();
 }
 
+void GoalField::seedSearch() {
+  // The cells whose cost differs from the snapshot's, and their neighbours, are the cells a
+  // change can reach: the least g any of them can have had bounds the cells still exact.
+  // A cell the snapshot's search did not settle had f = g + h > settled_to, so its g was at
+  // least settled_to - h + 1 (h toward the snapshot's start; a neighbour's h is at most one
+  // diagonal step more than the cell's).
+  seeds_.clear();
+  const Snapshot& snap = snapshot_;
+  const bool reusable = snap.map == map_ && snap.width == width_ && snap.height == height_ && snap.goal == goal_ &&
+                        snap.g.size() == cost_.size();
+  const std::int64_t* old_g = snap.g.data();
+  std::int64_t bound = kInfinite;
+  if (reusable) {
+    const int sx = snap.start % width_, sy = snap.start / width_;
+    const std::ptrdiff_t w = width_;
+    for (int y = 1; y < height_ - 1 && bound > 0; ++y) {
+      const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(width_);
+      if (std::memcmp(cost_.data() + row, snap.cost.data() + row, static_cast<std::size_t>(width_)) == 0) continue;
+      for (int x = 1; x < width_ - 1; ++x) {
+        if (cost_[row + static_cast<std::size_t>(x)] == snap.cost[row + static_cast<std::size_t>(x)]) continue;
+        const std::int64_t* around = old_g + row + static_cast<std::size_t>(x);
+        const std::int64_t least = std::min({around[-w - 1], around[-w], around[-w + 1], around[-1], around[0], around[1],
+                                             around[w - 1], around[w], around[w + 1]});
+        bound = std::min(bound, least);
+        const bool all_settled = std::max({around[-w - 1], around[-w], around[-w + 1], around[-1], around[0], around[1],
+                                           around[w - 1], around[w], around[w + 1]}) != kInfinite;
+        if (!all_settled && snap.settled_to != kInfinite) {
+          const int dx = std::abs(x - sx), dy = std::abs(y - sy);
+          const std::int64_t h = straight_cost_[0] * std::abs(dx - dy) + diagonal_cost_[0] * std::min(dx, dy);
+          bound = std::min(bound, std::max<std::int64_t>(0, snap.settled_to - h - diagonal_cost_[0] + 1));
+        }
+      }
+    }
+  }
+  if (!reusable || bound <= old_g[goal_]) {
+    std::fill(g_.begin(), g_.end(), kInfinite);
+    std::fill(rhs_.begin(), rhs_.end(), kInfinite);
+    rhs_[static_cast<std::size_t>(goal_)] = 0;
+    seeds_.push_back({h_[static_cast<std::size_t>(goal_)], goal_});
+    return;
+  }
+  // Cells below the bound are settled at their old g; the ones with a neighbour above it are
+  // where the search goes on from (the closed border ring among those neighbours only adds
+  // seeds whose offers it refuses).
+  const std::size_t n = cost_.size();
+  kept_.resize(n);
+  for (std::size_t c = 0; c < n; ++c) {
+    const bool kept = old_g[c] < bound;
+    kept_[c] = kept;
+    g_[c] = rhs_[c] = kept ? old_g[c] : kInfinite;
+  }
+  const std::ptrdiff_t w = width_;
+  for (int y = 1; y < height_ - 1; ++y) {
+    const std::ptrdiff_t row = y * w;
+    for (int x = 1; x < width_ - 1; ++x) {
+      const std::ptrdiff_t c = row + x;
+      if (!kept_[static_cast<std::size_t>(c)]) continue;
+      const std::uint8_t* a = kept_.data() + c;
+      if ((a[-w - 1] & a[-w] & a[-w + 1] & a[-1] & a[1] & a[w - 1] & a[w] & a[w + 1]) != 0) continue;
+      g_[static_cast<std::size_t>(c)] = kInfinite;
+      seeds_.push_back({old_g[c] + h_[static_cast<std::size_t>(c)], static_cast<int>(c)});
+    }
+  }
+  std::sort(seeds_.begin(), seeds_.end(), [](const Seed& a, const Seed& b) { return a.key < b.key || (a.key == b.key && a.cell < b.cell); });
+}
+
+void GoalField::takeSnapshot(std::int64_t settled_to) {
+  snapshot_.map = map_;
+  snapshot_.width = width_;
+  snapshot_.height = height_;
+  snapshot_.goal = goal_;
+  snapshot_.start = start_;
+  snapshot_.g = g_;
+  snapshot_.cost = cost_;
+  snapshot_.settled_to = settled_to;
+}
+
 void GoalField::search() {
   // A* from the goal: settles cells in order of f = g + h. A settled cell has g = rhs; a
-  // reached one holds its best candidate in rhs.
+  // reached one holds its best candidate in rhs. It starts from the seeds: the goal, or the
+  // edge of the cells kept from the last search (seedSearch), each joining the queue
+  // when the scan reaches its key.
   const int w = width_;
   fillHeuristic();
+  seedSearch();
   const int* h = h_.data();
   const int* straight_cost = straight_cost_.data();
   const int* diagonal_cost = diagonal_cost_.data();
@@ -138,21 +218,38 @@ void GoalField::search() {
     return static_cast<int>(word * 64 + static_cast<std::size_t>(__builtin_ctzll(bits)));
   };
   const auto start = static_cast<std::size_t>(start_);
-  rhs[goal_] = 0;
-  buckets[0].push_back(goal_);
-  occupied[0] = 1;
-  std::size_t pending = 1;
+  std::size_t pending = 0;
   std::size_t expanded = 0;
-  std::int64_t key = h[goal_];  // the key of the bucket being scanned
+  std::size_t next_seed = 0;
+  std::int64_t key = seeds_.front().key;  // the key of the bucket being scanned
   int slot = 0;
+  std::int64_t settled_to = kInfinite;     // stays so if the search runs out of cells
   const int east = offset_[0], west = offset_[1], north = offset_[2], south = offset_[3];
   const int interior_x1 = w - 1, interior_y1 = height_ - 1;
   // Stop once every cell with f up to the start's g is settled (h is 0 at the start): then
   // the start's g is final, and so is every cell the descent compares.
-  while (pending > 0) {
-    const int next = nextOccupied(slot);
-    const std::int64_t next_key = key + (next >= slot ? next - slot : next - slot + static_cast<int>(ring));
-    if (next_key > rhs[start]) break;
+  for (;;) {
+    int next = -1;
+    std::int64_t next_key = kInfinite;
+    if (pending > 0) {
+      next = nextOccupied(slot);
+      next_key = key + (next >= slot ? next - slot : next - slot + static_cast<int>(ring));
+    }
+    if (next_seed < seeds_.size() && seeds_[next_seed].key <= next_key) {
+      // The seeds of this key join the queue (the ring is empty beyond `ring` keys ahead).
+      next_key = seeds_[next_seed].key;
+      next = static_cast<int>((static_cast<std::int64_t>(slot) + (next_key - key)) % ring);
+      for (; next_seed < seeds_.size() && seeds_[next_seed].key == next_key; ++next_seed) {
+        buckets[next].push_back(seeds_[next_seed].cell);
+        ++pending;
+      }
+      occupied[next / 64] |= std::uint64_t{1} << (next % 64);
+    }
+    if (next_key == kInfinite) break;
+    if (next_key > rhs[start]) {
+      settled_to = rhs[start];
+      break;
+    }
     key = next_key;
     slot = next;
     std::vector<int>& bucket = buckets[slot];
@@ -203,7 +300,31 @@ void GoalField::search() {
     bucket.clear();
     occupied[slot / 64] &= ~(std::uint64_t{1} << (slot % 64));
   }
+  // Seeds the search stopped before are exact all the same: settled, and their offers made
+  // (not queued), so every cell's rhs is its best way through a settled neighbour, as D* Lite
+  // requires of the open list that startOver builds.
+  for (std::size_t k = 0; k < seeds_.size(); ++k) {
+    const int i = seeds_[k].cell;
+    if (g[i] != kInfinite) continue;
+    g[i] = rhs[i];
+    const std::uint8_t c = cost[i];
+    const int straight = straight_cost[c], diagonal = diagonal_cost[c];
+    const auto offer = [&](int p, int step) {
+      const int px = p % w, py = p / w;
+      if (px > 0 && py > 0 && px < interior_x1 && py < interior_y1) rhs[p] = std::min(rhs[p], g[i] + step);
+    };
+    offer(i + east, straight);
+    offer(i + west, straight);
+    offer(i + north, straight);
+    offer(i + south, straight);
+    const bool e = passable(i + east), wo = passable(i + west), n = passable(i + north), so = passable(i + south);
+    if (e && n) offer(i + east + north, diagonal);
+    if (e && so) offer(i + east + south, diagonal);
+    if (wo && n) offer(i + west + north, diagonal);
+    if (wo && so) offer(i + west + south, diagonal);
+  }
   last_expanded_ = expanded;
+  takeSnapshot(settled_to);
 }
 
 void GoalField::fillHeuristic() {

@@ -263,6 +263,55 @@ TEST(GlobalPlanner, RepairedFieldGivesTheExhaustivePathAfterMapChangesAndMoves) 
   }
 }
 
+TEST(GlobalPlanner, NewSearchKeepsTheFieldBeyondTheChangesAndGivesTheExhaustivePath) {
+  // Many cells change at once near the start, as a scan changes the costmap around the robot,
+  // so the planner searches again rather than repair, keeping the part of its last field the
+  // changes cannot reach. Every plan must be the exhaustive descent, and the kept planner must
+  // expand fewer cells than a new planner does on the same map.
+  core::Rng rng(11);
+  std::size_t kept_expanded = 0, new_expanded = 0;
+  for (int trial = 0; trial < 8; ++trial) {
+    CostmapConfig c;
+    c.resolution = 1.0;
+    c.width = 24;
+    c.height = 40;
+    c.inscribed_radius = trial % 2 == 0 ? 0.0 : 1.0;
+    c.inflation_radius = 3.5;
+    c.cost_scaling_factor = 1.0;
+    Costmap map(c);
+    GlobalPlanner planner({});
+    const CellIndex goal{static_cast<int>(rng.uniform01() * 24), 39};
+    CellIndex start{static_cast<int>(rng.uniform01() * 24), 0};
+    for (int step = 0; step < 20; ++step) {
+      // Obstacles come and go within 6 cells of the start (now and then anywhere).
+      const bool anywhere = rng.uniform01() < 0.15;
+      for (int k = 0; k < 6; ++k) {
+        const Eigen::Vector2d centre = anywhere ? Eigen::Vector2d(12.0, 20.0) : map.cellCentre(start);
+        const double reach = anywhere ? 20.0 : 6.0;
+        const Eigen::Vector2d p = centre + reach * Eigen::Vector2d(2 * rng.uniform01() - 1, 2 * rng.uniform01() - 1);
+        if (p.x() < 0 || p.y() < 0 || p.x() >= 24 || p.y() >= 40 || (p - map.cellCentre(goal)).norm() < 1.5) continue;
+        if (rng.uniform01() < 0.75) map.markObstacle(p);
+        else map.clearPolygon({p + Eigen::Vector2d(-1.5, -1.5), p + Eigen::Vector2d(1.5, -1.5),
+                               p + Eigen::Vector2d(1.5, 1.5), p + Eigen::Vector2d(-1.5, 1.5)});
+      }
+      const Plan plan = planner.plan(map, map.cellCentre(start), map.cellCentre(goal));
+      const std::vector<CellIndex> expected =
+          planner.stepCost(map.cost(goal.x, goal.y), false) < 0 ? std::vector<CellIndex>{} : bruteForceDescent(planner, map, start, goal);
+      ASSERT_TRUE(isDescent(plan, expected, map)) << "trial " << trial << " step " << step;
+      if (plan.found) {
+        ASSERT_EQ(plan.cost, bruteForceCost(planner, map, start, goal)) << "trial " << trial << " step " << step;
+      }
+      GlobalPlanner fresh({});
+      fresh.plan(map, map.cellCentre(start), map.cellCentre(goal));
+      kept_expanded += planner.lastExpanded();
+      new_expanded += fresh.lastExpanded();
+      // The robot moves a few cells along the path.
+      if (expected.size() > 4) start = expected[1 + static_cast<std::size_t>(rng.uniform01() * 3)];
+    }
+  }
+  EXPECT_LT(kept_expanded, new_expanded * 3 / 4) << kept_expanded << " cells expanded, " << new_expanded << " by new planners";
+}
+
 TEST(GlobalPlanner, StraightLineInAnEmptyMap) {
   const Costmap map = pictureMap({"......", "......", "......"});
   GlobalPlanner planner({});

@@ -22,6 +22,13 @@
 ///    inflation changes hundreds of cells per new obstacle, and a cost rise near the start
 ///    spreads to everything behind it: past a few dozen changed cells inside the searched
 ///    region, a new search is cheaper and runs instead (same field, same path).
+///  - A new search after costmap changes reuses the last search's field: a cell it settled
+///    whose g is below every g the changed cells (and their neighbours, whose diagonal moves
+///    a change may open or close) can have had is exact still, since neither its path to the
+///    goal nor any cheaper one can pass a changed cell. Those cells are taken as settled and
+///    the search starts from the ones on their edge, each in the order of its key, so it
+///    expands only the part of the band the changes can have touched: the changes come from
+///    the scans around the robot, the far end of a search that starts at the goal.
 ///  - The path is the steepest descent from the start: each step to the neighbour n with the
 ///    least step cost + g(n); among equals the one with the least g (the dearer step, a
 ///    diagonal before a straight one, so a sideways shift comes early), then the one pointing
@@ -67,7 +74,9 @@ class GoalField {
   bool canMove(int i, int dir) const;
   int heuristic(int cell) const;  // octile distance to the start at the cheapest step costs
   void startOver(const Costmap& costmap, CellIndex start, CellIndex goal);
-  void search();                  // the first field: A* from the goal
+  void search();                  // the first field: A* from the goal, or from the reused cells
+  void seedSearch();              // g and rhs before the search, and where it starts (seeds_)
+  void takeSnapshot(std::int64_t settled_to);
   void fillHeuristic();           // h_ for the current start
   bool applyCostChanges(const Costmap& costmap);  // false: too many, start over instead
   void repair();                  // D* Lite's ComputeShortestPath, ties included
@@ -100,6 +109,23 @@ class GoalField {
   std::uint32_t round_ = 0;
   std::vector<std::vector<int>> buckets_;        // scratch of search(): Dial's bucket ring
   std::vector<std::uint64_t> occupied_buckets_;  // a bit per non-empty bucket
+
+  // The field as the last search left it, for the next search to reuse (seedSearch):
+  // g of every cell it settled (exact for the costs it saw), kUnsettled elsewhere.
+  struct Snapshot {
+    const Costmap* map = nullptr;
+    int width = 0, height = 0, goal = -1, start = -1;
+    std::vector<std::int64_t> g;
+    std::vector<std::uint8_t> cost;
+    std::int64_t settled_to = 0;  // every cell with g + h(start) <= settled_to was settled
+  };
+  Snapshot snapshot_;
+  struct Seed {
+    std::int64_t key;
+    int cell;
+  };
+  std::vector<Seed> seeds_;       // scratch of search(): where it starts, by key
+  std::vector<std::uint8_t> kept_;  // scratch of seedSearch(): 1 where the snapshot's g is kept
 
   std::vector<CellIndex> path_;
   std::int64_t path_cost_ = 0;
