@@ -371,7 +371,7 @@ core::Twist InventecController::act(const Observation& obs) {
   const core::Pose2 pose = obs.odom_pose;
   const core::LaserScan& scan = *obs.scan;
   nav_.update(obs.time, scan, info_.lidar.sensorPose(pose), pose);
-  const std::vector<Eigen::Vector2d> points = scanPoints(scan, info_.lidar);
+  const std::vector<Eigen::Vector2d> points = scanPoints(scan, info_.lidar, beams_);
   const PathCues cues = pathCues(pose);
   InventecInputs in;
   in.has_path = nav_.hasPath();

@@ -6,14 +6,14 @@
 
 namespace barn::controllers {
 
-std::vector<Eigen::Vector2d> scanPoints(const core::LaserScan& scan, const core::LidarConfig& lidar) {
+std::vector<Eigen::Vector2d> scanPoints(const core::LaserScan& scan, const core::LidarConfig& lidar, core::BeamDirections& beams) {
+  beams.update(scan);
   std::vector<Eigen::Vector2d> points;
   points.reserve(scan.ranges.size());
   for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
     const double r = scan.ranges[i];
     if (!std::isfinite(r)) continue;
-    const double a = scan.angle(i);
-    points.emplace_back(lidar.mount_x + r * std::cos(a), lidar.mount_y + r * std::sin(a));
+    points.emplace_back(lidar.mount_x + r * beams.cos(i), lidar.mount_y + r * beams.sin(i));
   }
   return points;
 }

@@ -218,18 +218,9 @@ void Costmap::integrateScan(const core::LaserScan& scan, const core::Pose2& sens
   };
   // The beams' directions in the sensor frame are the same every scan; each scan rotates them
   // by the sensor's yaw, as laser_geometry projects a scan with its cached cosines and sines.
-  if (beam_cos_.size() != scan.ranges.size() || beam_angle_min_ != scan.angle_min || beam_angle_increment_ != scan.angle_increment) {
-    beam_cos_.resize(scan.ranges.size());
-    beam_sin_.resize(scan.ranges.size());
-    for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
-      beam_cos_[i] = std::cos(scan.angle(i));
-      beam_sin_[i] = std::sin(scan.angle(i));
-    }
-    beam_angle_min_ = scan.angle_min;
-    beam_angle_increment_ = scan.angle_increment;
-  }
+  beams_.update(scan);
   const auto direction = [&](std::size_t i) {
-    return Eigen::Vector2d(c * beam_cos_[i] - s * beam_sin_[i], s * beam_cos_[i] + c * beam_sin_[i]);
+    return Eigen::Vector2d(c * beams_.cos(i) - s * beams_.sin(i), s * beams_.cos(i) + c * beams_.sin(i));
   };
   // Clearing first, then marking (costmap_2d's order), so a return inside another beam's
   // cleared ray stays an obstacle. Nothing is traced if the sensor is off the map.

@@ -136,7 +136,8 @@ core::LaserScan oneReturn(double bearing, double range) {
 /// The robot-frame point of that return (the sensor is 0.055 m ahead of the centre).
 Eigen::Vector2d pointOf(const core::LaserScan& scan) {
   const core::LidarConfig lidar;
-  const auto points = scanPoints(scan, lidar);
+  core::BeamDirections beams;
+  const auto points = scanPoints(scan, lidar, beams);
   return points.at(0);
 }
 
@@ -199,7 +200,8 @@ TEST(BeamRollout, ReachesPastTheCornersByTheirLOneLength) {
   const BeamRollout check;
   const core::LaserScan near = withPost(uniformScan(lidar, kInf), lidar, 0.32 * direction, 0.02);
   EXPECT_TRUE(beamRolloutHit(near, {0.0, 0.0}, check));
-  EXPECT_FALSE(footprintInflationHit(scanPoints(near, lidar), check.rectangle));  // nothing inside the rectangle
+  core::BeamDirections beams;
+  EXPECT_FALSE(footprintInflationHit(scanPoints(near, lidar, beams), check.rectangle));  // nothing inside the rectangle
   EXPECT_FALSE(beamRolloutHit(withPost(uniformScan(lidar, kInf), lidar, 0.42 * direction, 0.02), {0.0, 0.0}, check));
 }
 
@@ -324,7 +326,8 @@ TEST(SafetyChecks, ScanPointsIncludeTheMountOffset) {
   scan.angle_min = 0.0;
   scan.angle_increment = std::numbers::pi / 2;
   scan.ranges = {1.0, 2.0, std::numeric_limits<double>::infinity()};
-  const auto points = scanPoints(scan, lidar);
+  core::BeamDirections beams;
+  const auto points = scanPoints(scan, lidar, beams);
   ASSERT_EQ(points.size(), 2u);  // the miss gives no point
   EXPECT_NEAR(points[0].x(), 1.055, 1e-12);
   EXPECT_NEAR(points[1].x(), 0.055, 1e-12);

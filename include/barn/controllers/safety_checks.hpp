@@ -11,6 +11,7 @@
 
 #include <Eigen/Core>
 
+#include "barn/core/beam_directions.hpp"
 #include "barn/core/lidar_config.hpp"
 #include "barn/core/rect.hpp"
 #include "barn/core/types.hpp"
@@ -18,8 +19,9 @@
 
 namespace barn::controllers {
 
-/// Every finite return of the scan as a point in the robot frame.
-std::vector<Eigen::Vector2d> scanPoints(const core::LaserScan& scan, const core::LidarConfig& lidar);
+/// Every finite return of the scan as a point in the robot frame (`beams`: the caller's table
+/// of beam directions, brought to the scan's layout).
+std::vector<Eigen::Vector2d> scanPoints(const core::LaserScan& scan, const core::LidarConfig& lidar, core::BeamDirections& beams);
 
 /// Footprint inflation (FI): true if any point lies inside the rectangle grown by the offset.
 /// A direct rectangle test, the whole of what the original did with a polygon library.

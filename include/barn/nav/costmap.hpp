@@ -21,6 +21,7 @@
 
 #include <Eigen/Core>
 
+#include "barn/core/beam_directions.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/core/types.hpp"
 
@@ -201,9 +202,7 @@ class Costmap {
   mutable std::vector<std::uint32_t> recomputed_in_round_;
   mutable std::uint32_t recompute_round_ = 0;
   mutable std::uint64_t version_ = 0;
-  // The beams' directions in the sensor frame, for the scan geometry they were computed for.
-  std::vector<double> beam_cos_, beam_sin_;
-  double beam_angle_min_ = 0.0, beam_angle_increment_ = 0.0;
+  core::BeamDirections beams_;  // in the sensor frame
 };
 
 }  // namespace barn::nav
