@@ -1,5 +1,7 @@
 #include "barn/nav/grid_line.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <utility>
 #include <vector>
@@ -49,6 +51,20 @@ TEST(GridLine, AStepLimitStopsTheWalkEarly) {
   EXPECT_EQ(cells.back(), std::make_pair(60, 0));
   // Diagonal (100, 100): length 141.4, scale 60 / 141.4 = 0.4243, 42 steps.
   EXPECT_EQ(rayStepLimit(0, 0, 100, 100, 60.0), 42);
+}
+
+TEST(GridLine, AStepLimitIsCostmap2dsScaledDominantAxisForEveryRay) {
+  // costmap_2d: the dominant-axis length times min(1, max_cells / Euclidean length); rays at,
+  // just under and over the limit, whole and fractional limits.
+  for (const double max_cells : {60.0, 7.0, 5.5, 1.0}) {
+    for (int dx = -70; dx <= 70; ++dx)
+      for (int dy = -70; dy <= 70; ++dy) {
+        const double length = std::hypot(static_cast<double>(dx), static_cast<double>(dy));
+        const double scale = length == 0.0 ? 1.0 : std::min(1.0, max_cells / length);
+        const int expected = static_cast<int>(scale * std::max(std::abs(dx), std::abs(dy)));
+        ASSERT_EQ(rayStepLimit(3, -2, 3 + dx, -2 + dy, max_cells), expected) << dx << ", " << dy << " limit " << max_cells;
+      }
+  }
 }
 
 TEST(GridLine, TheFlatWalkVisitsTheSameCellsInTheSameOrder) {

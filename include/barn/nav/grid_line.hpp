@@ -96,6 +96,10 @@ bool walkLine(int x0, int y0, int x1, int y1, Visit visit) {
 /// (x1, y1): the dominant-axis length scaled by min(1, max_cells / length).
 inline int rayStepLimit(int x0, int y0, int x1, int y1, double max_cells) {
   const int dx = x1 - x0, dy = y1 - y0;
+  // Most rays are shorter than the limit: then the scale is exactly 1, known without the
+  // square root (both squares are exact for any ray on a map).
+  const double squared = static_cast<double>(dx) * dx + static_cast<double>(dy) * dy;
+  if (squared < max_cells * max_cells) return std::max(std::abs(dx), std::abs(dy));
   const double length = std::hypot(static_cast<double>(dx), static_cast<double>(dy));
   const double scale = length == 0.0 ? 1.0 : std::min(1.0, max_cells / length);
   return static_cast<int>(scale * std::max(std::abs(dx), std::abs(dy)));
