@@ -103,7 +103,7 @@ Episode::Episode(const core::WorldSpec& world, const sim::ObstacleField& field, 
       simulator_(field, config.robot, config.physics, core::Pose2{protocol_.start_x, protocol_.start_y, protocol_.start_yaw},
                  core::mixSeed(seed, 5)),
       lidar_(config.lidar, field),
-      scan_noise_(core::mixSeed(seed, 1)),
+      scan_seed_(core::mixSeed(seed, 1)),
       odometry_noise_(core::mixSeed(seed, 3)) {
   checkControllerPeriod(controller_period, config);
   start_ = {protocol_.start_x, protocol_.start_y, protocol_.start_yaw};
@@ -129,13 +129,27 @@ Episode::Episode(const core::WorldSpec& world, const sim::ObstacleField& field, 
   max_steps_ = std::lround((protocol_.timeout + 1.0) / dt);
   latency_steps_ = std::lround(config.latency.command / dt);
   previous_position_ = start_.position();
-  scan_ = lidar_.scan(simulator_.pose(), simulator_.time(), &scan_noise_);
+  takeScan();
   arriveAtTick();
 }
 
 std::vector<Eigen::Vector2d> Episode::referencePath() const { return referencePathInOdom(*world_, protocol_); }
 
+void Episode::takeScan() {
+  pending_scan_ = {simulator_.pose(), simulator_.time(), pending_scan_.number + 1, false};
+}
+
+void Episode::castPendingScan() {
+  if (pending_scan_.cast) return;
+  // Each scan's noise has its own stream, keyed by the scan's number: casting only the scans a
+  // controller reads (at most every other one at 50 Hz) draws the same noise as casting all.
+  core::FastNoise noise(core::mixSeed(scan_seed_, static_cast<std::uint64_t>(pending_scan_.number)));
+  scan_ = lidar_.scan(pending_scan_.robot_pose, pending_scan_.stamp, &noise);
+  pending_scan_.cast = true;
+}
+
 void Episode::arriveAtTick() {
+  castPendingScan();
   const core::Pose2 pose = simulator_.pose();
   const OdometryNoise& sigma = config_.odometry;
   controllers::Observation& obs = observation_;
@@ -223,7 +237,7 @@ void Episode::step(const core::Twist& command, std::string_view state) {
       }
       if (done_) return;
     }
-    if (step_ % scan_steps_ == 0) scan_ = lidar_.scan(simulator_.pose(), simulator_.time(), &scan_noise_);
+    if (step_ % scan_steps_ == 0) takeScan();
     if (step_ % control_steps_ == 0) {
       arriveAtTick();
       return;

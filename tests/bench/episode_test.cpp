@@ -16,6 +16,7 @@
 #include "barn/core/protocol.hpp"
 #include "barn/core/world_file.hpp"
 #include "barn/core/world_geometry.hpp"
+#include "barn/sim/lidar.hpp"
 
 namespace barn::bench {
 namespace {
@@ -415,6 +416,38 @@ TEST(Episode, DifferentSeedGivesDifferentScanNoise) {
   // The noise is far too small to change what happens in an empty corridor.
   EXPECT_EQ(a.outcome, Outcome::Success);
   EXPECT_EQ(b.outcome, Outcome::Success);
+}
+
+TEST(Episode, AScanIsTheSameWhetherOrNotTheScansBeforeItWereRead) {
+  // Scans no controller reads are never cast, so each scan's noise must not depend on how
+  // many were cast before it. The same open-loop drive (so the same poses) stepped at the
+  // LiDAR's 50 Hz, which reads every scan, and at 10 Hz, which reads one in five: at every
+  // time both read, the ranges agree bit for bit, noise included.
+  const core::WorldSpec world = blockedWorld();
+  const sim::ObstacleField field = sim::ObstacleField::fromWorld(world);
+  const core::Twist drive{0.4, 0.3};
+  Episode every_scan(world, field, {}, 4, 0.02);
+  Episode every_fifth(world, field, {}, 4, 0.1);
+  const core::LidarConfig lidar;
+  sim::LidarCaster caster(lidar, field);
+  std::vector<double> clean;
+  int compared = 0;
+  int noisy_beams = 0;
+  while (!every_fifth.done() && compared < 20) {
+    const controllers::Observation& sparse = every_fifth.observation();
+    while (every_scan.observation().time < sparse.time - 1e-9) every_scan.step(drive);
+    const controllers::Observation& dense = every_scan.observation();
+    ASSERT_EQ(dense.time, sparse.time);
+    ASSERT_EQ(dense.scan->stamp, sparse.scan->stamp);
+    ASSERT_EQ(dense.scan->ranges, sparse.scan->ranges) << "at t = " << sparse.time;
+    caster.cast(lidar.sensorPose(every_fifth.tickPose()), clean);  // the scan's pose: same step
+    for (std::size_t i = 0; i < clean.size(); ++i)
+      if (std::isfinite(clean[i]) && sparse.scan->ranges[i] != clean[i]) ++noisy_beams;
+    ++compared;
+    every_fifth.step(drive);
+  }
+  EXPECT_EQ(compared, 20);
+  EXPECT_GT(noisy_beams, 1000);  // and they carry noise
 }
 
 TEST(Episode, TrajectoryIsOnlyRecordedWhenAsked) {

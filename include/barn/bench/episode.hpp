@@ -158,12 +158,14 @@ class Episode {
 
  private:
   void arriveAtTick();
+  void takeScan();         // the LiDAR fires: its pose and time are kept, the cast waits
+  void castPendingScan();  // casts the latest scan, once, when a controller is to read it
 
   core::Protocol protocol_;
   EpisodeConfig config_;
   sim::Simulator simulator_;
   sim::LidarCaster lidar_;
-  core::FastNoise scan_noise_;
+  std::uint64_t scan_seed_;  // scan k's noise stream is mixSeed(scan_seed_, k)
   core::FastNoise odometry_noise_;
   std::optional<DriftingOdometry> drifting_;
   core::Pose2 start_;
@@ -178,7 +180,14 @@ class Episode {
   long latency_steps_ = 0;
   std::deque<std::pair<long, core::Twist>> in_flight_;  // (step it takes effect, command)
   long step_ = 0;  // physics steps taken
-  core::LaserScan scan_;
+  struct PendingScan {
+    core::Pose2 robot_pose;
+    double stamp = 0.0;
+    long number = -1;  // 0 for the scan at the start
+    bool cast = false;
+  };
+  PendingScan pending_scan_;
+  core::LaserScan scan_;  // the latest scan cast
   controllers::Observation observation_;
   core::Pose2 tick_pose_;
   std::optional<long> timer_start_step_;
