@@ -368,18 +368,29 @@ void DwaController::chooseForwardArc(const core::Pose2& pose, const core::Twist&
                                      DwaTrajectory& best) {
   // The straight sample first, then vtheta_samples - 1 turn rates from the bottom of the
   // window (its top is never tried); ties keep the earlier one, so the winner is the lowest
-  // (cost, order). The footprint outlines are the expensive part: every arc is first scored
-  // without them, and they are walked from the most promising arc on, only for arcs that can
-  // still win.
+  // (cost, order). An arc's cost is its last point's path and goal distances plus the
+  // occupancy along it, so those two distances alone bound it from below: every arc is bounded
+  // so, and the centre cells and footprint outlines along it (the expensive part) are walked
+  // from the most promising arc on, only for arcs that can still win.
   arcs_.clear();
+  const nav::Costmap& map = nav_.localCostmap();
   int order = 0;
   double vx = w.min_x;
   for (int i = 0; i < config_.vx_samples; ++i, vx += w.dvx) {
     const auto consider = [&](double vth) {
-      ArcCandidate arc{vx, vth, order++, simulate(pose, velocity, vx, vth), {}, 0.0};
-      arc.centre = scoreCentres(arc.points);
-      if (!arc.centre.plausible) return;
-      arc.bound = trajectoryCost(arc.centre.path_cells, arc.centre.goal_cells, arc.centre.occupancy);
+      ArcCandidate arc{vx, vth, order++, simulate(pose, velocity, vx, vth), 0.0};
+      // A last point off the map, outside the window or without a way to the path or the
+      // local goal fails the centre walk too.
+      const core::Pose2 end = endPose(arc.points);
+      nav::CellIndex cell;
+      if (!map.toCell(end.x, end.y, cell)) return;
+      const int at = distances_.index(cell.x, cell.y);
+      if (at < 0) return;
+      const int path_cells = distances_.path.openAt(at);
+      if (path_cells >= obstacle_distance_) return;
+      const int goal_cells = distances_.goal.openAt(at);
+      if (goal_cells >= obstacle_distance_) return;
+      arc.bound = trajectoryCost(path_cells, goal_cells, 0);
       arcs_.push_back(arc);
     };
     consider(0.0);
@@ -396,11 +407,14 @@ void DwaController::chooseForwardArc(const core::Pose2& pose, const core::Twist&
     };
     // Sorted by (bound, order): once one cannot win, none after it can.
     if (cannotWin(arc.bound)) break;
-    const int occupancy = outlineOccupancy(arc.points, arc.centre.occupancy, [&](int occ) {
-      return cannotWin(trajectoryCost(arc.centre.path_cells, arc.centre.goal_cells, occ));
+    const CentreScore centre = scoreCentres(arc.points);
+    if (!centre.plausible) continue;
+    if (cannotWin(trajectoryCost(centre.path_cells, centre.goal_cells, centre.occupancy))) continue;
+    const int occupancy = outlineOccupancy(arc.points, centre.occupancy, [&](int occ) {
+      return cannotWin(trajectoryCost(centre.path_cells, centre.goal_cells, occ));
     });
     if (occupancy < 0) continue;
-    const double cost = trajectoryCost(arc.centre.path_cells, arc.centre.goal_cells, occupancy);
+    const double cost = trajectoryCost(centre.path_cells, centre.goal_cells, occupancy);
     if (cannotWin(cost)) continue;
     best = {arc.vx, arc.vtheta, cost, endPose(arc.points)};
     best_order = arc.order;

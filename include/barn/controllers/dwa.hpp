@@ -153,13 +153,12 @@ class DwaController : public Controller {
     int goal_cells = 0;
     int occupancy = 0;
   };
-  /// A forward arc waiting for its footprint check; `bound` is its cost if the outlines add
-  /// nothing (a lower bound on its cost: the cost only grows with the occupancy).
+  /// A forward arc waiting for its centre and footprint checks; `bound` is its cost at zero
+  /// occupancy (a lower bound on its cost: the cost only grows with the occupancy).
   struct ArcCandidate {
     double vx = 0.0, vtheta = 0.0;
     int order = 0;  // its place in upstream's sampling order (ties keep the earlier)
     RolloutPoints points;
-    CentreScore centre;
     double bound = 0.0;
   };
   /// One MapGrid wavefront over the scoring window (row-major with a one-cell border it never
