@@ -153,21 +153,48 @@ void GoalField::seedSearch() {
   // seeds whose offers it refuses).
   const std::size_t n = cost_.size();
   kept_.resize(n);
+  std::uint8_t* kept = kept_.data();
+  std::int64_t* g = g_.data();
+  std::int64_t* rhs = rhs_.data();
   for (std::size_t c = 0; c < n; ++c) {
-    const bool kept = old_g[c] < bound;
-    kept_[c] = kept;
-    g_[c] = rhs_[c] = kept ? old_g[c] : kInfinite;
+    const bool keep = old_g[c] < bound;
+    kept[c] = keep;
+    g[c] = rhs[c] = keep ? old_g[c] : kInfinite;
   }
+  // A seed is a kept cell with a neighbour that is not. Kept flags are 0 or 1 per byte, so
+  // eight cells at a time: a byte of `edge` is 1 where the cell is kept and some neighbour is
+  // not. Most words have none (inside the kept region or outside it).
   const std::ptrdiff_t w = width_;
+  const auto load = [](const std::uint8_t* p) {
+    std::uint64_t v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+  };
+  const int* h = h_.data();
   for (int y = 1; y < height_ - 1; ++y) {
     const std::ptrdiff_t row = y * w;
-    for (int x = 1; x < width_ - 1; ++x) {
+    for (int x = 1; x < width_ - 1; x += 8) {
       const std::ptrdiff_t c = row + x;
-      if (!kept_[static_cast<std::size_t>(c)]) continue;
-      const std::uint8_t* a = kept_.data() + c;
-      if ((a[-w - 1] & a[-w] & a[-w + 1] & a[-1] & a[1] & a[w - 1] & a[w] & a[w + 1]) != 0) continue;
-      g_[static_cast<std::size_t>(c)] = kInfinite;
-      seeds_.push_back({old_g[c] + h_[static_cast<std::size_t>(c)], static_cast<int>(c)});
+      const int cells = std::min(8, width_ - 1 - x);
+      std::uint64_t edge;
+      if (cells == 8) {
+        const std::uint8_t* a = kept + c;
+        const std::uint64_t all_around = load(a - w - 1) & load(a - w) & load(a - w + 1) & load(a - 1) & load(a + 1) &
+                                         load(a + w - 1) & load(a + w) & load(a + w + 1);
+        edge = load(a) & ~all_around;
+        if (edge == 0) continue;
+      } else {
+        edge = ~std::uint64_t{0};  // the row's last few cells, one by one below
+      }
+      for (int k = 0; k < cells; ++k) {
+        if (((edge >> (8 * k)) & 1) == 0) continue;
+        const std::ptrdiff_t i = c + k;
+        if (!kept[i]) continue;
+        const std::uint8_t* a = kept + i;
+        if ((a[-w - 1] & a[-w] & a[-w + 1] & a[-1] & a[1] & a[w - 1] & a[w] & a[w + 1]) != 0) continue;
+        g[i] = kInfinite;
+        seeds_.push_back({old_g[i] + h[i], static_cast<int>(i)});
+      }
     }
   }
   std::sort(seeds_.begin(), seeds_.end(), [](const Seed& a, const Seed& b) { return a.key < b.key || (a.key == b.key && a.cell < b.cell); });
