@@ -15,6 +15,28 @@ constexpr std::int64_t kInfinite = std::numeric_limits<std::int64_t>::max();
 constexpr std::size_t kMaxRepairedCells = 32;
 // The fixed direction order: straight +x, -x, +y, -y, then the diagonals.
 constexpr int kSteps[8][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {1, -1}, {-1, 1}, {-1, -1}};
+
+/// The flat index steps of the four straight directions.
+struct StraightSteps {
+  int east, west, north, south;
+};
+
+/// Calls offer(p, step cost) for every neighbour p that reaches cell i in one move, by
+/// entering it: the four straight ones at `straight`, and diagonally at `diagonal` only past two
+/// open corners, which are i's straight neighbours.
+template <class Passable, class Offer>
+inline __attribute__((always_inline)) void offerToEnterers(int i, StraightSteps d, int straight, int diagonal,
+                                                           Passable passable, Offer offer) {
+  offer(i + d.east, straight);
+  offer(i + d.west, straight);
+  offer(i + d.north, straight);
+  offer(i + d.south, straight);
+  const bool e = passable(i + d.east), w = passable(i + d.west), n = passable(i + d.north), s = passable(i + d.south);
+  if (e && n) offer(i + d.east + d.north, diagonal);
+  if (e && s) offer(i + d.east + d.south, diagonal);
+  if (w && n) offer(i + d.west + d.north, diagonal);
+  if (w && s) offer(i + d.west + d.south, diagonal);
+}
 }  // namespace
 
 GoalField::GoalField(double neutral_cost, double cost_factor, bool allow_unknown) {
@@ -251,7 +273,7 @@ void GoalField::search() {
   std::int64_t key = seeds_.front().key;  // the key of the bucket being scanned
   int slot = 0;
   std::int64_t settled_to = kInfinite;     // stays so if the search runs out of cells
-  const int east = offset_[0], west = offset_[1], north = offset_[2], south = offset_[3];
+  const StraightSteps steps{offset_[0], offset_[1], offset_[2], offset_[3]};
   const int interior_x1 = w - 1, interior_y1 = height_ - 1;
   // Stop once every cell with f up to the start's g is settled (h is 0 at the start): then
   // the start's g is final, and so is every cell the descent compares.
@@ -291,10 +313,8 @@ void GoalField::search() {
       if (g_here + h_here != key) continue;  // a stale entry
       g[i] = g_here;
       ++expanded;
-      // Backward: a neighbour p reaches this cell by entering it; diagonally only past two
-      // open corners, which are this cell's straight neighbours.
+      // Backward: a neighbour p reaches this cell by entering it.
       const std::uint8_t c = cost[i];
-      const int straight = straight_cost[c], diagonal = diagonal_cost[c];
       // Inlined at each of the eight uses: most offers fail the first test, so the call
       // would cost more than the work.
       const auto offer = [&](int p, int step) __attribute__((always_inline)) {
@@ -314,15 +334,7 @@ void GoalField::search() {
         occupied[target / 64] |= std::uint64_t{1} << (target % 64);
         ++pending;
       };
-      offer(i + east, straight);
-      offer(i + west, straight);
-      offer(i + north, straight);
-      offer(i + south, straight);
-      const bool e = passable(i + east), wo = passable(i + west), n = passable(i + north), so = passable(i + south);
-      if (e && n) offer(i + east + north, diagonal);
-      if (e && so) offer(i + east + south, diagonal);
-      if (wo && n) offer(i + west + north, diagonal);
-      if (wo && so) offer(i + west + south, diagonal);
+      offerToEnterers(i, steps, straight_cost[c], diagonal_cost[c], passable, offer);
     }
     bucket.clear();
     occupied[slot / 64] &= ~(std::uint64_t{1} << (slot % 64));
@@ -335,20 +347,10 @@ void GoalField::search() {
     if (g[i] != kInfinite) continue;
     g[i] = rhs[i];
     const std::uint8_t c = cost[i];
-    const int straight = straight_cost[c], diagonal = diagonal_cost[c];
-    const auto offer = [&](int p, int step) {
+    offerToEnterers(i, steps, straight_cost[c], diagonal_cost[c], passable, [&](int p, int step) {
       const int px = p % w, py = p / w;
       if (px > 0 && py > 0 && px < interior_x1 && py < interior_y1) rhs[p] = std::min(rhs[p], g[i] + step);
-    };
-    offer(i + east, straight);
-    offer(i + west, straight);
-    offer(i + north, straight);
-    offer(i + south, straight);
-    const bool e = passable(i + east), wo = passable(i + west), n = passable(i + north), so = passable(i + south);
-    if (e && n) offer(i + east + north, diagonal);
-    if (e && so) offer(i + east + south, diagonal);
-    if (wo && n) offer(i + west + north, diagonal);
-    if (wo && so) offer(i + west + south, diagonal);
+    });
   }
   last_expanded_ = expanded;
   takeSnapshot(settled_to);

@@ -121,16 +121,21 @@ std::vector<CellIndex> bruteForceDescent(const GlobalPlanner& planner, const Cos
   return ::testing::AssertionSuccess();
 }
 
-// A 1 m-cell map of random obstacles, inflated so costs vary from cell to cell.
-Costmap randomInflatedMap(core::Rng& rng, int width, int height, double obstacle_fraction) {
+// A map of 1 m cells whose inflation (scaling 1) makes costs vary from cell to cell.
+CostmapConfig inflatedMapConfig(int width, int height, double inscribed_radius, double inflation_radius) {
   CostmapConfig c;
   c.resolution = 1.0;
   c.width = width;
   c.height = height;
-  c.inscribed_radius = 0.0;
-  c.inflation_radius = 2.5;
+  c.inscribed_radius = inscribed_radius;
+  c.inflation_radius = inflation_radius;
   c.cost_scaling_factor = 1.0;
-  Costmap map(c);
+  return c;
+}
+
+// Such a map with random obstacles.
+Costmap randomInflatedMap(core::Rng& rng, int width, int height, double obstacle_fraction) {
+  Costmap map(inflatedMapConfig(width, height, 0.0, 2.5));
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x)
       if (rng.uniform01() < obstacle_fraction) map.markObstacle({x + 0.5, y + 0.5});
@@ -232,14 +237,7 @@ TEST(GlobalPlanner, RepairedFieldGivesTheExhaustivePathAfterMapChangesAndMoves) 
   // the path and cost an exhaustive search gives on the map as it is then.
   core::Rng rng(5);
   for (int trial = 0; trial < 12; ++trial) {
-    CostmapConfig c;
-    c.resolution = 1.0;
-    c.width = 14;
-    c.height = 10;
-    c.inscribed_radius = trial % 2 == 0 ? 0.0 : 1.0;
-    c.inflation_radius = 2.5;
-    c.cost_scaling_factor = 1.0;
-    Costmap map(c);
+    Costmap map(inflatedMapConfig(14, 10, trial % 2 == 0 ? 0.0 : 1.0, 2.5));
     GlobalPlanner planner({});
     const CellIndex goal{13, static_cast<int>(rng.uniform01() * 10)};
     CellIndex start{0, static_cast<int>(rng.uniform01() * 10)};
@@ -271,14 +269,7 @@ TEST(GlobalPlanner, NewSearchKeepsTheFieldBeyondTheChangesAndGivesTheExhaustiveP
   core::Rng rng(11);
   std::size_t kept_expanded = 0, new_expanded = 0;
   for (int trial = 0; trial < 8; ++trial) {
-    CostmapConfig c;
-    c.resolution = 1.0;
-    c.width = 24;
-    c.height = 40;
-    c.inscribed_radius = trial % 2 == 0 ? 0.0 : 1.0;
-    c.inflation_radius = 3.5;
-    c.cost_scaling_factor = 1.0;
-    Costmap map(c);
+    Costmap map(inflatedMapConfig(24, 40, trial % 2 == 0 ? 0.0 : 1.0, 3.5));
     GlobalPlanner planner({});
     const CellIndex goal{static_cast<int>(rng.uniform01() * 24), 39};
     CellIndex start{static_cast<int>(rng.uniform01() * 24), 0};
