@@ -133,6 +133,19 @@ CostmapConfig inflatedMapConfig(int width, int height, double inscribed_radius, 
   return c;
 }
 
+// Marks an obstacle at p with probability `mark`, else clears the 3 x 3 m square around it.
+void markOrClearAround(Costmap& map, core::Rng& rng, const Eigen::Vector2d& p, double mark) {
+  if (rng.uniform01() < mark) map.markObstacle(p);
+  else map.clearPolygon({p + Eigen::Vector2d(-1.5, -1.5), p + Eigen::Vector2d(1.5, -1.5), p + Eigen::Vector2d(1.5, 1.5),
+                         p + Eigen::Vector2d(-1.5, 1.5)});
+}
+
+// The exhaustive descent, or none when the goal cannot be entered.
+std::vector<CellIndex> expectedPath(const GlobalPlanner& planner, const Costmap& map, CellIndex start, CellIndex goal) {
+  if (planner.stepCost(map.cost(goal.x, goal.y), false) < 0) return {};
+  return bruteForceDescent(planner, map, start, goal);
+}
+
 // Such a map with random obstacles.
 Costmap randomInflatedMap(core::Rng& rng, int width, int height, double obstacle_fraction) {
   Costmap map(inflatedMapConfig(width, height, 0.0, 2.5));
@@ -246,13 +259,10 @@ TEST(GlobalPlanner, RepairedFieldGivesTheExhaustivePathAfterMapChangesAndMoves) 
       for (int k = 0; k < changes; ++k) {
         const Eigen::Vector2d p(rng.uniform01() * 14, rng.uniform01() * 10);
         if ((p - map.cellCentre(goal)).norm() < 1.0) continue;
-        if (rng.uniform01() < 0.7) map.markObstacle(p);
-        else map.clearPolygon({p + Eigen::Vector2d(-1.5, -1.5), p + Eigen::Vector2d(1.5, -1.5),
-                               p + Eigen::Vector2d(1.5, 1.5), p + Eigen::Vector2d(-1.5, 1.5)});
+        markOrClearAround(map, rng, p, 0.7);
       }
       const Plan plan = planner.plan(map, map.cellCentre(start), map.cellCentre(goal));
-      const std::vector<CellIndex> expected =
-          planner.stepCost(map.cost(goal.x, goal.y), false) < 0 ? std::vector<CellIndex>{} : bruteForceDescent(planner, map, start, goal);
+      const std::vector<CellIndex> expected = expectedPath(planner, map, start, goal);
       ASSERT_TRUE(isDescent(plan, expected, map)) << "trial " << trial << " step " << step;
       // Next start: a step or two along the path, or somewhere else.
       if (expected.size() > 3 && rng.uniform01() < 0.7) start = expected[1 + static_cast<std::size_t>(rng.uniform01() * 2)];
@@ -281,13 +291,10 @@ TEST(GlobalPlanner, NewSearchKeepsTheFieldBeyondTheChangesAndGivesTheExhaustiveP
         const double reach = anywhere ? 20.0 : 6.0;
         const Eigen::Vector2d p = centre + reach * Eigen::Vector2d(2 * rng.uniform01() - 1, 2 * rng.uniform01() - 1);
         if (p.x() < 0 || p.y() < 0 || p.x() >= 24 || p.y() >= 40 || (p - map.cellCentre(goal)).norm() < 1.5) continue;
-        if (rng.uniform01() < 0.75) map.markObstacle(p);
-        else map.clearPolygon({p + Eigen::Vector2d(-1.5, -1.5), p + Eigen::Vector2d(1.5, -1.5),
-                               p + Eigen::Vector2d(1.5, 1.5), p + Eigen::Vector2d(-1.5, 1.5)});
+        markOrClearAround(map, rng, p, 0.75);
       }
       const Plan plan = planner.plan(map, map.cellCentre(start), map.cellCentre(goal));
-      const std::vector<CellIndex> expected =
-          planner.stepCost(map.cost(goal.x, goal.y), false) < 0 ? std::vector<CellIndex>{} : bruteForceDescent(planner, map, start, goal);
+      const std::vector<CellIndex> expected = expectedPath(planner, map, start, goal);
       ASSERT_TRUE(isDescent(plan, expected, map)) << "trial " << trial << " step " << step;
       if (plan.found) {
         ASSERT_EQ(plan.cost, bruteForceCost(planner, map, start, goal)) << "trial " << trial << " step " << step;
