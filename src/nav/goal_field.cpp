@@ -192,28 +192,26 @@ void GoalField::seedSearch() {
     std::memcpy(&v, p, sizeof v);
     return v;
   };
+  const auto isSeed = [&](std::ptrdiff_t i) {  // the same test for one cell
+    const std::uint8_t* a = kept + i;
+    return a[0] && (a[-w - 1] & a[-w] & a[-w + 1] & a[-1] & a[1] & a[w - 1] & a[w] & a[w + 1]) == 0;
+  };
   const int* h = h_.data();
   for (int y = 1; y < height_ - 1; ++y) {
     const std::ptrdiff_t row = y * w;
     for (int x = 1; x < width_ - 1; x += 8) {
       const std::ptrdiff_t c = row + x;
       const int cells = std::min(8, width_ - 1 - x);
-      std::uint64_t edge;
+      std::uint64_t edge = 0;
       if (cells == 8) {
         const std::uint8_t* a = kept + c;
-        const std::uint64_t all_around = load(a - w - 1) & load(a - w) & load(a - w + 1) & load(a - 1) & load(a + 1) &
-                                         load(a + w - 1) & load(a + w) & load(a + w + 1);
-        edge = load(a) & ~all_around;
-        if (edge == 0) continue;
-      } else {
-        edge = ~std::uint64_t{0};  // the row's last few cells, one by one below
+        edge = load(a) & ~(load(a - w - 1) & load(a - w) & load(a - w + 1) & load(a - 1) & load(a + 1) &
+                           load(a + w - 1) & load(a + w) & load(a + w + 1));
+      } else {  // the row's last few cells
+        for (int k = 0; k < cells; ++k) edge |= static_cast<std::uint64_t>(isSeed(c + k)) << (8 * k);
       }
-      for (int k = 0; k < cells; ++k) {
-        if (((edge >> (8 * k)) & 1) == 0) continue;
-        const std::ptrdiff_t i = c + k;
-        if (!kept[i]) continue;
-        const std::uint8_t* a = kept + i;
-        if ((a[-w - 1] & a[-w] & a[-w + 1] & a[-1] & a[1] & a[w - 1] & a[w] & a[w + 1]) != 0) continue;
+      for (; edge != 0; edge &= edge - 1) {
+        const std::ptrdiff_t i = c + __builtin_ctzll(edge) / 8;
         g[i] = kInfinite;
         seeds_.push_back({old_g[i] + h[i], static_cast<int>(i)});
       }
