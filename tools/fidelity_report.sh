@@ -40,15 +40,22 @@ ids=$(awk '$1 % 6 == 0 {print $1}' "$gazebo_out" | sort -n | uniq | while read -
 echo "fidelity_report: test worlds $ids -> $work"
 
 build/barn import-out "$gazebo_out" --world-dir "$worlds" --out "$work/gazebo_dwa" --controller-label gazebo:dwa > /dev/null
-run() {  # controller trials
+run() {  # controller trials [record name, sim config arguments]
+  local out=${3:-$1}
   build/barn run --controller "$1" --world-dir "$worlds" --worlds "$ids" --trials "$2" --jobs "$jobs" \
-    "${sim[@]}" --out "$work/$1" > "$work/$1.log"
-  echo "fidelity_report: $1 done"
+    "${@:4}" --out "$work/$out" > "$work/$out.log"
+  echo "fidelity_report: $out done"
 }
-run dwa "$dwa_trials"
+run dwa "$dwa_trials" dwa "${sim[@]}"
 build/barn compare "$work/gazebo_dwa" "$work/dwa" --json > "$work/compare_dwa.json" 2> /dev/null
 build/barn compare "$work/gazebo_dwa" "$work/dwa" -o docs/fidelity_dwa.png > "$work/compare_dwa.txt"
-for c in inventec_fi inventec_mpc inventec_fi_paper eband lflh; do run "$c" "$inventec_trials"; done
+# The same at the 0.5 m success radius of the run.py draft the Gazebo file may come from
+# (docs/fidelity.md, "The success radius of the Gazebo run").
+radius_sim="$work/sim_success_radius_0.5.yaml"
+{ grep -v '^success_radius:' "${SIM_CONFIG:-configs/sim/barn.yaml}"; echo "success_radius: 0.5"; } > "$radius_sim"
+run dwa "$dwa_trials" dwa_radius_0.5 --sim-config "$radius_sim"
+build/barn compare "$work/gazebo_dwa" "$work/dwa_radius_0.5" --json > "$work/compare_dwa_radius_0.5.json" 2> /dev/null
+for c in inventec_fi inventec_mpc inventec_fi_paper eband lflh; do run "$c" "$inventec_trials" "$c" "${sim[@]}"; done
 
 python3 - "$work" "$gazebo_out" "$dwa_trials" "$inventec_trials" <<'PY'
 import csv, json, os, re, subprocess, sys
@@ -77,9 +84,16 @@ lines = [
     "|---|---|---|---|---|---|---|",
     row("Gazebo DWA (official harness results)", gz),
     row(f"barnbench dwa x {dwa_trials}", dwa),
+    row(f"barnbench dwa x {dwa_trials}, success radius 0.5 m", rates("dwa_radius_0.5")),
 ]
 for c in ("inventec_fi", "inventec_mpc", "inventec_fi_paper", "eband", "lflh"):
     lines.append(row(f"barnbench {c} x {inventec_trials}", rates(c)))
+def radius_line(c):
+    d, a = c["score_difference"], c["agreement"]
+    return (f"- at a 0.5 m success radius: score {d['estimate']:+.4f} [{d['low']:+.4f}, {d['high']:+.4f}], "
+            f"majority outcome agrees on {a['both_mostly_succeed'] + a['both_mostly_fail']} worlds, "
+            f"Spearman of mean successful time {c['spearman_success_time']:.2f}")
+
 d, s = cmp["score_difference"], cmp["success_rate_difference"]
 a = cmp["agreement"]
 lines += [
@@ -92,6 +106,7 @@ lines += [
     f"- Spearman rank correlation of per-world mean successful time {cmp['spearman_success_time']:.2f} "
     f"({cmp['spearman_success_time_worlds']} worlds), of per-world success rate {cmp['spearman_success_rate']:.2f}",
     "- per world: `docs/fidelity_dwa.png` (Gazebo vs barnbench mean score per world)",
+    radius_line(json.load(open(os.path.join(work, "compare_dwa_radius_0.5.json")))),
     "",
     "Gazebo references without per-episode files (team and paper reports, 50 official test worlds): "
     "Inventec FI 0.2445 (success 0.99, collision 0.006, timeout 0.004), Inventec MPC 0.2419, "

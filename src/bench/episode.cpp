@@ -43,8 +43,16 @@ void countStateEntry(std::vector<std::pair<std::string, int>>& entries, std::str
 
 }  // namespace
 
+core::Protocol episodeProtocol(const EpisodeConfig& config) {
+  core::Protocol protocol = core::protocolPreset(config.protocol);
+  protocol.success_radius = config.success_radius;
+  return protocol;
+}
+
 void validate(const EpisodeConfig& config, core::Errors& errors) {
   // protocol needs no check: reading the config resolved its name (or named the field).
+  // Past 5 m the goal disc would reach back into the obstacle field.
+  errors.check(config.success_radius > 0.0 && config.success_radius <= 5.0, "success_radius", "must be in (0, 5] m");
   sim::validate(config.physics, errors);
   core::validate(config.robot, errors);
   core::validate(config.lidar, errors);
@@ -98,7 +106,7 @@ void checkControllerFits(const controllers::Controller& controller, const Episod
 
 Episode::Episode(const core::WorldSpec& world, const sim::ObstacleField& field, const EpisodeConfig& config,
                  std::uint64_t seed, double controller_period)
-    : protocol_(core::protocolPreset(config.protocol)),
+    : protocol_(episodeProtocol(config)),
       config_(config),
       simulator_(field, config.robot, config.physics, core::Pose2{protocol_.start_x, protocol_.start_y, protocol_.start_yaw},
                  core::mixSeed(seed, 5)),

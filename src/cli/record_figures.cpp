@@ -115,7 +115,7 @@ void RecordReplay::renderWorld(int world_id, const std::vector<int>& trials, viz
   const int id = world_id;
   const auto it = std::find_if(worlds_.begin(), worlds_.end(), [id](const auto& w) { return w.id == id; });
   if (it == worlds_.end()) throw core::InputError("--world " + std::to_string(id) + ": not a world of the record");
-  const core::Protocol protocol = core::protocolPreset(episode_.protocol);
+  const core::Protocol protocol = bench::episodeProtocol(episode_);
   const sim::ObstacleField field = sim::ObstacleField::fromWorld(*it);
   std::vector<viz::TrajectoryOverlay> overlays;
   for (int t : trials) {

@@ -184,6 +184,37 @@ TEST(Episode, DrivingStraightAtOneMeterPerSecondSucceedsAtTheExpectedTime) {
   EXPECT_NEAR(r.path_length, 9.05, 0.1);
 }
 
+TEST(Episode, AConfiguredSuccessRadiusMovesTheFinishLine) {
+  // At 1 m/s a 0.5 m radius is reached 0.5 m later than the 1 m one: 0.5 s, five checks.
+  ConstantController full({1.0, 0.0});
+  const EpisodeResult at_one_metre = run(emptyWorld(), full);
+  EpisodeConfig config;
+  config.success_radius = 0.5;
+  ConstantController half({1.0, 0.0});
+  const EpisodeResult at_half_metre = run(emptyWorld(), half, config);
+  ASSERT_EQ(at_half_metre.outcome, Outcome::Success) << at_half_metre.error;
+  EXPECT_NEAR(at_half_metre.actual_time - at_one_metre.actual_time, 0.5, 0.1 + 1e-9);
+  EXPECT_NEAR(at_half_metre.path_length - at_one_metre.path_length, 0.5, 0.1);
+  // The optimal time is the reference path's, whatever the radius.
+  EXPECT_DOUBLE_EQ(at_half_metre.optimal_time, at_one_metre.optimal_time);
+}
+
+TEST(EpisodeConfig, ASuccessRadiusOutsideZeroToFiveMetresIsAnErrorNamingTheField) {
+  for (const char* text : {"success_radius: 0\n", "success_radius: -1\n", "success_radius: .nan\n", "success_radius: 6\n"}) {
+    try {
+      validatedEpisodeConfig(core::ConfigNode::parseString(text, "sim.yaml"), "sim.yaml");
+      FAIL() << text << " was accepted";
+    } catch (const core::InputError& e) {
+      EXPECT_THAT(std::string(e.what()), HasSubstr("sim.yaml"));
+      EXPECT_THAT(std::string(e.what()), HasSubstr("success_radius"));
+    }
+  }
+  const EpisodeConfig config =
+      validatedEpisodeConfig(core::ConfigNode::parseString("success_radius: 0.5\n", "sim.yaml"), "sim.yaml");
+  EXPECT_EQ(episodeProtocol(config).success_radius, 0.5);
+  EXPECT_EQ(episodeProtocol(config).start_x, core::protocolPreset("barn2023").start_x);
+}
+
 TEST(Episode, SlowRobotTimesOutOneHundredSecondsAfterTheTimerStarts) {
   ConstantController controller({0.05, 0.0});
   const EpisodeResult r = run(emptyWorld(), controller);
