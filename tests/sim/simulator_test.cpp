@@ -46,10 +46,11 @@ TEST(Simulator, YawRateFollowsTheControllerAccelerationLimit) {
   EXPECT_NEAR(sim.yawRate(), 4.0, 1e-9);
 }
 
-TEST(Simulator, WithoutTurnSlipATurnInPlaceStaysOnTheSpot) {
+TEST(Simulator, WithoutTurnSlipOrPivotATurnInPlaceStaysOnTheSpot) {
   const ObstacleField empty;
   core::RobotConfig robot;
   robot.turn_slip_speed = 0.0;
+  robot.icr_offset = 0.0;
   Simulator sim(empty, robot, PhysicsConfig{}, {1.0, 2.0, 0.3}, 7);
   drive(sim, {0.0, 1.5}, 5.0);
   EXPECT_NEAR(sim.pose().x, 1.0, 1e-6);

@@ -56,8 +56,11 @@ struct RobotConfig {
   // Skid-steer pivot: where along the body the instantaneous centre of rotation lies, ahead of
   // the centre. A skid-steer base turns about the axle that carries more weight (its wheels
   // grip sideways, the other axle's slide), so the centre slides sideways at -icr_offset x yaw
-  // rate, which wheel odometry cannot see. 0 = turns about the centre.
-  double icr_offset = 0.0;                   // [m]
+  // rate, which wheel odometry cannot see. 0 = turns about the centre. The default is the
+  // rigid-contact limit for Gazebo's Jackal, whose centre of mass sits 1.2 cm ahead of the
+  // centre: the front axle (0.131 m ahead). It gives DWA Gazebo-like collisions on dense
+  // worlds (docs/fidelity.md); the learned policies are trained on this plant.
+  double icr_offset = 0.131;                 // [m]
 
   template <class V> void visit(V& v) {
     v("chassis_length", chassis_length); v("chassis_width", chassis_width);
