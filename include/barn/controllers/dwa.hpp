@@ -52,8 +52,9 @@ struct DwaConfig {
   double gdist_scale = 1.0;
   double occdist_scale = 0.1;         // never scaled by the resolution (upstream since 2018)
   // meter_scoring: the path and goal distances count in metres (x resolution) rather than
-  // cells. Upstream decides this from a member it never assigns (see docs/fidelity.md).
-  bool meter_scoring = false;
+  // cells. Upstream decides this from a member it never assigns; BARN's config asks for it,
+  // and per metre matches Gazebo's per-world times (docs/fidelity.md).
+  bool meter_scoring = true;
   double scoring_window = 3.0;        // [m] half-size of the window the path and goal distances
                                       // are computed in (ROS: the whole 10 x 10 m local map)
   double escape_vel = -0.5;           // [m/s]
