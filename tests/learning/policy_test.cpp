@@ -3,6 +3,8 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <optional>
+#include <string>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -20,15 +22,27 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-// A folder of its own per test and process: ctest -j runs the tests of this file side by side.
-fs::path tempDir(const std::string& name) {
-  const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
-  const fs::path dir = fs::temp_directory_path() /
-                       ("barn_policy_test_" + name + "_" + test + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+// A folder of its own per test and process (ctest -j runs the tests of this file side by
+// side), removed with everything in it when the test ends.
+class ScratchDir {
+ public:
+  explicit ScratchDir(const std::string& name) {
+    const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    path_ = fs::temp_directory_path() / ("barn_policy_test_" + name + "_" + test + "_" + std::to_string(::getpid()));
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ScratchDir(const ScratchDir&) = delete;
+  ScratchDir& operator=(const ScratchDir&) = delete;
+  ~ScratchDir() {
+    std::error_code ignored;
+    fs::remove_all(path_, ignored);
+  }
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
 
 // A 722-8-8-2 network with random weights.
 MlpParameters<float> smallWeights() {
@@ -59,7 +73,8 @@ core::LaserScan scanOf(const std::vector<double>& ranges) {
 }
 
 TEST(PolicyFile, RoundTripKeepsEveryWeightAndHeaderField) {
-  const fs::path path = tempDir("roundtrip") / "small.policy";
+  const ScratchDir scratch("roundtrip");
+  const fs::path path = scratch.path() / "small.policy";
   writePolicyFile(path, smallInfo(), smallWeights());
   const Policy policy = Policy::load(path);
   EXPECT_EQ(policy.weights().w1, smallWeights().w1);
@@ -78,7 +93,8 @@ TEST(PolicyFile, RoundTripKeepsEveryWeightAndHeaderField) {
 class PolicyLoadErrors : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = tempDir("errors");
+    scratch_.emplace("errors");
+    dir_ = scratch_->path();
     writePolicyFile(dir_ / "good.policy", smallInfo(), smallWeights());
     good_ = core::readTextFile(dir_ / "good.policy");
   }
@@ -97,6 +113,7 @@ class PolicyLoadErrors : public ::testing::Test {
     text.replace(text.find(from), from.size(), to);
     return text;
   }
+  std::optional<ScratchDir> scratch_;
   fs::path dir_;
   std::string good_;
 };
@@ -156,7 +173,8 @@ TEST_F(PolicyLoadErrors, VersionOneLoadsAsRelu) {
 }
 
 TEST(PolicyFile, VersionTwoRoundTripKeepsTheLeakyReluAndItsSlope) {
-  const fs::path path = tempDir("leaky") / "leaky.policy";
+  const ScratchDir scratch("leaky");
+  const fs::path path = scratch.path() / "leaky.policy";
   PolicyInfo info = smallInfo();
   info.activation = Activation::LeakyRelu;
   info.slope = 0.01;
@@ -220,7 +238,8 @@ std::string loadError(const fs::path& path) {
 }
 
 TEST(PolicyLoad, AFolderIsRefusedNamingIt) {
-  const fs::path dir = tempDir("folder");
+  const ScratchDir scratch("folder");
+  const fs::path& dir = scratch.path();
   EXPECT_THAT(loadError(dir), HasSubstr(dir.string() + ": is a folder, expected a file"));
 }
 
@@ -229,7 +248,8 @@ TEST(PolicyLoad, ADeviceIsRefusedInsteadOfReadForever) {
 }
 
 TEST(PolicyLoad, AFifoIsRefusedInsteadOfBlocking) {
-  const fs::path fifo = tempDir("fifo") / "weights.policy";
+  const ScratchDir scratch("fifo");
+  const fs::path fifo = scratch.path() / "weights.policy";
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   EXPECT_THAT(loadError(fifo), HasSubstr(fifo.string() + ": not a regular file"));
 }
@@ -268,7 +288,8 @@ TEST(Policy, ScanWithTheWrongBeamCountIsAnInputError) {
 // CI never retrains: it loads the committed weights and checks they belong to the configs.
 TEST(ShippedPolicies, WriteBackByteForByte) {
   // Loading and writing a policy gives its file again, header and weights.
-  const fs::path dir = tempDir("shipped");
+  const ScratchDir scratch("shipped");
+  const fs::path& dir = scratch.path();
   for (const std::string name : {"lflh_1ms", "lflh_2ms"}) {
     const fs::path file = fs::path(BARN_SOURCE_DIR) / "configs" / "policies" / (name + ".policy");
     const Policy policy = Policy::load(file);
@@ -282,7 +303,8 @@ TEST(PolicyFile, TheFuzzSeedsLoadAndTheVersionTwoOneWritesBackByteForByte) {
   EXPECT_EQ(Policy::load(seeds / "tiny.policy").info().activation, Activation::Relu);  // version 1
   const Policy leaky = Policy::load(seeds / "tiny_v2_leaky.policy");
   EXPECT_EQ(leaky.info().activation, Activation::LeakyRelu);
-  const fs::path back = tempDir("seeds") / "back.policy";
+  const ScratchDir scratch("seeds");
+  const fs::path back = scratch.path() / "back.policy";
   writePolicyFile(back, leaky.info(), leaky.weights());
   EXPECT_EQ(core::readTextFile(back), core::readTextFile(seeds / "tiny_v2_leaky.policy"));
 }
