@@ -17,6 +17,7 @@
 #include "barn/bench/results_io.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/core/world_file.hpp"
+#include "tests/scratch_dir.hpp"
 
 namespace barn::bench {
 namespace {
@@ -38,22 +39,6 @@ void writeFile(const fs::path& path, const std::string& content) {
   std::ofstream(path, std::ios::binary | std::ios::trunc) << content;
 }
 
-class TempDir {
- public:
-  TempDir() {
-    std::random_device device;
-    path_ = fs::temp_directory_path() / ("barn_run_record_test_" + std::to_string(device()) + "_" + std::to_string(device()));
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
 
 // Multi-line blocks as barn run writes them: nested maps, a list, a comment-looking string,
 // a blank line inside the block and trailing spaces on a line.
@@ -130,7 +115,7 @@ void expectSameManifest(const RunManifest& a, const RunManifest& b) {
 }
 
 RunManifest roundTrip(const RunManifest& m) {
-  TempDir dir;
+  const test::ScratchDir dir("barn_run_record_test");
   const fs::path file = dir.path() / kManifestFile;
   writeFile(file, formatManifest(m, dir.path()));
   return readManifest(file);
@@ -162,7 +147,7 @@ TEST(Manifest, PreservesMultiLineConfigBlocksExactly) {
 }
 
 TEST(Manifest, FormatIsStableAcrossARoundTrip) {
-  TempDir dir;
+  const test::ScratchDir dir("barn_run_record_test");
   const std::string text = formatManifest(fullManifest(), dir.path());
   EXPECT_EQ(formatManifest(roundTrip(fullManifest()), dir.path()), text);
 }
@@ -170,7 +155,7 @@ TEST(Manifest, FormatIsStableAcrossARoundTrip) {
 TEST(Manifest, PathsAreWrittenRelativeToTheRecordAndReadBackWhereverItIs) {
   // A record beside its worlds and policy: its manifest names them relative to itself, so the
   // tree copied elsewhere reads back the copies' paths.
-  TempDir tree;
+  const test::ScratchDir tree("barn_run_record_test");
   const fs::path record = tree.path() / "results" / "run";
   fs::create_directories(record);
   RunManifest m = fullManifest();
@@ -184,7 +169,7 @@ TEST(Manifest, PathsAreWrittenRelativeToTheRecordAndReadBackWhereverItIs) {
   EXPECT_THAT(text, HasSubstr("policy: ../../configs/a.policy"));
   expectSameManifest(readManifest(record / kManifestFile), m);
 
-  TempDir elsewhere;
+  const test::ScratchDir elsewhere("barn_run_record_test");
   fs::copy(tree.path(), elsewhere.path(), fs::copy_options::recursive);
   const RunManifest moved = readManifest(elsewhere.path() / "results" / "run" / kManifestFile);
   EXPECT_EQ(moved.worlds_folder, (elsewhere.path() / "worlds").string());
@@ -243,7 +228,7 @@ wall_time_s: 0
 )";
 
 TEST(Manifest, ImportedRecordHasNoSeedOrControllerConfigAndWritesBackByteForByte) {
-  TempDir dir;
+  const test::ScratchDir dir("barn_run_record_test");
   const fs::path file = dir.path() / kManifestFile;
   writeFile(file, kImportedManifest);
   const RunManifest m = readManifest(file);
@@ -258,14 +243,14 @@ TEST(Manifest, ImportedRecordHasNoSeedOrControllerConfigAndWritesBackByteForByte
 }
 
 TEST(Manifest, ARunRecordHasNoSourceLines) {
-  TempDir dir;
+  const test::ScratchDir dir("barn_run_record_test");
   const std::string text = formatManifest(fullManifest(), dir.path());
   EXPECT_THAT(text, HasSubstr("\nseed: 18446744073709551615\n"));
   EXPECT_EQ(text.find("source"), std::string::npos) << text;
 }
 
 TEST(Manifest, AWorldIdThatIsNotAWholeNumberIsAnErrorNamingTheField) {
-  TempDir dir;
+  const test::ScratchDir dir("barn_run_record_test");
   const fs::path file = dir.path() / kManifestFile;
   for (const std::string ids : {"[0, 1e300]", "[0, -1]", "[2.5]", "[a]", "[]"}) {
     std::string text = formatManifest(fullManifest(), dir.path());
@@ -282,7 +267,7 @@ TEST(Manifest, AWorldIdThatIsNotAWholeNumberIsAnErrorNamingTheField) {
 }
 
 TEST(Manifest, ANegativeEpisodeCountIsAnErrorNamingTheField) {
-  TempDir dir;
+  const test::ScratchDir dir("barn_run_record_test");
   const fs::path file = dir.path() / kManifestFile;
   std::string text = formatManifest(fullManifest(), dir.path());
   text.replace(text.find("episodes_done: 2"), 16, "episodes_done: -2");
@@ -296,7 +281,7 @@ TEST(Manifest, ANegativeEpisodeCountIsAnErrorNamingTheField) {
 }
 
 TEST(Manifest, MissingControllerIsAnErrorNamingFileAndField) {
-  TempDir dir;
+  const test::ScratchDir dir("barn_run_record_test");
   const fs::path file = dir.path() / kManifestFile;
   RunManifest m = fullManifest();
   m.controller = "";
@@ -310,7 +295,7 @@ TEST(Manifest, MissingControllerIsAnErrorNamingFileAndField) {
 }
 
 TEST(Manifest, UnknownKeyIsAnErrorNamingIt) {
-  TempDir dir;
+  const test::ScratchDir dir("barn_run_record_test");
   const fs::path file = dir.path() / kManifestFile;
   writeFile(file, formatManifest(fullManifest(), dir.path()) + "tirals: 4\n");
   try {
@@ -322,7 +307,7 @@ TEST(Manifest, UnknownKeyIsAnErrorNamingIt) {
 }
 
 TEST(Manifest, ShardIndexBeyondCountIsAnError) {
-  TempDir dir;
+  const test::ScratchDir dir("barn_run_record_test");
   const fs::path file = dir.path() / kManifestFile;
   RunManifest m = fullManifest();
   m.shard_index = 6;  // of 5
@@ -480,7 +465,7 @@ class ManifestWorlds : public testing::Test {
     manifest_.worlds_digest = worldsDigest({core::readWorldFile(dir_.path() / core::worldFileName(2)),
                                             core::readWorldFile(dir_.path() / core::worldFileName(0))});
   }
-  TempDir dir_;
+  test::ScratchDir dir_{"barn_run_record_test"};
   RunManifest manifest_;
 };
 
@@ -527,7 +512,7 @@ TEST_F(ManifestWorlds, BrokenFileOfAWorldOutsideTheRunDoesNotMatter) {
 // writeCompleteRecord
 
 TEST_F(ManifestWorlds, WriteCompleteRecordSortsMarksCompleteAndRemovesTheJournal) {
-  TempDir out;
+  const test::ScratchDir out("barn_run_record_test");
   manifest_.trials = 2;
   manifest_.episodes_total = 4;
   writeFile(out.path() / kJournalFile, episodesCsvHeader());

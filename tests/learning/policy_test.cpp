@@ -9,40 +9,19 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <sys/stat.h>
-#include <unistd.h>
 
 #include "barn/core/errors.hpp"
 #include "barn/core/text_io.hpp"
 #include "barn/learning/hallucination.hpp"
 #include "barn/learning/lflh_config.hpp"
+#include "tests/scratch_dir.hpp"
 
 namespace barn::learning {
 namespace {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
-
-// A folder of its own per test and process (ctest -j runs the tests of this file side by
-// side), removed with everything in it when the test ends.
-class ScratchDir {
- public:
-  explicit ScratchDir(const std::string& name) {
-    const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
-    path_ = fs::temp_directory_path() / ("barn_policy_test_" + name + "_" + test + "_" + std::to_string(::getpid()));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ScratchDir(const ScratchDir&) = delete;
-  ScratchDir& operator=(const ScratchDir&) = delete;
-  ~ScratchDir() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
+using test::ScratchDir;
 
 // A 722-8-8-2 network with random weights.
 MlpParameters<float> smallWeights() {
@@ -73,7 +52,7 @@ core::LaserScan scanOf(const std::vector<double>& ranges) {
 }
 
 TEST(PolicyFile, RoundTripKeepsEveryWeightAndHeaderField) {
-  const ScratchDir scratch("roundtrip");
+  const ScratchDir scratch("barn_policy_test_roundtrip");
   const fs::path path = scratch.path() / "small.policy";
   writePolicyFile(path, smallInfo(), smallWeights());
   const Policy policy = Policy::load(path);
@@ -93,7 +72,7 @@ TEST(PolicyFile, RoundTripKeepsEveryWeightAndHeaderField) {
 class PolicyLoadErrors : public ::testing::Test {
  protected:
   void SetUp() override {
-    scratch_.emplace("errors");
+    scratch_.emplace("barn_policy_test_errors");
     dir_ = scratch_->path();
     writePolicyFile(dir_ / "good.policy", smallInfo(), smallWeights());
     good_ = core::readTextFile(dir_ / "good.policy");
@@ -173,7 +152,7 @@ TEST_F(PolicyLoadErrors, VersionOneLoadsAsRelu) {
 }
 
 TEST(PolicyFile, VersionTwoRoundTripKeepsTheLeakyReluAndItsSlope) {
-  const ScratchDir scratch("leaky");
+  const ScratchDir scratch("barn_policy_test_leaky");
   const fs::path path = scratch.path() / "leaky.policy";
   PolicyInfo info = smallInfo();
   info.activation = Activation::LeakyRelu;
@@ -238,7 +217,7 @@ std::string loadError(const fs::path& path) {
 }
 
 TEST(PolicyLoad, AFolderIsRefusedNamingIt) {
-  const ScratchDir scratch("folder");
+  const ScratchDir scratch("barn_policy_test_folder");
   const fs::path& dir = scratch.path();
   EXPECT_THAT(loadError(dir), HasSubstr(dir.string() + ": is a folder, expected a file"));
 }
@@ -248,7 +227,7 @@ TEST(PolicyLoad, ADeviceIsRefusedInsteadOfReadForever) {
 }
 
 TEST(PolicyLoad, AFifoIsRefusedInsteadOfBlocking) {
-  const ScratchDir scratch("fifo");
+  const ScratchDir scratch("barn_policy_test_fifo");
   const fs::path fifo = scratch.path() / "weights.policy";
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   EXPECT_THAT(loadError(fifo), HasSubstr(fifo.string() + ": not a regular file"));
@@ -288,7 +267,7 @@ TEST(Policy, ScanWithTheWrongBeamCountIsAnInputError) {
 // CI never retrains: it loads the committed weights and checks they belong to the configs.
 TEST(ShippedPolicies, WriteBackByteForByte) {
   // Loading and writing a policy gives its file again, header and weights.
-  const ScratchDir scratch("shipped");
+  const ScratchDir scratch("barn_policy_test_shipped");
   const fs::path& dir = scratch.path();
   for (const std::string name : {"lflh_1ms", "lflh_2ms"}) {
     const fs::path file = fs::path(BARN_SOURCE_DIR) / "configs" / "policies" / (name + ".policy");
@@ -303,7 +282,7 @@ TEST(PolicyFile, TheFuzzSeedsLoadAndTheVersionTwoOneWritesBackByteForByte) {
   EXPECT_EQ(Policy::load(seeds / "tiny.policy").info().activation, Activation::Relu);  // version 1
   const Policy leaky = Policy::load(seeds / "tiny_v2_leaky.policy");
   EXPECT_EQ(leaky.info().activation, Activation::LeakyRelu);
-  const ScratchDir scratch("seeds");
+  const ScratchDir scratch("barn_policy_test_seeds");
   const fs::path back = scratch.path() / "back.policy";
   writePolicyFile(back, leaky.info(), leaky.weights());
   EXPECT_EQ(core::readTextFile(back), core::readTextFile(seeds / "tiny_v2_leaky.policy"));
