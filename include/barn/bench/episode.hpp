@@ -64,8 +64,8 @@ struct EpisodeConfig {
   LatencyConfig latency;
 
   template <class V> void visit(V& v) {
-    v("protocol", protocol); v("success_radius", success_radius); v("physics", physics); v("robot", robot); v("lidar", lidar); v("odometry", odometry);
-    v("latency", latency);
+    v("protocol", protocol); v("success_radius", success_radius); v("physics", physics); v("robot", robot);
+    v("lidar", lidar); v("odometry", odometry); v("latency", latency);
   }
 };
 
