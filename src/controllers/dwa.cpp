@@ -272,15 +272,19 @@ DwaController::CentreScore DwaController::scoreCentres(const RolloutPoints& poin
     previous = cell;
     const int cost = costs[static_cast<std::size_t>(cell.y) * static_cast<std::size_t>(map.widthCells()) + static_cast<std::size_t>(cell.x)];
     score.occupancy = std::max(score.occupancy, cost);
-    const int at = distances_.index(cell.x, cell.y);
-    if (at < 0) return score;  // outside the window: never reached
-    score.path_cells = distances_.path.openAt(at);
-    if (score.path_cells >= obstacle_distance_) return score;
-    score.goal_cells = distances_.goal.openAt(at);
-    if (score.goal_cells >= obstacle_distance_) return score;
+    if (!openDistances(cell, score.path_cells, score.goal_cells)) return score;
   }
   score.plausible = true;
   return score;
+}
+
+bool DwaController::openDistances(const nav::CellIndex& cell, int& path_cells, int& goal_cells) {
+  const int at = distances_.index(cell.x, cell.y);
+  if (at < 0) return false;  // outside the window: never reached
+  path_cells = distances_.path.openAt(at);
+  if (path_cells >= obstacle_distance_) return false;  // the goal wavefront need not advance
+  goal_cells = distances_.goal.openAt(at);
+  return goal_cells < obstacle_distance_;
 }
 
 template <class CannotWin>
@@ -383,13 +387,8 @@ void DwaController::chooseForwardArc(const core::Pose2& pose, const core::Twist&
       // local goal fails the centre walk too.
       const core::Pose2 end = endPose(arc.points);
       nav::CellIndex cell;
-      if (!map.toCell(end.x, end.y, cell)) return;
-      const int at = distances_.index(cell.x, cell.y);
-      if (at < 0) return;
-      const int path_cells = distances_.path.openAt(at);
-      if (path_cells >= obstacle_distance_) return;
-      const int goal_cells = distances_.goal.openAt(at);
-      if (goal_cells >= obstacle_distance_) return;
+      int path_cells = 0, goal_cells = 0;
+      if (!map.toCell(end.x, end.y, cell) || !openDistances(cell, path_cells, goal_cells)) return;
       arc.bound = trajectoryCost(path_cells, goal_cells, 0);
       arcs_.push_back(arc);
     };

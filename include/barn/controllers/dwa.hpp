@@ -232,6 +232,9 @@ class DwaController : public Controller {
   RolloutPoints simulate(const core::Pose2& pose, const core::Twist& velocity, double vx, double vtheta);
   std::size_t headings(const core::Pose2& pose, const core::Twist& velocity, int steps, double vtheta);
   CentreScore scoreCentres(const RolloutPoints& points);
+  /// A rollout point's path and goal distances (cells) at `cell`: false if the cell is outside
+  /// the scoring window or either distance is an obstacle's or unreached (upstream's -2).
+  bool openDistances(const nav::CellIndex& cell, int& path_cells, int& goal_cells);
   template <class CannotWin>
   int outlineOccupancy(const RolloutPoints& points, int occupancy, CannotWin cannot_win) const;
   double trajectoryCost(int path_cells, int goal_cells, int occupancy) const;
