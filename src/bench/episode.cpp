@@ -51,8 +51,8 @@ core::Protocol episodeProtocol(const EpisodeConfig& config) {
 
 void validate(const EpisodeConfig& config, core::Errors& errors) {
   // protocol needs no check: reading the config resolved its name (or named the field).
-  // Past 5 m the goal disc would reach back into the obstacle field.
-  errors.check(config.success_radius > 0.0 && config.success_radius <= 5.0, "success_radius", "must be in (0, 5] m");
+  // The goal lies 3.4 m past the obstacle field: a larger disc would reach back into it.
+  errors.check(config.success_radius > 0.0 && config.success_radius <= 3.0, "success_radius", "must be in (0, 3] m");
   sim::validate(config.physics, errors);
   core::validate(config.robot, errors);
   core::validate(config.lidar, errors);

@@ -199,8 +199,8 @@ TEST(Episode, AConfiguredSuccessRadiusMovesTheFinishLine) {
   EXPECT_DOUBLE_EQ(at_half_metre.optimal_time, at_one_metre.optimal_time);
 }
 
-TEST(EpisodeConfig, ASuccessRadiusOutsideZeroToFiveMetresIsAnErrorNamingTheField) {
-  for (const char* text : {"success_radius: 0\n", "success_radius: -1\n", "success_radius: .nan\n", "success_radius: 6\n"}) {
+TEST(EpisodeConfig, ASuccessRadiusOutsideZeroToThreeMetresIsAnErrorNamingTheField) {
+  for (const char* text : {"success_radius: 0\n", "success_radius: -1\n", "success_radius: .nan\n", "success_radius: 3.5\n"}) {
     try {
       validatedEpisodeConfig(core::ConfigNode::parseString(text, "sim.yaml"), "sim.yaml");
       FAIL() << text << " was accepted";
