@@ -166,7 +166,11 @@ class Costmap {
   void recomputeCell(int x, int y) const;
   /// Raises the free cells of `target` around obstacle (ox, oy) to its kernel.
   void stampObstacle(int ox, int oy, CellBox target) const;
-  void clearRay(CellIndex from, const Eigen::Vector2d& to);
+  /// The cell where costmap_2d's ray trace from cell `from` toward `to` ends: `to` pulled
+  /// back onto the map along the ray.
+  CellIndex rayStopCell(CellIndex from, const Eigen::Vector2d& to) const;
+  /// Frees every cell of the traced line from `from` to `stop` (see integrateScan).
+  void clearLine(CellIndex from, CellIndex stop);
 
   CostmapConfig config_;
   int width_ = 0;
