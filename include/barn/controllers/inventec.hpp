@@ -116,10 +116,10 @@ struct InventecConfig {
   bool backtrack_roi = true;             // check the costmap strip behind while reversing
   double roi_depth = 0.1;                // [m] code (simulation): rear_length_m
   // A rear region is blocked when a cell is lethal or, with rear_weight > 0, when the mean
-  // published cost (0-100) of its cells exceeds rear_weight x 100. The code (simulation) used
-  // 0.85; here it made the robot back up again and again where the team's Gazebo runs did not
-  // (docs/fidelity.md), so the default tests lethal cells only.
-  double rear_weight = 0.0;
+  // published cost (0-100) of its cells exceeds rear_weight x 100 (0 = lethal cells only).
+  // code (simulation): 0.85. On the pivoting plant it keeps the tail off the cylinders that
+  // lethal cells alone let it swing into (docs/fidelity.md, "The rear check").
+  double rear_weight = 0.85;
   double backtrack_distance = 0.3;       // [m] paper and code: breadcrumb at least 0.3 m away
   double backtrack_speed = 0.3;          // [m/s] code: rev_vel
   double backtrack_reverse = 0.1;        // [m] code: l2_dist_m; 0 = reverse to the breadcrumb (paper)
