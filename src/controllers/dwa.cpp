@@ -227,10 +227,24 @@ std::size_t DwaController::headings(const core::Pose2& pose, const core::Twist& 
   const double dt = config_.sim_time / steps;
   const double omega_step = config_.acc_lim_theta * dt;
   double theta = pose.yaw, omega = velocity.angular;
-  for (int i = 0; i < steps; ++i) {
+  int i = 0;
+  for (; i < steps && omega != vtheta; ++i) {
     out[i] = {theta, std::cos(theta), std::sin(theta)};
     omega = approach(omega, vtheta, omega_step);
     theta += omega * dt;
+  }
+  // At the sample's yaw rate every step turns by the same angle: the heading's cosine and sine
+  // follow by that rotation (sincos was a tenth of DWA's time).
+  if (i < steps) {
+    const double turn_cos = std::cos(vtheta * dt), turn_sin = std::sin(vtheta * dt);
+    double c = std::cos(theta), s = std::sin(theta);
+    for (; i < steps; ++i) {
+      out[i] = {theta, c, s};
+      theta += vtheta * dt;
+      const double next_c = c * turn_cos - s * turn_sin;
+      s = s * turn_cos + c * turn_sin;
+      c = next_c;
+    }
   }
   return first;
 }
