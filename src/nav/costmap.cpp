@@ -179,16 +179,19 @@ CellIndex Costmap::rayStopCell(CellIndex from, const Eigen::Vector2d& to) const 
   // costmap_2d's ray trace pulls the end point back onto the map along the ray: onto the
   // lower edges exactly, 1 mm inside the upper ones.
   const double res = config_.resolution;
-  const Eigen::Vector2d start = cellCentre(from);
-  Eigen::Vector2d end = to;
   const Eigen::Vector2d lo = origin_;
   const Eigen::Vector2d hi = origin_ + res * Eigen::Vector2d(width_, height_);
+  CellIndex stop;
+  // Most returns lie on the map, where nothing is pulled back.
+  if (to.x() >= lo.x() && to.y() >= lo.y() && to.x() <= hi.x() - 0.001 && to.y() <= hi.y() - 0.001 && toCell(to, stop))
+    return stop;
+  const Eigen::Vector2d start = cellCentre(from);
+  Eigen::Vector2d end = to;
   for (int axis = 0; axis < 2; ++axis) {
     const double d = end[axis] - start[axis];
     if (end[axis] < lo[axis] && d != 0.0) end = start + (end - start) * ((lo[axis] - start[axis]) / d);
     if (end[axis] > hi[axis] - 0.001 && d != 0.0) end = start + (end - start) * ((hi[axis] - 0.001 - start[axis]) / d);
   }
-  CellIndex stop;
   if (!toCell(end, stop)) stop = {std::clamp(static_cast<int>(std::floor((end.x() - lo.x()) / res)), 0, width_ - 1),
                                   std::clamp(static_cast<int>(std::floor((end.y() - lo.y()) / res)), 0, height_ - 1)};
   return stop;
@@ -222,10 +225,15 @@ void Costmap::integrateScan(const core::LaserScan& scan, const core::Pose2& sens
   };
   // The beams' directions in the sensor frame are the same every scan; each scan rotates them
   // by the sensor's yaw, as laser_geometry projects a scan with its cached cosines and sines.
+  // Each usable return's end point is computed once, for the clearing and the marking below.
   beams_.update(scan);
-  const auto direction = [&](std::size_t i) {
-    return Eigen::Vector2d(c * beams_.cos(i) - s * beams_.sin(i), s * beams_.cos(i) + c * beams_.sin(i));
-  };
+  returns_.clear();
+  for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
+    double range = 0.0;
+    if (!usable(scan.ranges[i], range)) continue;
+    const Eigen::Vector2d direction(c * beams_.cos(i) - s * beams_.sin(i), s * beams_.cos(i) + c * beams_.sin(i));
+    returns_.push_back({origin + range * direction, range < config_.obstacle_range});
+  }
   // Clearing first, then marking (costmap_2d's order), so a return inside another beam's
   // cleared ray stays an obstacle. Nothing is traced if the sensor is off the map.
   // The traced line depends on its two end cells alone and freeing is idempotent, so a beam
@@ -234,20 +242,16 @@ void Costmap::integrateScan(const core::LaserScan& scan, const core::Pose2& sens
   CellIndex sensor_cell;
   if (toCell(origin, sensor_cell)) {
     CellIndex last_stop{-1, -1};
-    for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
-      double range = 0.0;
-      if (!usable(scan.ranges[i], range)) continue;
-      const CellIndex stop = rayStopCell(sensor_cell, origin + range * direction(i));
+    for (const Return& r : returns_) {
+      const CellIndex stop = rayStopCell(sensor_cell, r.end);
       if (stop == last_stop) continue;
       clearLine(sensor_cell, stop);
       last_stop = stop;
     }
   }
-  for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
-    double range = 0.0;
-    if (!usable(scan.ranges[i], range) || !(range < config_.obstacle_range)) continue;
+  for (const Return& r : returns_) {
     CellIndex cell;
-    if (toCell(origin + range * direction(i), cell)) setObstacle(cell.x, cell.y, kLethalCost);
+    if (r.marks && toCell(r.end, cell)) setObstacle(cell.x, cell.y, kLethalCost);
   }
 }
 

@@ -207,6 +207,11 @@ class Costmap {
   mutable std::uint32_t recompute_round_ = 0;
   mutable std::uint64_t version_ = 0;
   core::BeamDirections beams_;  // in the sensor frame
+  struct Return {
+    Eigen::Vector2d end;  // [m] odom frame
+    bool marks;           // within obstacle_range
+  };
+  std::vector<Return> returns_;  // scratch of integrateScan: the scan's usable returns
 };
 
 }  // namespace barn::nav
