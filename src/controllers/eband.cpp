@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "barn/controllers/dwa.hpp"
+
 namespace barn::controllers {
 
 namespace {
@@ -21,11 +23,7 @@ double sign(double x) { return x < 0.0 ? -1.0 : 1.0; }
 
 }  // namespace
 
-nav::NavStackConfig EbandConfig::defaultNav() {
-  nav::NavStackConfig nav;
-  nav.planner.algorithm = "navfn";
-  return nav;
-}
+nav::NavStackConfig EbandConfig::defaultNav() { return DwaConfig::defaultNav(); }
 
 void validate(const EbandConfig& c, core::Errors& errors, const std::string& prefix) {
   errors.check(c.rate > 0.0, prefix + ".rate", "must be > 0");

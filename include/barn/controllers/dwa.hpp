@@ -1,6 +1,7 @@
 #pragma once
 /// `dwa` and `dwa_fast`: the BARN baseline, base_local_planner's TrajectoryPlanner in DWA
-/// mode on a move_base-like stack (nav::NavStack), with move_base's recovery.
+/// mode on a move_base-like stack (nav::NavStack) with ROS NavFn as the global planner, as
+/// BARN's move_base ran it, and move_base's recovery.
 ///
 /// Each control tick samples vx_samples x vtheta_samples (v, w) pairs in the dynamic window
 /// (current velocity +- acceleration x control period, within the limits), rolls each out for
@@ -64,7 +65,7 @@ struct DwaConfig {
                                          //     forgets the stuck rotations
   double heading_lookahead = 0.325;   // [m] how far ahead a rotation's end heading is judged
   DwaRecoveryConfig recovery;
-  nav::NavStackConfig nav;
+  nav::NavStackConfig nav = defaultNav();
 
   template <class V> void visit(V& v) {
     v("rate", rate); v("max_vel_x", max_vel_x); v("min_vel_x", min_vel_x); v("max_vel_theta", max_vel_theta);
@@ -78,6 +79,10 @@ struct DwaConfig {
     v("heading_lookahead", heading_lookahead); v("recovery", recovery);
     v("nav", nav);
   }
+
+  /// BARN's move_base stack with ROS NavFn (navfn/NavfnROS, move_base's default global
+  /// planner) replanning from the robot at every cycle (docs/fidelity.md, "The global planner").
+  static nav::NavStackConfig defaultNav();
 };
 void validate(const DwaConfig& config, core::Errors& errors, const std::string& prefix);
 
