@@ -197,10 +197,10 @@ CellIndex Costmap::rayStopCell(CellIndex from, const Eigen::Vector2d& to) const 
   return stop;
 }
 
-void Costmap::clearLine(CellIndex from, CellIndex stop) {
+void Costmap::clearLine(CellIndex from, CellIndex stop, double max_cells) {
   // Every cell of the Bresenham line from the sensor's cell is freed, the end cell included,
-  // for at most raytrace_range (the dominant-axis step count scaled down for longer rays).
-  const double max_cells = std::ceil(config_.raytrace_range / config_.resolution);
+  // for at most max_cells (raytrace_range; the dominant-axis step count scaled down for longer
+  // rays).
   // Both ends are on the map, so every cell between them is; most are free already.
   walkLineFlat(from.x, from.y, stop.x, stop.y, rayStepLimit(from.x, from.y, stop.x, stop.y, max_cells), width_,
                [&](std::ptrdiff_t at) {
@@ -241,11 +241,12 @@ void Costmap::integrateScan(const core::LaserScan& scan, const core::Pose2& sens
   // under 2 cm apart at 3 m) frees nothing new and is skipped.
   CellIndex sensor_cell;
   if (toCell(origin, sensor_cell)) {
+    const double max_cells = std::ceil(config_.raytrace_range / config_.resolution);
     CellIndex last_stop{-1, -1};
     for (const Return& r : returns_) {
       const CellIndex stop = rayStopCell(sensor_cell, r.end);
       if (stop == last_stop) continue;
-      clearLine(sensor_cell, stop);
+      clearLine(sensor_cell, stop, max_cells);
       last_stop = stop;
     }
   }

@@ -169,8 +169,9 @@ class Costmap {
   /// The cell where costmap_2d's ray trace from cell `from` toward `to` ends: `to` pulled
   /// back onto the map along the ray.
   CellIndex rayStopCell(CellIndex from, const Eigen::Vector2d& to) const;
-  /// Frees every cell of the traced line from `from` to `stop` (see integrateScan).
-  void clearLine(CellIndex from, CellIndex stop);
+  /// Frees every cell of the traced line from `from` to `stop`, at most `max_cells` steps
+  /// (see integrateScan).
+  void clearLine(CellIndex from, CellIndex stop, double max_cells);
 
   CostmapConfig config_;
   int width_ = 0;
