@@ -36,11 +36,9 @@ void NavFn::resize(int nx, int ny) {
   ny_ = ny;
   ns_ = nx * ny;
   const std::size_t n = static_cast<std::size_t>(ns_);
-  cost_.assign(n, static_cast<std::uint8_t>(kCostObs));
-  pot_.assign(n, kPotHigh);
+  cells_.assign(n, Cell{kPotHigh, static_cast<std::uint8_t>(kCostObs), 0});
   gradx_.assign(n, 0.0f);
   grady_.assign(n, 0.0f);
-  pending_.assign(n, 0);
   for (auto& b : buf_) b.assign(n, 0);
   grad_cells_.clear();
   map_ = nullptr;
@@ -54,10 +52,10 @@ void NavFn::setCostmap(const Costmap& costmap) {
   map_version_ = costmap.version();
   cleared_cell_ = -1;
   const std::uint8_t* costs = costmap.costs();
-  for (std::size_t i = 0; i < cost_.size(); ++i) cost_[i] = static_cast<std::uint8_t>(cost_lut_[costs[i]]);
+  for (std::size_t i = 0; i < cells_.size(); ++i) cells_[i].cost = static_cast<std::uint8_t>(cost_lut_[costs[i]]);
   // setupNavFn: the outer rows and columns are obstacles.
-  for (int x = 0; x < nx_; ++x) cost_[index(x, 0)] = cost_[index(x, ny_ - 1)] = kCostObs;
-  for (int y = 0; y < ny_; ++y) cost_[index(0, y)] = cost_[index(nx_ - 1, y)] = kCostObs;
+  for (int x = 0; x < nx_; ++x) cells_[index(x, 0)].cost = cells_[index(x, ny_ - 1)].cost = kCostObs;
+  for (int y = 0; y < ny_; ++y) cells_[index(0, y)].cost = cells_[index(nx_ - 1, y)].cost = kCostObs;
 }
 
 bool NavFn::propagate(CellIndex robot, CellIndex goal) {
@@ -66,17 +64,19 @@ bool NavFn::propagate(CellIndex robot, CellIndex goal) {
   if (robot.x <= 0 || robot.y <= 0 || robot.x >= nx_ - 1 || robot.y >= ny_ - 1) return false;  // off map or on the border
   if (goal.x < 0 || goal.y < 0 || goal.x >= nx_ || goal.y >= ny_) return false;                  // off map
   // clearRobotCell: the robot's cell is free (the border stays an obstacle, excluded above).
-  if (cleared_cell_ >= 0) cost_[static_cast<std::size_t>(cleared_cell_)] = cleared_cost_;
+  if (cleared_cell_ >= 0) cells_[static_cast<std::size_t>(cleared_cell_)].cost = cleared_cost_;
   robot_ = static_cast<int>(index(robot.x, robot.y));
   cleared_cell_ = robot_;
-  cleared_cost_ = cost_[static_cast<std::size_t>(robot_)];
-  cost_[static_cast<std::size_t>(robot_)] = static_cast<std::uint8_t>(cost_lut_[kFreeCost]);
+  cleared_cost_ = cells_[static_cast<std::size_t>(robot_)].cost;
+  cells_[static_cast<std::size_t>(robot_)].cost = static_cast<std::uint8_t>(cost_lut_[kFreeCost]);
 
-  std::fill(pot_.begin(), pot_.end(), kPotHigh);
+  for (Cell& cell : cells_) {
+    cell.pot = kPotHigh;
+    cell.pending = 0;
+  }
   // setupNavFn zeroes every gradient; only the cells the last descent computed can be nonzero.
   for (const int c : grad_cells_) gradx_[static_cast<std::size_t>(c)] = grady_[static_cast<std::size_t>(c)] = 0.0f;
   grad_cells_.clear();
-  std::fill(pending_.begin(), pending_.end(), 0);
   cur_ = buf_[0].data();
   next_ = buf_[1].data();
   over_ = buf_[2].data();
@@ -84,13 +84,13 @@ bool NavFn::propagate(CellIndex robot, CellIndex goal) {
   threshold_ = static_cast<float>(kCostObs);
 
   const auto push_to = [this](int* buffer, int& size, int n) {
-    if (!pending_[static_cast<std::size_t>(n)] && cost_[static_cast<std::size_t>(n)] < kCostObs) {
+    if (!cells_[static_cast<std::size_t>(n)].pending && cells_[static_cast<std::size_t>(n)].cost < kCostObs) {
       buffer[size++] = n;
-      pending_[static_cast<std::size_t>(n)] = 1;
+      cells_[static_cast<std::size_t>(n)].pending = 1;
     }
   };
   // initCost(robot, 0): potential 0, the 4 neighbours queued.
-  pot_[static_cast<std::size_t>(robot_)] = 0.0f;
+  cells_[static_cast<std::size_t>(robot_)].pot = 0.0f;
   push_to(cur_, cur_size_, robot_ + 1);
   push_to(cur_, cur_size_, robot_ - 1);
   push_to(cur_, cur_size_, robot_ - nx_);
@@ -99,13 +99,13 @@ bool NavFn::propagate(CellIndex robot, CellIndex goal) {
   const int goal_cell = static_cast<int>(index(goal.x, goal.y));
   // An impassable goal is never queued, so NavFn would only learn that after propagating
   // over everything reachable; the answer (no plan) is the same.
-  if (goal_cell != robot_ && cost_[static_cast<std::size_t>(goal_cell)] >= kCostObs) return false;
+  if (goal_cell != robot_ && cells_[static_cast<std::size_t>(goal_cell)].cost >= kCostObs) return false;
 
   const int max_cycles = std::max(nx_ * ny_ / 20, nx_ + ny_);
   const float priority_increment = 2.0f * neutral_;
   for (; cycles_ < max_cycles; ++cycles_) {
     if (cur_size_ == 0 && next_size_ == 0) break;  // buffers empty
-    for (int k = 0; k < cur_size_; ++k) pending_[static_cast<std::size_t>(cur_[k])] = 0;
+    for (int k = 0; k < cur_size_; ++k) cells_[static_cast<std::size_t>(cur_[k])].pending = 0;
     for (int k = 0; k < cur_size_; ++k) updateCell(cur_[k]);
     updates_ += static_cast<std::size_t>(cur_size_);
     // The next buffer becomes the current one; when it is empty the threshold rises and the
@@ -119,26 +119,26 @@ bool NavFn::propagate(CellIndex robot, CellIndex goal) {
       over_size_ = 0;
       std::swap(cur_, over_);
     }
-    if (pot_[static_cast<std::size_t>(goal_cell)] < kPotHigh) {  // atStart: the goal is reached
+    if (cells_[static_cast<std::size_t>(goal_cell)].pot < kPotHigh) {  // atStart: the goal is reached
       ++cycles_;
       break;
     }
   }
-  return pot_[static_cast<std::size_t>(goal_cell)] < kPotHigh;
+  return cells_[static_cast<std::size_t>(goal_cell)].pot < kPotHigh;
 }
 
 void NavFn::updateCell(int n) {
   const std::size_t i = static_cast<std::size_t>(n);
   const std::size_t w = static_cast<std::size_t>(nx_);
   // Cells on the border are never queued (they are obstacles), so all 4 neighbours exist.
-  const float l = pot_[i - 1];
-  const float r = pot_[i + 1];
-  const float u = pot_[i - w];
-  const float d = pot_[i + w];
+  const float l = cells_[i - 1].pot;
+  const float r = cells_[i + 1].pot;
+  const float u = cells_[i - w].pot;
+  const float d = cells_[i + w].pot;
   float tc = l < r ? l : r;  // lowest horizontal neighbour
   float ta = u < d ? u : d;  // lowest vertical neighbour
-  if (cost_[i] >= kCostObs) return;  // never propagate into obstacles
-  const float hf = static_cast<float>(cost_[i]);
+  if (cells_[i].cost >= kCostObs) return;  // never propagate into obstacles
+  const float hf = static_cast<float>(cells_[i].cost);
   float dc = tc - ta;
   if (dc < 0) {
     dc = -dc;
@@ -155,14 +155,14 @@ void NavFn::updateCell(int n) {
     const float v = static_cast<float>(-0.2301 * rr * rr + 0.5307 * rr + 0.7040);
     pot = ta + hf * v;
   }
-  if (!(pot < pot_[i])) return;
-  pot_[i] = pot;
+  if (!(pot < cells_[i].pot)) return;
+  cells_[i].pot = pot;
   // Queue each neighbour whose potential exceeds pot + cost(neighbour) / sqrt 2 (compared
   // with the values read before this update, as NavFn does).
-  const float le = edge_lut_[cost_[i - 1]];
-  const float re = edge_lut_[cost_[i + 1]];
-  const float ue = edge_lut_[cost_[i - w]];
-  const float de = edge_lut_[cost_[i + w]];
+  const float le = edge_lut_[cells_[i - 1].cost];
+  const float re = edge_lut_[cells_[i + 1].cost];
+  const float ue = edge_lut_[cells_[i - w].cost];
+  const float de = edge_lut_[cells_[i + w].cost];
   int* buffer = next_;
   int* size = &next_size_;
   if (!(pot < threshold_)) {
@@ -170,9 +170,9 @@ void NavFn::updateCell(int n) {
     size = &over_size_;
   }
   const auto push_to = [&](std::size_t m) {
-    if (!pending_[m] && cost_[m] < kCostObs) {
+    if (!cells_[m].pending && cells_[m].cost < kCostObs) {
       buffer[(*size)++] = static_cast<int>(m);
-      pending_[m] = 1;
+      cells_[m].pending = 1;
     }
   };
   if (l > pot + le) push_to(i - 1);
@@ -186,21 +186,21 @@ void NavFn::gradCell(int n) {
   if (gradx_[i] + grady_[i] > 0.0f) return;  // cached (NavFn's test; other signs recompute)
   if (n < nx_ || n > ns_ - nx_) return;        // would be out of bounds
   const std::size_t w = static_cast<std::size_t>(nx_);
-  const float cv = pot_[i];
+  const float cv = cells_[i].pot;
   float dx = 0.0f;
   float dy = 0.0f;
   if (cv >= kPotHigh) {
     // In an obstacle: point at a reached neighbour.
-    if (pot_[i - 1] < kPotHigh) dx = -static_cast<float>(kCostObs);
-    else if (pot_[i + 1] < kPotHigh) dx = static_cast<float>(kCostObs);
-    if (pot_[i - w] < kPotHigh) dy = -static_cast<float>(kCostObs);
-    else if (pot_[i + w] < kPotHigh) dy = static_cast<float>(kCostObs);
+    if (cells_[i - 1].pot < kPotHigh) dx = -static_cast<float>(kCostObs);
+    else if (cells_[i + 1].pot < kPotHigh) dx = static_cast<float>(kCostObs);
+    if (cells_[i - w].pot < kPotHigh) dy = -static_cast<float>(kCostObs);
+    else if (cells_[i + w].pot < kPotHigh) dy = static_cast<float>(kCostObs);
   } else {
     // Downhill: (left - right, up - down) over the reached neighbours ("up" = row - 1).
-    if (pot_[i - 1] < kPotHigh) dx += pot_[i - 1] - cv;
-    if (pot_[i + 1] < kPotHigh) dx += cv - pot_[i + 1];
-    if (pot_[i - w] < kPotHigh) dy += pot_[i - w] - cv;
-    if (pot_[i + w] < kPotHigh) dy += cv - pot_[i + w];
+    if (cells_[i - 1].pot < kPotHigh) dx += cells_[i - 1].pot - cv;
+    if (cells_[i + 1].pot < kPotHigh) dx += cv - cells_[i + 1].pot;
+    if (cells_[i - w].pot < kPotHigh) dy += cells_[i - w].pot - cv;
+    if (cells_[i + w].pot < kPotHigh) dy += cv - cells_[i + w].pot;
   }
   const float norm = std::hypot(dx, dy);
   if (norm > 0.0f) {
@@ -215,7 +215,7 @@ bool NavFn::extractPath(CellIndex goal, int max_steps, std::vector<Eigen::Vector
   points.clear();
   if (robot_ < 0 || goal.x < 0 || goal.y < 0 || goal.x >= nx_ || goal.y >= ny_) return false;
   int stc = static_cast<int>(index(goal.x, goal.y));
-  const auto pot = [this](int n) { return pot_[static_cast<std::size_t>(n)]; };
+  const auto pot = [this](int n) { return cells_[static_cast<std::size_t>(n)].pot; };
   float dx = 0.0f;
   float dy = 0.0f;
   for (int step = 0; step < max_steps; ++step) {

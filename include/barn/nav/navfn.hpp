@@ -59,7 +59,7 @@ class NavFn {
   bool extractPath(CellIndex goal, int max_steps, std::vector<Eigen::Vector2f>& points);
 
   /// The potential of a cell after propagate() (kPotHigh if not reached).
-  float potential(int x, int y) const { return pot_[index(x, y)]; }
+  float potential(int x, int y) const { return cells_[index(x, y)].pot; }
   int width() const { return nx_; }
   int height() const { return ny_; }
   /// Cell updates (updateCell calls) and cycles of the last propagation.
@@ -78,14 +78,19 @@ class NavFn {
   std::vector<float> edge_lut_;  // INVSQRT2 * NavFn cost, by NavFn cost (256 entries)
 
   int nx_ = 0, ny_ = 0, ns_ = 0;
-  std::vector<std::uint8_t> cost_;  // NavFn costarr
-  std::vector<float> pot_;          // NavFn potarr
+  // NavFn's potarr, costarr and pending flags side by side: an update reads all three of each
+  // neighbour, so one cache line serves where three separate arrays needed three.
+  struct Cell {
+    float pot;
+    std::uint8_t cost;
+    std::uint8_t pending;
+  };
+  std::vector<Cell> cells_;
   std::vector<float> gradx_, grady_;  // normalised gradient cache (0, 0 = not computed)
   std::vector<int> grad_cells_;        // cells with a cached gradient, to reset
-  std::vector<char> pending_;
   // The current / next / overflow buffers. NavFn caps each at 10000 cells and drops pushes
   // beyond; here each is a preallocated array of ns cells (a cell is in at most one buffer at
-  // a time, guarded by pending_), so nothing is ever dropped. BARN's wavefronts are a few
+  // a time, guarded by the pending flags), so nothing is ever dropped. BARN's wavefronts are a few
   // hundred cells, far below NavFn's cap, so this changes nothing in practice.
   std::vector<int> buf_[3];
   int* cur_ = nullptr;
