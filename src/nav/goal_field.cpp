@@ -249,12 +249,16 @@ void GoalField::search() {
   // Dial's algorithm on f: a ring of buckets, one per integer f modulo (largest f increase
   // + 1), and a bitmap of the non-empty ones so the scan jumps over the (many) empty values.
   const unsigned ring = static_cast<unsigned>(diagonal_cost_[kInscribedCost - 1] + diagonal_cost_[0] + 1);
-  buckets_.resize(static_cast<std::size_t>(ring));
-  for (auto& b : buckets_) b.clear();
+  bucket_head_.assign(static_cast<std::size_t>(ring), -1);
+  bucket_entries_.clear();
   occupied_buckets_.assign(static_cast<std::size_t>(ring + 63) / 64, 0);
   std::uint64_t* occupied = occupied_buckets_.data();
   const std::size_t words = occupied_buckets_.size();
-  std::vector<int>* buckets = buckets_.data();
+  int* head = bucket_head_.data();
+  const auto push = [&](unsigned to_slot, int cell) __attribute__((always_inline)) {
+    bucket_entries_.push_back({cell, head[to_slot]});
+    head[to_slot] = static_cast<int>(bucket_entries_.size()) - 1;
+  };
   const auto nextOccupied = [&](int slot) {  // first non-empty slot at or after `slot`, cyclically
     std::size_t word = static_cast<std::size_t>(slot) / 64;
     std::uint64_t bits = occupied[word] & (~std::uint64_t{0} << (slot % 64));
@@ -287,7 +291,7 @@ void GoalField::search() {
       next_key = seeds_[next_seed].key;
       next = static_cast<int>((static_cast<std::int64_t>(slot) + (next_key - key)) % ring);
       for (; next_seed < seeds_.size() && seeds_[next_seed].key == next_key; ++next_seed) {
-        buckets[next].push_back(seeds_[next_seed].cell);
+        push(static_cast<unsigned>(next), seeds_[next_seed].cell);
         ++pending;
       }
       occupied[next / 64] |= std::uint64_t{1} << (next % 64);
@@ -299,11 +303,13 @@ void GoalField::search() {
     }
     key = next_key;
     slot = next;
-    std::vector<int>& bucket = buckets[slot];
-    // Entries are appended to this bucket while it is scanned when a step leaves f unchanged
-    // (a free step straight toward the start); the loop re-reads the size for them.
-    for (std::size_t k = 0; k < bucket.size(); ++k) {
-      const int i = bucket[k];
+    // Entries join this bucket while it is taken when a step leaves f unchanged (a free step
+    // straight toward the start); the loop takes them too. The order within a bucket does
+    // not change the field: every cell of this key is settled before the next key.
+    while (head[slot] >= 0) {
+      const BucketEntry entry = bucket_entries_[static_cast<std::size_t>(head[slot])];
+      head[slot] = entry.next;
+      const int i = entry.cell;
       --pending;
       if (g[i] != kInfinite) continue;  // settled already: a stale entry
       const int h_here = h[i];
@@ -328,13 +334,12 @@ void GoalField::search() {
         rhs[p] = candidate;
         unsigned target = static_cast<unsigned>(slot + step + h[p] - h_here);  // ahead of the slot by less than the ring
         if (target >= ring) target -= ring;
-        buckets[target].push_back(p);
+        push(target, p);
         occupied[target / 64] |= std::uint64_t{1} << (target % 64);
         ++pending;
       };
       offerToEnterers(i, steps, straight_cost[c], diagonal_cost[c], passable, offer);
     }
-    bucket.clear();
     occupied[slot / 64] &= ~(std::uint64_t{1} << (slot % 64));
   }
   // Seeds the search stopped before are exact all the same: settled, and their offers made

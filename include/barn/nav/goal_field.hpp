@@ -107,8 +107,15 @@ class GoalField {
   std::vector<int> changed_;        // scratch: cells whose cost changed
   std::vector<std::uint32_t> touched_round_;
   std::uint32_t round_ = 0;
-  std::vector<std::vector<int>> buckets_;        // scratch of search(): Dial's bucket ring
-  std::vector<std::uint64_t> occupied_buckets_;  // a bit per non-empty bucket
+  // Scratch of search(): Dial's bucket ring, each bucket a list threaded through one array of
+  // entries (first entry by slot, -1 = empty), and a bit per non-empty bucket.
+  struct BucketEntry {
+    int cell;
+    int next;  // the bucket's next entry, -1 = last
+  };
+  std::vector<int> bucket_head_;
+  std::vector<BucketEntry> bucket_entries_;
+  std::vector<std::uint64_t> occupied_buckets_;
 
   // The field as the last search left it, for the next search to reuse (seedSearch):
   // g of every cell it settled (exact for the costs it saw), kUnsettled elsewhere.
