@@ -70,7 +70,7 @@ bool NavFn::propagate(CellIndex robot, CellIndex goal) {
   cleared_cost_ = cells_[static_cast<std::size_t>(robot_)].cost;
   cells_[static_cast<std::size_t>(robot_)].cost = static_cast<std::uint8_t>(cost_lut_[kFreeCost]);
 
-  for (Cell& cell : cells_) {
+  for (Cell& cell : cells_) {  // setupNavFn: no potential, nothing pending
     cell.pot = kPotHigh;
     cell.pending = 0;
   }
