@@ -50,12 +50,6 @@ void validate(const DwaConfig& c, core::Errors& errors, const std::string& prefi
   nav::validate(c.nav, errors, prefix + ".nav");
 }
 
-nav::NavStackConfig DwaConfig::defaultNav() {
-  nav::NavStackConfig nav;
-  nav.planner.algorithm = "navfn";
-  return nav;
-}
-
 DwaController::DwaController(const DwaConfig& config)
     : config_(config), nav_(config.nav), move_base_(config.recovery), footprint_(nav_.paddedFootprint()) {}
 

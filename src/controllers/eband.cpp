@@ -4,8 +4,6 @@
 #include <cmath>
 #include <limits>
 
-#include "barn/controllers/dwa.hpp"
-
 namespace barn::controllers {
 
 namespace {
@@ -22,8 +20,6 @@ constexpr double kPlanYaw = 0.0;
 double sign(double x) { return x < 0.0 ? -1.0 : 1.0; }
 
 }  // namespace
-
-nav::NavStackConfig EbandConfig::defaultNav() { return DwaConfig::defaultNav(); }
 
 void validate(const EbandConfig& c, core::Errors& errors, const std::string& prefix) {
   errors.check(c.rate > 0.0, prefix + ".rate", "must be > 0");

@@ -27,6 +27,12 @@ CostmapConfig NavStackConfig::defaultLocalCostmap() {
   return c;
 }
 
+NavStackConfig NavStackConfig::moveBaseWithNavFn() {
+  NavStackConfig c;
+  c.planner.algorithm = "navfn";
+  return c;
+}
+
 void validate(const NavStackConfig& c, core::Errors& errors, const std::string& prefix) {
   validate(c.global_costmap, errors, prefix + ".global_costmap");
   validate(c.local_costmap, errors, prefix + ".local_costmap");

@@ -65,7 +65,7 @@ struct DwaConfig {
                                          //     forgets the stuck rotations
   double heading_lookahead = 0.325;   // [m] how far ahead a rotation's end heading is judged
   DwaRecoveryConfig recovery;
-  nav::NavStackConfig nav = defaultNav();
+  nav::NavStackConfig nav = nav::NavStackConfig::moveBaseWithNavFn();  // docs/fidelity.md, "The global planner"
 
   template <class V> void visit(V& v) {
     v("rate", rate); v("max_vel_x", max_vel_x); v("min_vel_x", min_vel_x); v("max_vel_theta", max_vel_theta);
@@ -79,10 +79,6 @@ struct DwaConfig {
     v("heading_lookahead", heading_lookahead); v("recovery", recovery);
     v("nav", nav);
   }
-
-  /// BARN's move_base stack with ROS NavFn (navfn/NavfnROS, move_base's default global
-  /// planner) replanning from the robot at every cycle (docs/fidelity.md, "The global planner").
-  static nav::NavStackConfig defaultNav();
 };
 void validate(const DwaConfig& config, core::Errors& errors, const std::string& prefix);
 

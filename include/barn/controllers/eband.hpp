@@ -79,7 +79,7 @@ struct EbandConfig {
   double xy_goal_tolerance = 0.1;              // [m]
   double yaw_goal_tolerance = 0.05;            // [rad]
   MoveBaseRecoveryConfig recovery;
-  nav::NavStackConfig nav = defaultNav();
+  nav::NavStackConfig nav = nav::NavStackConfig::moveBaseWithNavFn();  // move_base_eband.launch
 
   template <class V> void visit(V& v) {
     v("rate", rate);
@@ -100,9 +100,6 @@ struct EbandConfig {
     v("disallow_hysteresis", disallow_hysteresis); v("xy_goal_tolerance", xy_goal_tolerance);
     v("yaw_goal_tolerance", yaw_goal_tolerance); v("recovery", recovery); v("nav", nav);
   }
-
-  /// The DWA baseline's stack with ROS NavFn as the global planner (move_base_eband.launch).
-  static nav::NavStackConfig defaultNav();
 };
 void validate(const EbandConfig& config, core::Errors& errors, const std::string& prefix);
 

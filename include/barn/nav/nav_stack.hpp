@@ -35,6 +35,10 @@ struct NavStackConfig {
   static CostmapConfig defaultGlobalCostmap();
   /// 10 x 10 m rolling window.
   static CostmapConfig defaultLocalCostmap();
+  /// BARN's move_base stack as its DWA and E-Band runs had it: these defaults with ROS NavFn
+  /// (navfn/NavfnROS, move_base's default global planner) replanning from the robot at every
+  /// cycle.
+  static NavStackConfig moveBaseWithNavFn();
 };
 
 void validate(const NavStackConfig& config, core::Errors& errors, const std::string& prefix);
