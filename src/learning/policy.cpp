@@ -235,6 +235,7 @@ Policy::Policy(PolicyInfo info, MlpParameters<float> weights) : info_(std::move(
     throw core::InputError("policy '" + info_.name + "': weights of shape " + std::to_string(weights_.inputs()) + "-" +
                            std::to_string(weights_.hidden()) + "-" + std::to_string(weights_.outputs()) +
                            " do not match beams + 2 inputs, hidden " + std::to_string(info_.hidden) + ", 2 outputs");
+  beam_column_sum_ = weights_.w1.leftCols(info_.beams).rowwise().sum();
 }
 
 Policy Policy::load(const std::filesystem::path& path) {
@@ -368,17 +369,21 @@ core::Twist Policy::act(const core::LaserScan& scan, const Eigen::Vector2d& goal
     throw core::InputError("policy '" + info_.name + "' expects " + std::to_string(beams) + " beams, the scan has " +
                            std::to_string(scan.ranges.size()));
   Eigen::VectorXf x(beams + 2);
-  encodeInput(scan.ranges, goal_direction_robot_frame, range_clip > 0.0 ? range_clip : info_.range_clip, x.data());
-  // Same order of operations as Mlp::forward (product, bias, activation), so the two agree bit
-  // for bit.
+  const double clip = range_clip > 0.0 ? range_clip : info_.range_clip;
+  encodeInput(scan.ranges, goal_direction_robot_frame, clip, x.data());
   const bool relu = info_.activation == Activation::Relu;
   const float slope = static_cast<float>(info_.slope);
   const auto activate = [&](Eigen::VectorXf& h) {
     if (relu) h = h.cwiseMax(0.0f);
     else h = (h.array() > 0.0f).select(h, slope * h);
   };
-  Eigen::VectorXf h1 = weights_.w1 * x;
-  h1 += weights_.b1;
+  // Most beams of a scan read the clip (nothing that near): the first layer, most of the
+  // network's memory traffic, reads only the columns of the beams that do not.
+  const float c = static_cast<float>(clip);
+  Eigen::VectorXf h1 = weights_.b1 + c * beam_column_sum_;
+  for (int i = 0; i < beams; ++i)
+    if (x[i] != c) h1 += weights_.w1.col(i) * (x[i] - c);
+  h1 += weights_.w1.col(beams) * x[beams] + weights_.w1.col(beams + 1) * x[beams + 1];
   activate(h1);
   Eigen::VectorXf h2 = weights_.w2 * h1;
   h2 += weights_.b2;

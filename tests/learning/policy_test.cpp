@@ -170,19 +170,28 @@ TEST(PolicyFile, VersionTwoRoundTripKeepsTheLeakyReluAndItsSlope) {
   EXPECT_EQ(policy.info().validation_loss, 0.25);
   EXPECT_EQ(policy.weights().w1, smallWeights().w1);
 
-  // act() is the leaky network: bit for bit Mlp's forward pass with the same activation, and
-  // not the relu network's output.
-  std::vector<double> ranges(720, 1.5);
-  for (std::size_t i = 0; i < 720; i += 7) ranges[i] = 0.3;
-  Eigen::MatrixXf x(722, 1);
-  encodeInput(ranges, {1.0, -0.5}, 2.0, x.data());
+  // act() is the leaky network: Mlp's forward pass with the same activation (to float
+  // rounding: act() sums the first layer in another order, beams at the clip skipped), and not
+  // the relu network's output. Beams below the clip, at it (+inf, NaN, far) and mixed.
   Mlp<float> leaky(smallWeights(), Activation::LeakyRelu, 0.01);
   Mlp<float> relu(smallWeights());
-  const Eigen::MatrixXf y = leaky.forward(x);
-  const core::Twist twist = policy.act(scanOf(ranges), {1.0, -0.5});
-  EXPECT_EQ(static_cast<float>(twist.linear), y(0, 0));
-  EXPECT_EQ(static_cast<float>(twist.angular), y(1, 0));
-  EXPECT_NE(static_cast<float>(twist.linear), relu.forward(x)(0, 0));
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> below(720, 1.5), mixed(720, inf), far(720, 7.0);
+  for (std::size_t i = 0; i < 720; i += 7) below[i] = 0.3;
+  for (std::size_t i = 0; i < 720; i += 3) mixed[i] = i % 2 ? nan : 0.1 + 0.002 * static_cast<double>(i);
+  for (const std::vector<double>& ranges : {below, mixed, far}) {
+    Eigen::MatrixXf x(722, 1);
+    encodeInput(ranges, {1.0, -0.5}, 2.0, x.data());
+    const Eigen::MatrixXf y = leaky.forward(x);
+    const core::Twist twist = policy.act(scanOf(ranges), {1.0, -0.5});
+    EXPECT_NEAR(twist.linear, y(0, 0), 1e-6 * std::max(1.0f, std::abs(y(0, 0))));
+    EXPECT_NEAR(twist.angular, y(1, 0), 1e-6 * std::max(1.0f, std::abs(y(1, 0))));
+    EXPECT_GT(std::abs(static_cast<float>(twist.linear) - relu.forward(x)(0, 0)), 5e-5);
+    // Another clip than the file's takes the dense product: the same network.
+    const core::Twist clipped = policy.act(scanOf(ranges), {1.0, -0.5}, 1.0);
+    encodeInput(ranges, {1.0, -0.5}, 1.0, x.data());
+    EXPECT_NEAR(clipped.linear, leaky.forward(x)(0, 0), 1e-6 * std::max(1.0f, std::abs(leaky.forward(x)(0, 0))));
+  }
 }
 
 TEST_F(PolicyLoadErrors, NonFiniteWeight) {

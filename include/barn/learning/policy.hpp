@@ -80,6 +80,9 @@ class Policy {
  private:
   PolicyInfo info_;
   MlpParameters<float> weights_;
+  // The sum of the first layer's beam columns: with every beam at the clip c the layer is
+  // b1 + c beam_column_sum_ + the goal's columns, and act() adds only the beams that read less.
+  Eigen::VectorXf beam_column_sum_;
 };
 
 /// Writes the policy's input for one scan and goal direction (normalised here; x forward, y
