@@ -261,13 +261,13 @@ void Costmap::stampObstacle(int ox, int oy, CellBox target) const {
   const int side = 2 * r + 1;
   const int y0 = std::max(target.y0, oy - r), y1 = std::min(target.y1, oy + r + 1);
   const int x0 = std::max(target.x0, ox - r), x1 = std::min(target.x1, ox + r + 1);
+  // Only free cells take a stamp, and every other cell already costs at least any stamp
+  // (lethal 254 and unknown 255; a new obstacle not yet stamped is set to lethal after), so a
+  // plain maximum does it, 32 cells per instruction.
   for (int y = y0; y < y1; ++y) {
     const std::uint8_t* k = &kernel_[static_cast<std::size_t>((y - oy + r) * side + (x0 - ox + r))];
-    const std::size_t row = index(0, y);
-    for (int x = x0; x < x1; ++x, ++k) {
-      std::uint8_t& c = cost_[row + static_cast<std::size_t>(x)];
-      if (c < *k && obstacle_[row + static_cast<std::size_t>(x)] == kFreeCost) c = *k;
-    }
+    std::uint8_t* c = &cost_[index(x0, y)];
+    for (int n = 0; n < x1 - x0; ++n) c[n] = std::max(c[n], k[n]);
   }
 }
 

@@ -183,6 +183,7 @@ TEST(Costmap, ClearingAnObstacleRemovesItsInflation) {
 // cell within the reach (cell units), lethal on obstacles, unknown where unseen.
 std::uint8_t bruteForceCost(const Costmap& map, int x, int y) {
   if (map.isObstacle(x, y)) return kLethalCost;
+  if (map.isUnknown(x, y)) return kUnknownCost;  // not inflated (inflate_unknown: false)
   const int reach = static_cast<int>(std::ceil(map.config().inflation_radius / map.resolution()));
   double nearest = kInf;
   for (int oy = y - reach; oy <= y + reach; ++oy)
@@ -191,11 +192,14 @@ std::uint8_t bruteForceCost(const Costmap& map, int x, int y) {
   return nearest > reach ? kFreeCost : map.inflationCostAtCells(nearest);
 }
 
-TEST(Costmap, IncrementalInflationEqualsInflatingFromScratch) {
-  // Scans of random ranges from random poses mark and clear cells in many places; after each,
-  // some cells are read (so some updates are folded in lazily, several at once) and at the end
-  // every cell must cost what a from-scratch inflation gives.
-  Costmap map(smallMap());
+// Scans of random ranges from random poses mark and clear cells in many places; after each,
+// some cells are read (so some updates are folded in lazily, several at once), and with
+// `moves` the robot's footprint is cleared and a rolling window re-centres. At the end every
+// cell must cost what a from-scratch inflation gives; in a rolling window, every cell farther
+// than the inflation reach from the edges (at the edge the window left, a cell keeps the cost
+// of an obstacle that left with it, as costmap_2d's copied master grid does).
+void expectIncrementalInflationEqualsInflatingFromScratch(const CostmapConfig& config, bool moves) {
+  Costmap map(config);
   core::LaserScan scan = scanAhead(1.0);
   std::uint64_t state = 12345;
   const auto uniform = [&state] {
@@ -206,17 +210,42 @@ TEST(Costmap, IncrementalInflationEqualsInflatingFromScratch) {
     for (double& r : scan.ranges) r = 0.3 + 2.5 * uniform();
     const core::Pose2 pose{-1.5 + 3.0 * uniform(), -1.5 + 3.0 * uniform(), 6.283 * uniform()};
     map.integrateScan(scan, pose, pose.position());
+    if (moves && step % 4 == 1) {
+      const Eigen::Vector2d c = pose.position();
+      map.clearPolygon({c + Eigen::Vector2d(-0.3, -0.25), c + Eigen::Vector2d(0.3, -0.25), c + Eigen::Vector2d(0.3, 0.25),
+                        c + Eigen::Vector2d(-0.3, 0.25)});
+    }
     if (step % 3 == 0) map.costAt(pose.position());
   }
   int obstacles = 0, inflated = 0;
-  for (int y = 0; y < map.heightCells(); ++y)
-    for (int x = 0; x < map.widthCells(); ++x) {
+  const int margin = config.rolling ? static_cast<int>(std::ceil(config.inflation_radius / config.resolution)) : 0;
+  for (int y = margin; y < map.heightCells() - margin; ++y)
+    for (int x = margin; x < map.widthCells() - margin; ++x) {
       ASSERT_EQ(map.cost(x, y), bruteForceCost(map, x, y)) << "cell " << x << ", " << y;
       obstacles += map.isObstacle(x, y);
       inflated += map.cost(x, y) > kFreeCost && map.cost(x, y) < kLethalCost;
     }
   EXPECT_GT(obstacles, 50);  // the scans left a real map behind
   EXPECT_GT(inflated, 200);
+}
+
+TEST(Costmap, IncrementalInflationEqualsInflatingFromScratch) {
+  expectIncrementalInflationEqualsInflatingFromScratch(smallMap(), false);
+}
+
+TEST(Costmap, IncrementalInflationEqualsInflatingFromScratchWhileTheWindowRollsAndTheFootprintClears) {
+  CostmapConfig rolling = smallMap();
+  rolling.width = rolling.height = 5.0;
+  rolling.rolling = true;
+  expectIncrementalInflationEqualsInflatingFromScratch(rolling, true);
+}
+
+TEST(Costmap, IncrementalInflationEqualsInflatingFromScratchWhenUnknownSpaceIsTracked) {
+  CostmapConfig tracking = smallMap();
+  tracking.width = tracking.height = 5.0;
+  tracking.rolling = true;
+  tracking.track_unknown = true;
+  expectIncrementalInflationEqualsInflatingFromScratch(tracking, true);
 }
 
 TEST(Costmap, RollingWindowKeepsObstaclesSeenEarlierWhileTheyStayInside) {

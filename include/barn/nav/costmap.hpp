@@ -130,6 +130,8 @@ class Costmap {
   std::uint8_t costAt(const Eigen::Vector2d& p) const;
   /// True if the cell holds an obstacle (marked and not cleared since).
   bool isObstacle(int x, int y) const { return inBounds(x, y) && obstacle_[index(x, y)] == kLethalCost; }
+  /// True if the cell is unknown space (tracked, never seen, or forgotten); off the map too.
+  bool isUnknown(int x, int y) const { return !inBounds(x, y) || obstacle_[index(x, y)] == kUnknownCost; }
 
   /// Changes whenever a cost changed (planners cache on it); a scan that only confirms what
   /// the map held leaves it.
