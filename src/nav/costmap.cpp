@@ -138,12 +138,18 @@ void Costmap::inflatePending() const {
     // nearer obstacle that is still there.
     recomputeOnce(c.x, c.y);
     const int side = 2 * r + 1;
-    for (int y = std::max(0, c.y - r); y <= std::min(height_ - 1, c.y + r); ++y)
-      for (int x = std::max(0, c.x - r); x <= std::min(width_ - 1, c.x + r); ++x)
-        {
-        const std::uint8_t gave = kernel_[static_cast<std::size_t>((y - c.y + r) * side + (x - c.x + r))];
-        if (gave != kFreeCost && cost_[index(x, y)] == gave) recomputeOnce(x, y);
-      }
+    const int x0 = std::max(0, c.x - r), x1 = std::min(width_ - 1, c.x + r);
+    for (int y = std::max(0, c.y - r); y <= std::min(height_ - 1, c.y + r); ++y) {
+      const std::uint8_t* gave = &kernel_[static_cast<std::size_t>((y - c.y + r) * side + (x0 - c.x + r))];
+      const std::uint8_t* cost = &cost_[index(x0, y)];
+      const int n = x1 - x0 + 1;
+      // Most rows hold no such cell: a branch-free pass (vectorised) finds the ones that do.
+      std::uint8_t any = 0;
+      for (int k = 0; k < n; ++k) any |= static_cast<std::uint8_t>((gave[k] != kFreeCost) & (cost[k] == gave[k]));
+      if (any == 0) continue;
+      for (int k = 0; k < n; ++k)
+        if (gave[k] != kFreeCost && cost[k] == gave[k]) recomputeOnce(x0 + k, y);
+    }
   }
   for (const CellIndex& c : changed_) {
     const std::size_t i = index(c.x, c.y);
