@@ -187,7 +187,7 @@ TEST(PolicyFile, VersionTwoRoundTripKeepsTheLeakyReluAndItsSlope) {
     EXPECT_NEAR(twist.linear, y(0, 0), 1e-6 * std::max(1.0f, std::abs(y(0, 0))));
     EXPECT_NEAR(twist.angular, y(1, 0), 1e-6 * std::max(1.0f, std::abs(y(1, 0))));
     EXPECT_GT(std::abs(static_cast<float>(twist.linear) - relu.forward(x)(0, 0)), 5e-5);
-    // Another clip than the file's takes the dense product: the same network.
+    // Another clip than the file's: the same network on the other clip.
     const core::Twist clipped = policy.act(scanOf(ranges), {1.0, -0.5}, 1.0);
     encodeInput(ranges, {1.0, -0.5}, 1.0, x.data());
     EXPECT_NEAR(clipped.linear, leaky.forward(x)(0, 0), 1e-6 * std::max(1.0f, std::abs(leaky.forward(x)(0, 0))));
