@@ -22,13 +22,17 @@ void raiseTo(std::uint8_t* __restrict dst, const std::uint8_t* __restrict src, i
   for (; i < n; ++i) dst[i] = std::max(dst[i], src[i]);
 }
 
-/// True if some i < n has gave[i] != 0 and cost[i] == gave[i].
+/// A cell costs `cost` and an obstacle's kernel gives it `gave`: that obstacle set (or tied)
+/// its cost. Branch-free, so that anyGiven vectorises.
+bool gaveItsCost(std::uint8_t gave, std::uint8_t cost) { return (gave != kFreeCost) & (cost == gave); }
+
+/// True if gaveItsCost(gave[i], cost[i]) for some i < n.
 bool anyGiven(const std::uint8_t* __restrict gave, const std::uint8_t* __restrict cost, int n) {
-  std::uint8_t any = 0;
+  std::uint8_t any = 0;  // a byte, not a bool: the vectoriser keeps a bool reduction scalar
   int i = 0;
   for (; i + 16 <= n; i += 16)
-    for (int k = 0; k < 16; ++k) any |= static_cast<std::uint8_t>((gave[i + k] != 0) & (cost[i + k] == gave[i + k]));
-  for (; i < n; ++i) any |= static_cast<std::uint8_t>((gave[i] != 0) & (cost[i] == gave[i]));
+    for (int k = 0; k < 16; ++k) any |= static_cast<std::uint8_t>(gaveItsCost(gave[i + k], cost[i + k]));
+  for (; i < n; ++i) any |= static_cast<std::uint8_t>(gaveItsCost(gave[i], cost[i]));
   return any != 0;
 }
 }  // namespace
@@ -168,10 +172,9 @@ void Costmap::inflatePending() const {
       const std::uint8_t* cost = &cost_[index(x0, y)];
       const int n = x1 - x0 + 1;
       // Most rows hold no such cell: a branch-free pass finds the ones that do.
-      static_assert(kFreeCost == 0);
       if (!anyGiven(gave, cost, n)) continue;
       for (int k = 0; k < n; ++k)
-        if (gave[k] != kFreeCost && cost[k] == gave[k]) recomputeOnce(x0 + k, y);
+        if (gaveItsCost(gave[k], cost[k])) recomputeOnce(x0 + k, y);
     }
   }
   for (const CellIndex& c : changed_) {

@@ -233,17 +233,19 @@ TEST(Costmap, IncrementalInflationEqualsInflatingFromScratch) {
   expectIncrementalInflationEqualsInflatingFromScratch(smallMap(), false);
 }
 
+CostmapConfig smallRollingMap() {
+  CostmapConfig c = smallMap();
+  c.width = c.height = 5.0;
+  c.rolling = true;
+  return c;
+}
+
 TEST(Costmap, IncrementalInflationEqualsInflatingFromScratchWhileTheWindowRollsAndTheFootprintClears) {
-  CostmapConfig rolling = smallMap();
-  rolling.width = rolling.height = 5.0;
-  rolling.rolling = true;
-  expectIncrementalInflationEqualsInflatingFromScratch(rolling, true);
+  expectIncrementalInflationEqualsInflatingFromScratch(smallRollingMap(), true);
 }
 
 TEST(Costmap, IncrementalInflationEqualsInflatingFromScratchWhenUnknownSpaceIsTracked) {
-  CostmapConfig tracking = smallMap();
-  tracking.width = tracking.height = 5.0;
-  tracking.rolling = true;
+  CostmapConfig tracking = smallRollingMap();
   tracking.track_unknown = true;
   expectIncrementalInflationEqualsInflatingFromScratch(tracking, true);
 }
