@@ -9,6 +9,9 @@
 //                     navfn: a full propagation)
 //   BM_GlobalReplan   one dijkstra replan after a one-cell costmap change on the path (the field
 //                     repaired, or searched again past a few dozen changed cells)
+//   BM_GlobalReplanNewObstacle  one dijkstra replan after a cylinder appears 2 m ahead, as a scan
+//                     shows one: with the LfLH inflation a thousand cells change, so the field
+//                     is searched again from the part the change cannot have touched
 // Run: build-bench/tests/perf/barn_sim_benchmark --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 
 #include <benchmark/benchmark.h>
@@ -185,6 +188,36 @@ void BM_GlobalReplan(benchmark::State& state) {
 }
 // Args: world id, LfLH inflation.
 BENCHMARK(BM_GlobalReplan)->Args({299, 0})->Args({299, 1})->Unit(benchmark::kMicrosecond);
+
+void BM_GlobalReplanNewObstacle(benchmark::State& state) {
+  nav::Costmap costmap = worldCostmap(static_cast<int>(state.range(0)), state.range(1) > 0);
+  nav::GlobalPlanner planner({});
+  const Eigen::Vector2d start(0.0, 0.0), goal(0.0, 10.0), cylinder(0.3, 2.0);
+  std::vector<Eigen::Vector2d> cells;  // a 0.15 m cylinder, every cell centre inside
+  for (double dy = -0.075; dy <= 0.075; dy += 0.05)
+    for (double dx = -0.075; dx <= 0.075; dx += 0.05)
+      if (std::hypot(dx, dy) <= 0.08) cells.push_back(cylinder + Eigen::Vector2d(dx, dy));
+  const Eigen::Vector2d half(0.1, 0.1);
+  planner.plan(costmap, start, goal);
+  std::size_t plans = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    if (plans % 2 == 0) {
+      for (const auto& c : cells) costmap.markObstacle(c);
+    } else {
+      costmap.clearPolygon({cylinder - half, cylinder + Eigen::Vector2d(half.x(), -half.y()), cylinder + half,
+                            cylinder + Eigen::Vector2d(-half.x(), half.y())});
+    }
+    costmap.cost(0, 0);  // brings the inflation up to date outside the timing
+    state.ResumeTiming();
+    auto plan = planner.plan(costmap, start, goal);
+    benchmark::DoNotOptimize(plan.path.data());
+    ++plans;
+  }
+  state.counters["expanded_cells"] = static_cast<double>(planner.lastExpanded());
+}
+// Args: world id, LfLH inflation.
+BENCHMARK(BM_GlobalReplanNewObstacle)->Args({299, 1})->Args({150, 1})->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 
