@@ -27,6 +27,7 @@ namespace fs = std::filesystem;
 
 struct LflhOptions {
   std::string config;
+  std::string sim_config;  // collect: the plant (default configs/sim/barn.yaml)
   std::string out;
   std::string data;
   int epochs = 0;  // 0: the config's
@@ -48,7 +49,9 @@ fs::path besidePolicy(const fs::path& policy, const std::string& suffix) {
 void runCollect(const LflhOptions& options) {
   const learning::LflhPipelineConfig config = learning::readLflhPipelineConfig(options.config);
   const auto start = std::chrono::steady_clock::now();
-  const learning::Recording recording = learning::collectExploration(config.collect, config.name);
+  // The robot and physics of the sim config: the policy learns how that robot moves.
+  const bench::EpisodeConfig plant = episodeConfigFor(options.sim_config, "");
+  const learning::Recording recording = learning::collectExploration(config.collect, config.name, plant.robot, plant.physics);
   const fs::path path = learning::recordingPath(options.out, config.name);
   std::error_code ec;
   fs::create_directories(options.out, ec);
@@ -188,6 +191,9 @@ void addLflhCommand(CLI::App& app, CommandContext&) {
   CLI::App* collect = cmd->add_subcommand("collect", "Drive the simulated Jackal randomly in open space and log it");
   collect->add_option("--config", options->config, "LfLH config, e.g. configs/lflh/1ms.yaml")->required();
   collect->add_option("--out", options->out, "Data folder (writes exploration_<name>.csv)")->required();
+  collect->add_option("--sim-config", options->sim_config,
+                      "Sim config whose robot and physics drive (default configs/sim/barn.yaml; train the policy on "
+                      "the plant you will run it on)");
   collect->callback([options] { runCollect(*options); });
 
   CLI::App* train = cmd->add_subcommand("train", "Hallucinate obstacles around the log and train the policy");

@@ -28,10 +28,9 @@ std::string hex(std::uint64_t value) {
 
 }  // namespace
 
-Recording collectExploration(const CollectConfig& config, const std::string& name) {
+Recording collectExploration(const CollectConfig& config, const std::string& name, const core::RobotConfig& robot,
+                             const sim::PhysicsConfig& physics) {
   const sim::ObstacleField empty;
-  const core::RobotConfig robot;
-  const sim::PhysicsConfig physics;
   sim::Simulator simulator(empty, robot, physics, {0.0, 0.0, 0.0});
   core::Rng rng(config.seed);
 

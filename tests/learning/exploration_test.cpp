@@ -74,6 +74,26 @@ TEST(Exploration, SameSeedGivesTheSameDriveBitForBit) {
   EXPECT_NE(collectExploration(other, "a").records[500].pose.x, a.records[500].pose.x);
 }
 
+TEST(Exploration, DrivesThePlantItIsGiven) {
+  // The same commands on a robot that turns at 1.5x the commanded rate: the recorded motion is
+  // that robot's, so a policy trained on it learns how it moves.
+  const Recording plain = collectExploration(shortDrive(), "a");
+  core::RobotConfig fast_turning;
+  fast_turning.turn_efficiency = 1.5;
+  const Recording fast = collectExploration(shortDrive(), "a", fast_turning);
+  ASSERT_EQ(plain.records.size(), fast.records.size());
+  const auto turned = [](const Recording& r) {
+    double sum = 0.0;
+    for (std::size_t k = 1; k < r.records.size(); ++k)
+      sum += std::abs(std::remainder(r.records[k].pose.yaw - r.records[k - 1].pose.yaw, 2.0 * M_PI));
+    return sum;
+  };
+  for (std::size_t k = 0; k < plain.records.size(); ++k)
+    ASSERT_EQ(plain.records[k].command.angular, fast.records[k].command.angular);
+  EXPECT_GT(turned(fast), 1.35 * turned(plain));
+  EXPECT_LT(turned(fast), 1.6 * turned(plain));
+}
+
 TEST(Exploration, RecordingFileRoundTripsExactly) {
   const Recording r = collectExploration(shortDrive(), "short");
   const fs::path path = recordingPath(tempDir("roundtrip"), "short");

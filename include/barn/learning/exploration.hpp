@@ -18,8 +18,10 @@
 #include <string>
 #include <vector>
 
+#include "barn/core/robot_config.hpp"
 #include "barn/core/types.hpp"
 #include "barn/learning/lflh_config.hpp"
+#include "barn/sim/simulator.hpp"
 
 namespace barn::learning {
 
@@ -41,9 +43,12 @@ struct Recording {
   std::vector<MotionRecord> records;
 };
 
-/// Drives the default Jackal (core::RobotConfig, sim::PhysicsConfig) in an empty world for
-/// `config.duration` seconds. Deterministic: the same config gives the same records bit for bit.
-Recording collectExploration(const CollectConfig& config, const std::string& name);
+/// Drives the Jackal (by default core::RobotConfig, sim::PhysicsConfig: the default plant) in an
+/// empty world for `config.duration` seconds. A policy learns how this robot moves, so it is
+/// trained on the plant it will drive. Deterministic: the same configs give the same records bit
+/// for bit.
+Recording collectExploration(const CollectConfig& config, const std::string& name, const core::RobotConfig& robot = {},
+                             const sim::PhysicsConfig& physics = {});
 
 /// The recording file of config `name` inside `dir`.
 std::filesystem::path recordingPath(const std::filesystem::path& dir, const std::string& name);
