@@ -141,6 +141,19 @@ TEST(EpisodeConfig, TheShippedSimConfigHoldsExactlyTheCodesDefaults) {
   EXPECT_EQ(core::writeConfig(shipped), core::writeConfig(EpisodeConfig{}));
 }
 
+TEST(EpisodeConfig, TheIsotropicFrictionConfigChangesOnlyTheTurnInPlace) {
+  // configs/sim/isotropic_friction.yaml: the pivot and turn rate of the isotropic-friction
+  // solution, every other value the default.
+  const std::string file = std::string(BARN_SOURCE_DIR) + "/configs/sim/isotropic_friction.yaml";
+  const EpisodeConfig shipped = validatedEpisodeConfig(core::ConfigNode::parseFile(file), file);
+  EXPECT_DOUBLE_EQ(shipped.robot.icr_offset, 0.037);
+  EXPECT_DOUBLE_EQ(shipped.robot.turn_efficiency, 1.037);
+  EpisodeConfig expected;
+  expected.robot.icr_offset = shipped.robot.icr_offset;
+  expected.robot.turn_efficiency = shipped.robot.turn_efficiency;
+  EXPECT_EQ(core::writeConfig(shipped), core::writeConfig(expected));
+}
+
 TEST(EpisodeConfig, TheProtocolIsReadByNameAndWrittenBackByName) {
   const EpisodeConfig config =
       validatedEpisodeConfig(core::ConfigNode::parseString("protocol: barn2024\n", "sim.yaml"), "sim.yaml");
