@@ -7,12 +7,13 @@
 //                     inflation is brought up to date only when read)
 //   BM_GlobalPlan     one global plan from scratch on a dense world (dijkstra: a new A* field;
 //                     navfn: a full propagation)
-//   BM_GlobalReplan   one dijkstra replan after a one-cell costmap change on the path (the field
-//                     repaired, or searched again past a few dozen changed cells)
-//   BM_GlobalReplanNewObstacle  one dijkstra replan after a cylinder appears 2 m ahead, as a scan
-//                     shows one: with the LfLH inflation a thousand cells change, so the field
-//                     is searched again from the part the change cannot have touched
+//   BM_GlobalReplan   one dijkstra replan after a costmap change: one cell on the path (the
+//                     field repaired, or searched again past a few dozen changed cells), or a
+//                     cylinder appearing 2 m ahead (searched again from what it cannot touch)
 // Run: build-bench/tests/perf/barn_sim_benchmark --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+
+#include <cmath>
+#include <vector>
 
 #include <benchmark/benchmark.h>
 
@@ -164,49 +165,34 @@ BENCHMARK(BM_GlobalPlan)
     ->Args({299, 0, 1})->Args({299, 1, 1})->Args({150, 1, 1})
     ->Unit(benchmark::kMicrosecond);
 
-// One replan after a costmap update that flips one obstacle cell beside the robot (as a new
-// scan does): the dijkstra planner repairs its field (or, past a few dozen changed cells,
-// searches again) instead of recomputing it.
+// One replan after a costmap update that marks (then, next time, clears) an obstacle, as a new
+// scan does: either one cell beside the robot, which the dijkstra planner repairs its field for
+// (or, past a few dozen changed cells, searches again), or a 0.15 m cylinder 2 m ahead, the
+// common case in a run: with the LfLH inflation a thousand cells change, so the field is
+// searched again from the part the change cannot have touched.
 void BM_GlobalReplan(benchmark::State& state) {
   nav::Costmap costmap = worldCostmap(static_cast<int>(state.range(0)), state.range(1) > 0);
   nav::GlobalPlanner planner({});
-  const Eigen::Vector2d start(0.0, 0.0), goal(0.0, 10.0), flip(0.05, 0.6);
-  planner.plan(costmap, start, goal);
-  std::size_t plans = 0;
-  for (auto _ : state) {
-    state.PauseTiming();
-    if (plans % 2 == 0) costmap.markObstacle(flip);
-    else costmap.clearPolygon({flip + Eigen::Vector2d(-0.02, -0.02), flip + Eigen::Vector2d(0.02, -0.02),
-                               flip + Eigen::Vector2d(0.02, 0.02), flip + Eigen::Vector2d(-0.02, 0.02)});
-    costmap.cost(0, 0);  // brings the inflation up to date outside the timing
-    state.ResumeTiming();
-    auto plan = planner.plan(costmap, start, goal);
-    benchmark::DoNotOptimize(plan.path.data());
-    ++plans;
+  const bool cylinder = state.range(2) > 0;
+  const Eigen::Vector2d start(0.0, 0.0), goal(0.0, 10.0);
+  const Eigen::Vector2d centre = cylinder ? Eigen::Vector2d(0.3, 2.0) : Eigen::Vector2d(0.05, 0.6);
+  std::vector<Eigen::Vector2d> marks = {centre};
+  if (cylinder) {  // every cell centre inside the cylinder
+    marks.clear();
+    for (double dy = -0.075; dy <= 0.075; dy += 0.05)
+      for (double dx = -0.075; dx <= 0.075; dx += 0.05)
+        if (std::hypot(dx, dy) <= 0.08) marks.push_back(centre + Eigen::Vector2d(dx, dy));
   }
-  state.counters["expanded_cells"] = static_cast<double>(planner.lastExpanded());
-}
-// Args: world id, LfLH inflation.
-BENCHMARK(BM_GlobalReplan)->Args({299, 0})->Args({299, 1})->Unit(benchmark::kMicrosecond);
-
-void BM_GlobalReplanNewObstacle(benchmark::State& state) {
-  nav::Costmap costmap = worldCostmap(static_cast<int>(state.range(0)), state.range(1) > 0);
-  nav::GlobalPlanner planner({});
-  const Eigen::Vector2d start(0.0, 0.0), goal(0.0, 10.0), cylinder(0.3, 2.0);
-  std::vector<Eigen::Vector2d> cells;  // a 0.15 m cylinder, every cell centre inside
-  for (double dy = -0.075; dy <= 0.075; dy += 0.05)
-    for (double dx = -0.075; dx <= 0.075; dx += 0.05)
-      if (std::hypot(dx, dy) <= 0.08) cells.push_back(cylinder + Eigen::Vector2d(dx, dy));
-  const Eigen::Vector2d half(0.1, 0.1);
+  const double half = cylinder ? 0.1 : 0.02;  // of the square cleared again
   planner.plan(costmap, start, goal);
   std::size_t plans = 0;
   for (auto _ : state) {
     state.PauseTiming();
     if (plans % 2 == 0) {
-      for (const auto& c : cells) costmap.markObstacle(c);
+      for (const auto& m : marks) costmap.markObstacle(m);
     } else {
-      costmap.clearPolygon({cylinder - half, cylinder + Eigen::Vector2d(half.x(), -half.y()), cylinder + half,
-                            cylinder + Eigen::Vector2d(-half.x(), half.y())});
+      costmap.clearPolygon({centre + Eigen::Vector2d(-half, -half), centre + Eigen::Vector2d(half, -half),
+                            centre + Eigen::Vector2d(half, half), centre + Eigen::Vector2d(-half, half)});
     }
     costmap.cost(0, 0);  // brings the inflation up to date outside the timing
     state.ResumeTiming();
@@ -216,8 +202,10 @@ void BM_GlobalReplanNewObstacle(benchmark::State& state) {
   }
   state.counters["expanded_cells"] = static_cast<double>(planner.lastExpanded());
 }
-// Args: world id, LfLH inflation.
-BENCHMARK(BM_GlobalReplanNewObstacle)->Args({299, 1})->Args({150, 1})->Unit(benchmark::kMicrosecond);
+// Args: world id, LfLH inflation, change (0 = one cell beside the robot, 1 = a cylinder ahead).
+BENCHMARK(BM_GlobalReplan)
+    ->Args({299, 0, 0})->Args({299, 1, 0})->Args({299, 1, 1})->Args({150, 1, 1})
+    ->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 
