@@ -51,7 +51,8 @@ void runCollect(const LflhOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   // The robot and physics of the sim config: the policy learns how that robot moves.
   const bench::EpisodeConfig plant = episodeConfigFor(options.sim_config, "");
-  const learning::Recording recording = learning::collectExploration(config.collect, config.name, plant.robot, plant.physics);
+  const learning::Recording recording =
+      learning::collectExploration(config.collect, config.name, plant.robot, plant.physics);
   const fs::path path = learning::recordingPath(options.out, config.name);
   std::error_code ec;
   fs::create_directories(options.out, ec);

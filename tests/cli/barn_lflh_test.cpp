@@ -146,6 +146,30 @@ TEST_F(BarnLflh, BadConfigIsExitTwoNamingTheKey) {
   EXPECT_THAT(result.output, HasSubstr("train.epochz: unknown key"));
 }
 
+TEST_F(BarnLflh, CollectDrivesThePlantOfTheSimConfig) {
+  // The default sim config is the default plant: the same recording; another plant (turning at
+  // 1.5x) records another motion; a bad sim config is exit 2 naming the field.
+  const auto collect = [&](const std::string& folder, const std::string& sim_config) {
+    const std::string option = sim_config.empty() ? "" : " --sim-config '" + sim_config + "'";
+    return run("lflh collect --config " + path("tiny.yaml") + option + " --out " + path(folder));
+  };
+  const auto recording = [&](const std::string& folder) {
+    return barn::core::readTextFile(dir_ / folder / "exploration_tiny.csv");
+  };
+  barn::core::writeFileAtomic(dir_ / "fast.yaml", "robot: {turn_efficiency: 1.5}\n");
+  barn::core::writeFileAtomic(dir_ / "bad_plant.yaml", "robot: {turn_efficiency: -1}\n");
+  ASSERT_EQ(collect("plain", "").exit_code, 0);
+  ASSERT_EQ(collect("shipped", (fs::path(BARN_SOURCE_DIR) / "configs" / "sim" / "barn.yaml").string()).exit_code, 0);
+  ASSERT_EQ(collect("fast", (dir_ / "fast.yaml").string()).exit_code, 0);
+  EXPECT_EQ(recording("shipped"), recording("plain"));
+  EXPECT_NE(recording("fast"), recording("plain"));
+
+  const RunResult bad = collect("bad", (dir_ / "bad_plant.yaml").string());
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_THAT(bad.output, HasSubstr("robot.turn_efficiency"));
+  EXPECT_FALSE(fs::exists(dir_ / "bad"));
+}
+
 TEST_F(BarnLflh, TrainingOnDataFromOtherCollectSettingsIsExitTwo) {
   ASSERT_EQ(run("lflh collect --config " + path("tiny.yaml") + " --out " + path("data")).exit_code, 0);
   std::string other = kTinyConfig;
