@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "barn/core/config.hpp"
 #include "barn/core/rng.hpp"
 #include "barn/core/text_io.hpp"
 #include "barn/sim/simulator.hpp"
@@ -26,7 +27,19 @@ std::string hex(std::uint64_t value) {
   return out.str();
 }
 
+bool parseHex(const std::string& text, std::uint64_t& value) {
+  const char* begin = text.data() + (text.rfind("0x", 0) == 0 ? 2 : 0);
+  const auto [end, ec] = std::from_chars(begin, text.data() + text.size(), value, 16);
+  return ec == std::errc() && end == text.data() + text.size();
+}
+
 }  // namespace
+
+std::uint64_t plantHash(const core::RobotConfig& robot, const sim::PhysicsConfig& physics) {
+  const std::uint64_t robot_hash = core::fnv1a64("robot:\n" + core::writeConfig(robot));
+  const std::uint64_t hash = core::fnv1a64("physics:\n" + core::writeConfig(physics), robot_hash);
+  return hash == 0 ? 1 : hash;  // 0 means unknown
+}
 
 Recording collectExploration(const CollectConfig& config, const std::string& name, const core::RobotConfig& robot,
                              const sim::PhysicsConfig& physics) {
@@ -44,6 +57,7 @@ Recording collectExploration(const CollectConfig& config, const std::string& nam
   Recording recording;
   recording.name = name;
   recording.collect_hash = collectHash(config);
+  recording.plant_hash = plantHash(robot, physics);
   recording.rate = 1.0 / record_dt;
   recording.records.reserve(static_cast<std::size_t>(record_count));
 
@@ -92,6 +106,7 @@ void writeRecording(const std::filesystem::path& path, const Recording& recordin
   text.reserve(recording.records.size() * 160);
   text += kMagic;
   text += "\n# name: " + recording.name + "\n# collect_hash: " + hex(recording.collect_hash) + "\n";
+  if (recording.plant_hash != 0) text += "# plant_hash: " + hex(recording.plant_hash) + "\n";
   text += "# rate: " + core::formatDouble(recording.rate) + "\n";
   text += kColumns;
   text += '\n';
@@ -129,10 +144,10 @@ Recording readRecording(const std::filesystem::path& path) {
     if (key == "name") {
       recording.name = value;
     } else if (key == "collect_hash") {
-      const char* begin = value.data() + (value.rfind("0x", 0) == 0 ? 2 : 0);
-      const auto [end, ec] = std::from_chars(begin, value.data() + value.size(), recording.collect_hash, 16);
-      if (ec != std::errc() || end != value.data() + value.size()) fail("collect_hash: expected a hexadecimal number");
+      if (!parseHex(value, recording.collect_hash)) fail("collect_hash: expected a hexadecimal number");
       has_hash = true;
+    } else if (key == "plant_hash") {
+      if (!parseHex(value, recording.plant_hash) || recording.plant_hash == 0) fail("plant_hash: expected a nonzero hexadecimal number");
     } else if (key == "rate") {
       if (!core::parseDouble(value, recording.rate) || !(recording.rate > 0.0)) fail("rate: expected a positive number");
       has_rate = true;

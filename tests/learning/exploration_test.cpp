@@ -92,6 +92,22 @@ TEST(Exploration, DrivesThePlantItIsGiven) {
     ASSERT_EQ(plain.records[k].command.angular, fast.records[k].command.angular);
   EXPECT_GT(turned(fast), 1.35 * turned(plain));
   EXPECT_LT(turned(fast), 1.6 * turned(plain));
+  // Each recording names its plant.
+  EXPECT_EQ(plain.plant_hash, plantHash({}, {}));
+  EXPECT_EQ(fast.plant_hash, plantHash(fast_turning, {}));
+}
+
+TEST(Exploration, ThePlantHashTellsPlantsApart) {
+  core::RobotConfig robot;
+  sim::PhysicsConfig physics;
+  const std::uint64_t plain = plantHash(robot, physics);
+  EXPECT_NE(plain, 0u);  // 0 means unknown
+  EXPECT_EQ(plantHash(core::RobotConfig{}, sim::PhysicsConfig{}), plain);
+  robot.icr_offset = 0.037;
+  EXPECT_NE(plantHash(robot, physics), plain);
+  physics.rate = 1000.0;
+  EXPECT_NE(plantHash({}, physics), plain);
+  EXPECT_NE(plantHash({}, physics), plantHash(robot, physics));
 }
 
 TEST(Exploration, RecordingFileRoundTripsExactly) {
@@ -101,6 +117,7 @@ TEST(Exploration, RecordingFileRoundTripsExactly) {
   const Recording back = readRecording(path);
   EXPECT_EQ(back.name, "short");
   EXPECT_EQ(back.collect_hash, collectHash(shortDrive()));
+  EXPECT_EQ(back.plant_hash, plantHash({}, {}));
   ASSERT_EQ(back.records.size(), r.records.size());
   for (std::size_t k = 0; k < r.records.size(); ++k) {
     EXPECT_EQ(back.records[k].pose.y, r.records[k].pose.y);
@@ -126,6 +143,18 @@ TEST(Exploration, MalformedRecordingNamesTheFileAndLine) {
   EXPECT_THAT(errorOf(header + "0,0,0,0,0,0,0,0,0\n0,0,0,0,0,0,0,0,0,0\n"), HasSubstr("r.csv:7: column 9"));
   EXPECT_THAT(errorOf(header + "0,0,0,0,abc,0,0,0,0\n"), HasSubstr("r.csv:6: column 5: expected a finite number"));
   EXPECT_THAT(errorOf(header + "0,0,0,0,0,0,0,0,0\n"), HasSubstr("fewer than 2 records"));
+  std::string planted = header;
+  planted.insert(planted.find("# rate"), "# plant_hash: 0x0\n");
+  EXPECT_THAT(errorOf(planted + "0,0,0,0,0,0,0,0,0\n1,0,0,0,0,0,0,0,0\n"), HasSubstr("r.csv:4: plant_hash: expected a nonzero"));
+}
+
+TEST(Exploration, ARecordingWrittenBeforeThePlantHashReadsWithAnUnknownPlant) {
+  const fs::path dir = tempDir("unplanted");
+  core::writeFileAtomic(dir / "r.csv", "# barnbench lflh exploration 1\n# name: x\n# collect_hash: 0x1f\n# rate: 50\n"
+                                       "t,x,y,yaw,v,vy,w,cmd_v,cmd_w\n0,0,0,0,0,0,0,0,0\n0.02,0,0,0,0,0,0,0,0\n");
+  const Recording r = readRecording(dir / "r.csv");
+  EXPECT_EQ(r.plant_hash, 0u);
+  EXPECT_EQ(r.records.size(), 2u);
 }
 
 TEST(LflhPipelineConfig, UnknownKeysAndBadValuesAreReportedWithTheirPath) {
