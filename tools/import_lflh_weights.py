@@ -18,7 +18,7 @@ few names such a file uses, so nothing else in the file can run) and numpy; torc
 A file in the newer zip format is read with torch.load when torch is importable; otherwise the
 script says how to install it (Debian: apt-get install python3-torch).
 
-Writing: barnbench's policy format version 2 (configs/policies/README.md): a text header, then
+Writing: barnbench's policy format version 3 (configs/policies/README.md): a text header, then
 float32 little-endian blocks w1 b1 w2 b2 w3 b3, matrices column-major.
 
 The published weights have no licence: convert your own copy for your own use; never commit it
@@ -261,7 +261,7 @@ def policy_bytes(weights, range_clip, slope, name, epochs):
     payload = b"".join(np.asarray(a, dtype="<f4").flatten(order="F").tobytes() for a in weights)
     lines = [
         ("format", "barnbench-lflh-policy"),
-        ("version", "2"),
+        ("version", "3"),
         ("architecture", "%d-%d-%d-2" % (inputs, hidden, hidden)),
         ("activation", "leaky_relu " + format_number(slope)),
         ("input", POLICY_INPUT),
@@ -273,6 +273,7 @@ def policy_bytes(weights, range_clip, slope, name, epochs):
         ("payload_bytes", str(len(payload))),
         ("name", name),
         ("config_hash", "0x0"),
+        ("plant_hash", "unknown"),  # trained on a real or Gazebo robot, not a barnbench plant
         ("trained", "unknown"),
         ("seed", "0"),
         ("epochs", str(epochs)),

@@ -90,6 +90,12 @@ void runTrain(const LflhOptions& options) {
     const learning::LflhPipelineConfig other = learning::readLflhPipelineConfig(other_path);
     const learning::Recording other_recording = readChecked(other, other_path.string());
     // The other recording hallucinated with its own settings, encoded with this policy's clip.
+    // One policy learns one plant: demonstrations of robots that move differently would teach it
+    // commands that suit neither.
+    if (other_recording.plant_hash != recording.plant_hash)
+      throw core::InputError(learning::recordingPath(options.data, other.name).string() + " was recorded on another plant than " +
+                             learning::recordingPath(options.data, config.name).string() +
+                             " (plant_hash differs); collect both with the same --sim-config");
     learning::appendDataset(data, learning::buildDataset(other_recording, other.hallucination, config.train.range_clip));
     record_count += other_recording.records.size();
     std::printf("joined %s (%zu records)\n", other.name.c_str(), other_recording.records.size());
@@ -117,6 +123,7 @@ void runTrain(const LflhOptions& options) {
   info.slope = config.train.leaky_slope;
   info.name = config.name;
   info.config_hash = learning::configHash(config);
+  info.plant_hash = recording.plant_hash;
   info.trained = bench::utcNow();
   info.seed = config.train.seed;
   info.epochs = config.train.epochs;

@@ -18,7 +18,7 @@ namespace barn::learning {
 namespace {
 
 constexpr const char* kFormat = "barnbench-lflh-policy";
-constexpr int kVersion = 2;  // written; versions 1 and 2 are read
+constexpr int kVersion = 3;  // written; versions 1 to 3 are read
 constexpr const char* kEndHeader = "end_header";
 // Fixed descriptions: part of the contract, so a file written for another input or output
 // convention fails to load instead of driving the robot backwards.
@@ -58,6 +58,12 @@ struct HexNumber {
   std::uint64_t value = 0;
 };
 
+// A plant hash; 0 (written "unknown") when the plant is not known (an imported policy, or one
+// written before version 3).
+struct PlantHash {
+  std::uint64_t value = 0;
+};
+
 // A loss; NaN (written "unknown") for an imported policy.
 struct Loss {
   double value = 0.0;
@@ -74,6 +80,7 @@ struct PolicyHeader {
   long long payload_bytes = 0;
   std::string name;
   HexNumber config_hash;
+  PlantHash plant_hash;
   std::string trained;
   std::uint64_t seed = 0;
   int epochs = 0;
@@ -85,6 +92,7 @@ struct PolicyHeader {
     v("input", FixedText{kInput}); v("beams", beams, IntRange{1, 100000}); v("range_clip", range_clip);
     v("goal", FixedText{kGoal}); v("output", FixedText{kOutput}); v("layout", FixedText{kLayout});
     v("payload_bytes", payload_bytes, IntRange{0, max}); v("name", name); v("config_hash", config_hash);
+    v("plant_hash", plant_hash);
     v("trained", trained); v("seed", seed, IntRange{0, max}); v("epochs", epochs, IntRange{0, 100000000});
     v("train_loss", train_loss); v("validation_loss", validation_loss); v("mean_predictor_loss", mean_predictor_loss);
   }
@@ -103,6 +111,10 @@ class HeaderWriter {
   }
   void operator()(const char* key, Loss loss) {
     line(key, std::isnan(loss.value) ? std::string(kUnknown) : core::formatDouble(loss.value));
+  }
+  void operator()(const char* key, PlantHash plant) {
+    if (plant.value == 0) line(key, kUnknown);
+    else (*this)(key, HexNumber{plant.value});
   }
   template <class Int>
   void operator()(const char* key, Int value, IntRange) {
@@ -125,8 +137,8 @@ class HeaderReader {
   void operator()(const char* key, std::string& value) { value = header_[key]; }
   void operator()(const char* key, FormatVersion& version) {
     version.value = static_cast<int>(integer(key, IntRange{0, 1000000}));
-    if (version.value != 1 && version.value != 2)
-      fail("unsupported version " + header_[key] + " (this build reads versions 1 and 2)");
+    if (version.value < 1 || version.value > kVersion)
+      fail("unsupported version " + header_[key] + " (this build reads versions 1 to " + std::to_string(kVersion) + ")");
   }
   void operator()(const char* key, FixedText fixed) {
     if (header_[key] != fixed.text) fail("header: " + std::string(key) + " is '" + header_[key] + "', expected '" + fixed.text + "'");
@@ -140,6 +152,16 @@ class HeaderReader {
   }
   void operator()(const char* key, Loss& loss) {
     loss.value = header_[key] == kUnknown ? std::numeric_limits<double>::quiet_NaN() : number(key);
+  }
+  void operator()(const char* key, PlantHash& plant) {
+    if (header_[key] == kUnknown) {
+      plant.value = 0;
+      return;
+    }
+    HexNumber number;
+    (*this)(key, number);
+    if (number.value == 0) fail("header: plant_hash 0x0: write 'unknown' for an unknown plant");
+    plant.value = number.value;
   }
   template <class Int>
   void operator()(const char* key, Int& value, IntRange range) {
@@ -206,6 +228,7 @@ void writePolicyFile(const std::filesystem::path& path, const PolicyInfo& info, 
   fields.payload_bytes = static_cast<long long>(payload);
   fields.name = info.name;
   fields.config_hash.value = info.config_hash;
+  fields.plant_hash.value = info.plant_hash;
   fields.trained = info.trained;
   fields.seed = info.seed;
   fields.epochs = info.epochs;
@@ -276,6 +299,10 @@ Policy Policy::parse(const std::string& file, const std::string& source_name) {
   for (const std::string& key : order) {
     if (std::find(headerKeys().begin(), headerKeys().end(), key) == headerKeys().end()) fail("header: unknown key '" + key + "'");
   }
+  // Versions 1 and 2 predate plant_hash: their plant is unknown.
+  const auto version = header.find("version");
+  if (version != header.end() && (version->second == "1" || version->second == "2") && !header.count("plant_hash"))
+    header["plant_hash"] = kUnknown;
   for (const std::string& key : headerKeys()) {
     if (!header.count(key)) fail("header: missing key '" + key + "'");
   }
@@ -303,6 +330,7 @@ Policy Policy::parse(const std::string& file, const std::string& source_name) {
   if (!(info.range_clip > 0.0)) fail("header: range_clip must be > 0");
   info.name = fields.name;
   info.config_hash = fields.config_hash.value;
+  info.plant_hash = fields.plant_hash.value;
   info.trained = fields.trained;
   info.seed = fields.seed;
   info.epochs = fields.epochs;

@@ -12,6 +12,7 @@
 
 #include "barn/core/errors.hpp"
 #include "barn/core/text_io.hpp"
+#include "barn/learning/exploration.hpp"
 #include "barn/learning/hallucination.hpp"
 #include "barn/learning/lflh_config.hpp"
 #include "tests/scratch_dir.hpp"
@@ -36,6 +37,7 @@ PolicyInfo smallInfo() {
   info.hidden = 8;
   info.name = "small";
   info.config_hash = 0xabcdef0123456789ull;
+  info.plant_hash = 0x1122334455667788ull;
   info.trained = "2026-01-01T00:00:00Z";
   info.seed = 3;
   info.epochs = 10;
@@ -59,6 +61,7 @@ TEST(PolicyFile, RoundTripKeepsEveryWeightAndHeaderField) {
   EXPECT_EQ(policy.weights().w1, smallWeights().w1);
   EXPECT_EQ(policy.weights().b3, smallWeights().b3);
   EXPECT_EQ(policy.info().config_hash, 0xabcdef0123456789ull);
+  EXPECT_EQ(policy.info().plant_hash, 0x1122334455667788ull);
   EXPECT_EQ(policy.info().name, "small");
   EXPECT_EQ(policy.info().trained, "2026-01-01T00:00:00Z");
   EXPECT_EQ(policy.info().validation_loss, 0.25);
@@ -119,7 +122,7 @@ TEST_F(PolicyLoadErrors, WrongShape) {
 }
 
 TEST_F(PolicyLoadErrors, HeaderContractFields) {
-  EXPECT_THAT(errorOf(replaced("version: 2", "version: 3")), HasSubstr("unsupported version 3 (this build reads versions 1 and 2)"));
+  EXPECT_THAT(errorOf(replaced("version: 3", "version: 4")), HasSubstr("unsupported version 4 (this build reads versions 1 to 3)"));
   EXPECT_THAT(errorOf(replaced("activation: relu", "activation: tanh")),
               HasSubstr("activation 'tanh': expected 'relu' or 'leaky_relu S' with the slope S in (0, 1)"));
   EXPECT_THAT(errorOf(replaced("activation: relu", "activation: leaky_relu")), HasSubstr("activation 'leaky_relu'"));
@@ -132,15 +135,30 @@ TEST_F(PolicyLoadErrors, HeaderContractFields) {
   EXPECT_THAT(errorOf(replaced("train_loss: 0.125", "train_loss: lots")), HasSubstr("train_loss 'lots': expected a number"));
   EXPECT_THAT(errorOf(replaced("beams: 720", "beams: 0")), HasSubstr("header: beams '0': expected an integer in [1, 100000]"));
   EXPECT_THAT(errorOf(replaced("config_hash: 0x", "config_hash: 0xg")), HasSubstr("header: config_hash '0xg"));
+  EXPECT_THAT(errorOf(replaced("plant_hash: 0x1122334455667788", "plant_hash: 0x0")), HasSubstr("write 'unknown' for an unknown plant"));
+  EXPECT_THAT(errorOf(replaced("plant_hash: 0x1122334455667788", "plant_hash: default")), HasSubstr("header: plant_hash 'default'"));
+  EXPECT_THAT(errorOf(replaced("plant_hash: 0x1122334455667788\n", "")), HasSubstr("missing key 'plant_hash'"));
   EXPECT_THAT(errorOf(replaced("layout: float32", "layout: float64")), HasSubstr("header: layout is 'float64"));
 }
 
-// ---- Format versions: 1 (relu only) still loads; 2 records the activation ----
+// ---- Format versions: 1 (relu only) and 2 still load; 2 records the activation, 3 the plant ----
+
+TEST_F(PolicyLoadErrors, AnUnknownPlantAndTheVersionsBeforeThePlantLoadWithPlantZero) {
+  EXPECT_EQ(Policy::parse(replaced("plant_hash: 0x1122334455667788", "plant_hash: unknown"), "u.policy").info().plant_hash, 0u);
+  // Version 2 had no plant_hash line; its plant is unknown (a line it has anyway is read).
+  std::string v2 = replaced("version: 3", "version: 2");
+  EXPECT_EQ(Policy::parse(v2, "v2.policy").info().plant_hash, 0x1122334455667788ull);
+  const std::string plant_line = "plant_hash: 0x1122334455667788\n";
+  v2.replace(v2.find(plant_line), plant_line.size(), "");
+  const Policy old = Policy::parse(v2, "v2.policy");
+  EXPECT_EQ(old.info().plant_hash, 0u);
+  EXPECT_EQ(old.weights().w1, smallWeights().w1);
+}
 
 TEST_F(PolicyLoadErrors, VersionOneLoadsAsRelu) {
   // A version 1 file is this one with "version: 1" (its activation line was always "relu").
   const fs::path path = dir_ / "v1.policy";
-  const std::string v1 = replaced("version: 2", "version: 1");
+  const std::string v1 = replaced("version: 3", "version: 1");
   core::writeFileAtomic(path, v1);
   const Policy policy = Policy::load(path);
   EXPECT_EQ(policy.info().activation, Activation::Relu);
@@ -151,7 +169,7 @@ TEST_F(PolicyLoadErrors, VersionOneLoadsAsRelu) {
   EXPECT_THAT(errorOf(leaky), HasSubstr("activation is 'leaky_relu 0.01', expected 'relu'"));
 }
 
-TEST(PolicyFile, VersionTwoRoundTripKeepsTheLeakyReluAndItsSlope) {
+TEST(PolicyFile, RoundTripKeepsTheLeakyReluAndItsSlope) {
   const ScratchDir scratch("barn_policy_test_leaky");
   const fs::path path = scratch.path() / "leaky.policy";
   PolicyInfo info = smallInfo();
@@ -160,7 +178,7 @@ TEST(PolicyFile, VersionTwoRoundTripKeepsTheLeakyReluAndItsSlope) {
   info.train_loss = std::numeric_limits<double>::quiet_NaN();  // unknown, as for an imported policy
   writePolicyFile(path, info, smallWeights());
   const std::string text = core::readTextFile(path);
-  EXPECT_THAT(text, HasSubstr("\nversion: 2\n"));
+  EXPECT_THAT(text, HasSubstr("\nversion: 3\n"));
   EXPECT_THAT(text, HasSubstr("\nactivation: leaky_relu 0.01\n"));
   EXPECT_THAT(text, HasSubstr("\ntrain_loss: unknown\n"));
   const Policy policy = Policy::load(path);
@@ -286,23 +304,26 @@ TEST(ShippedPolicies, WriteBackByteForByte) {
   }
 }
 
-TEST(PolicyFile, TheFuzzSeedsLoadAndTheVersionTwoOneWritesBackByteForByte) {
+TEST(PolicyFile, TheFuzzSeedsLoadAndTheVersionThreeOneWritesBackByteForByte) {
   const fs::path seeds = fs::path(BARN_SOURCE_DIR) / "tests" / "fuzz" / "seeds" / "policy";
   EXPECT_EQ(Policy::load(seeds / "tiny.policy").info().activation, Activation::Relu);  // version 1
   const Policy leaky = Policy::load(seeds / "tiny_v2_leaky.policy");
   EXPECT_EQ(leaky.info().activation, Activation::LeakyRelu);
+  EXPECT_EQ(leaky.info().plant_hash, 0u);
+  const Policy planted = Policy::load(seeds / "tiny_v3_plant.policy");
+  EXPECT_NE(planted.info().plant_hash, 0u);
   const ScratchDir scratch("barn_policy_test_seeds");
   const fs::path back = scratch.path() / "back.policy";
-  writePolicyFile(back, leaky.info(), leaky.weights());
-  EXPECT_EQ(core::readTextFile(back), core::readTextFile(seeds / "tiny_v2_leaky.policy"));
+  writePolicyFile(back, planted.info(), planted.weights());
+  EXPECT_EQ(core::readTextFile(back), core::readTextFile(seeds / "tiny_v3_plant.policy"));
 }
 
 TEST(ShippedPolicies, TheVersionOneFormOfAShippedPolicyLoadsTheSameWeightsAsRelu) {
   // Version 1 files differ only in their version line and their activation, always relu.
   const fs::path file = fs::path(BARN_SOURCE_DIR) / "configs" / "policies" / "lflh_1ms.policy";
-  const std::string v2 = core::readTextFile(file);
-  std::string v1 = v2;
-  v1.replace(v1.find("\nversion: 2\n"), 12, "\nversion: 1\n");
+  const std::string v3 = core::readTextFile(file);
+  std::string v1 = v3;
+  v1.replace(v1.find("\nversion: 3\n"), 12, "\nversion: 1\n");
   // A version 1 header cannot name another activation.
   ASSERT_NE(v1.find("\nactivation: leaky_relu 0.01\n"), std::string::npos);
   EXPECT_THROW(Policy::parse(v1, "v1.policy"), core::InputError);
@@ -323,6 +344,7 @@ TEST(ShippedPolicies, LoadAndMatchTheirTrainingConfigs) {
     const Policy policy = Policy::load(file);
     const LflhPipelineConfig config = readLflhPipelineConfig(fs::path(BARN_SOURCE_DIR) / "configs" / "lflh" / (name + ".yaml"));
     EXPECT_EQ(policy.info().config_hash, configHash(config)) << file << " was trained with another config";
+    EXPECT_EQ(policy.info().plant_hash, plantHash({}, {})) << file << " was trained on another plant than the default";
     EXPECT_EQ(policy.info().hidden, 256);
     EXPECT_LT(policy.info().validation_loss, policy.info().mean_predictor_loss);
     // Goal ahead: drive forward, and steer away from a circle (r 0.3 m) 1 m ahead and 0.3 m

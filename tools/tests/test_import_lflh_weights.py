@@ -175,7 +175,8 @@ def test_converted_policy_loads_in_barnbench_and_computes_the_numpy_forward_pass
     assert "leaky_relu 0.01" in result.stdout
 
     header = out.read_bytes().split(b"end_header\n")[0].decode()
-    assert "version: 2\n" in header
+    assert "version: 3\n" in header
+    assert "plant_hash: unknown\n" in header
     assert "activation: leaky_relu 0.01\n" in header
     assert "range_clip: 2.0\n" in header
     assert "beams: %d\n" % BEAMS in header

@@ -6,18 +6,20 @@
 /// float32, blocks w1 b1 w2 b2 w3 b3, each matrix column-major (Eigen's order):
 ///
 ///     format: barnbench-lflh-policy
-///     version: 2
+///     version: 3
 ///     architecture: 722-256-256-2
 ///     activation: leaky_relu 0.01
 ///     ...
 ///     end_header
 ///     <payload_bytes bytes of float32>
 ///
-/// Version 2 (written now) records the hidden layers' activation: `relu`, or `leaky_relu S`
-/// with the negative slope S in (0, 1) (the published LfLH network: `leaky_relu 0.01`). Version 1
-/// files had the fixed text `activation: relu` and still load, as relu. Either version may give
-/// `unknown` for train_loss, validation_loss and mean_predictor_loss (a policy not trained here,
-/// e.g. converted by tools/import_lflh_weights.py); they load as NaN.
+/// Version 3 (written now) records the plant the policy was trained on (`plant_hash`, see
+/// learning::plantHash; `unknown` for a policy not trained here). Version 2 added the hidden
+/// layers' activation: `relu`, or `leaky_relu S` with the negative slope S in (0, 1) (the
+/// published LfLH network: `leaky_relu 0.01`). Version 1 files had the fixed text
+/// `activation: relu` and load as relu; version 1 and 2 files load with an unknown plant. Any
+/// version may give `unknown` for train_loss, validation_loss and mean_predictor_loss (a policy
+/// not trained here, e.g. converted by tools/import_lflh_weights.py); they load as NaN.
 ///
 /// Loading checks the magic, the version, every required key, the architecture against the
 /// input layout, the payload size and that every weight is finite, and throws an InputError
@@ -45,6 +47,7 @@ struct PolicyInfo {
   double slope = 0.01;             // [-] leaky_relu's negative slope (unused for relu)
   std::string name;                // config name, e.g. lflh_1ms
   std::uint64_t config_hash = 0;   // core::fnv1a64 of the effective training config
+  std::uint64_t plant_hash = 0;    // learning::plantHash of the plant its demonstrations drove (0: unknown)
   std::string trained;             // UTC date and time of training, ISO 8601
   std::uint64_t seed = 0;          // training seed
   int epochs = 0;                  // [-]
@@ -53,7 +56,7 @@ struct PolicyInfo {
   double mean_predictor_loss = 0.0;  // validation loss of always predicting the mean command (NaN: unknown)
 };
 
-/// Writes a policy file (atomically), format version 2.
+/// Writes a policy file (atomically), format version 3.
 void writePolicyFile(const std::filesystem::path& path, const PolicyInfo& info, const MlpParameters<float>& weights);
 
 class Policy {
