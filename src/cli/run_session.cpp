@@ -9,9 +9,11 @@
 #include <csignal>
 #include <cstring>
 #include <cstdio>
+#include <exception>
 #include <fstream>
 #include <memory>
 #include <optional>
+#include <set>
 #include <unistd.h>
 
 #include "barn/bench/record_session.hpp"
@@ -47,7 +49,9 @@ Session newSession(const std::string& controller_name, const core::ConfigNode& c
   controllers::PreparedController controller = controllers::prepareController(controller_config);
   session.make_controller = std::move(controller.factory);
   session.episode = episode;
-  bench::checkControllerFits(*session.make_controller(), episode);  // before any episode
+  const std::unique_ptr<controllers::Controller> probe = session.make_controller();
+  bench::checkControllerFits(*probe, episode);  // before any episode
+  session.plant_warning = bench::plantMismatch(*probe, episode);
   bench::RunManifest manifest =
       bench::newManifest(controller_name, controller.effective_config, episode, loaded, worlds_spec, trials, seed);
   manifest.shard_index = shard_index;
@@ -65,6 +69,11 @@ Session resumedSession(const fs::path& dir) {
       controllers::makeControllerFactory(core::ConfigNode::parseString(m.controller_config, "manifest controller_config"));
   session.episode = bench::validatedEpisodeConfig(core::ConfigNode::parseString(m.episode_config, "manifest episode_config"),
                                                   (dir / bench::kManifestFile).string());
+  try {
+    session.plant_warning = bench::plantMismatch(*session.make_controller(), session.episode);
+  } catch (const std::exception&) {
+    // A controller that cannot be made (its policy file gone) fails every episode, as before.
+  }
   return session;
 }
 
@@ -212,6 +221,10 @@ int executeSessions(const std::vector<Session*>& sessions, const SessionOptions&
   const int threads = options.jobs > 0 ? options.jobs : static_cast<int>(std::max(1L, ::sysconf(_SC_NPROCESSORS_ONLN)));
   const std::vector<Session*> running = sessionsToRun(sessions, print_summaries);
   if (running.empty()) return 0;
+  std::set<std::string> warned;  // a sweep's cells mostly share one policy: each warning once
+  for (const Session* session : running)
+    if (!session->plant_warning.empty() && warned.insert(session->plant_warning).second)
+      std::fprintf(stderr, "warning: %s: %s\n", session->record.manifest.controller.c_str(), session->plant_warning.c_str());
   std::size_t total = 0, already = 0;
   PreparedBatches prepared = prepareBatches(running, sessions.size() == 1, options, threads, total, already);
   PoolOutput pool = runPool(running, prepared, options, total, already);

@@ -24,6 +24,7 @@ struct Session {
   bench::RecordSession record;
   controllers::ControllerFactory make_controller;
   bench::EpisodeConfig episode;
+  std::string plant_warning;  // bench::plantMismatch of the controller on this plant ("" if none)
 };
 
 /// A new record in `dir` (which must not hold one): everything validated, nothing written yet.

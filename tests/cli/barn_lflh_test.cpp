@@ -16,6 +16,8 @@
 #include <string>
 
 #include "barn/core/text_io.hpp"
+#include "barn/core/robot_config.hpp"
+#include "barn/learning/exploration.hpp"
 #include "barn/learning/policy.hpp"
 
 namespace {
@@ -168,6 +170,42 @@ TEST_F(BarnLflh, CollectDrivesThePlantOfTheSimConfig) {
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_THAT(bad.output, HasSubstr("robot.turn_efficiency"));
   EXPECT_FALSE(fs::exists(dir_ / "bad"));
+}
+
+TEST_F(BarnLflh, APolicyRemembersItsPlantAndARunOnAnotherPlantWarnsOnce) {
+  // Trained on a robot that turns at 1.5x: a run with the default robot warns (once, though
+  // two trials run), a run on the plant it was trained on does not.
+  barn::core::writeFileAtomic(dir_ / "fast.yaml", "robot: {turn_efficiency: 1.5}\n");
+  ASSERT_EQ(run("lflh collect --config " + path("tiny.yaml") + " --sim-config " + path("fast.yaml") + " --out " + path("data")).exit_code, 0);
+  ASSERT_EQ(run("lflh train --config " + path("tiny.yaml") + " --data " + path("data") + " --out " + path("tiny.policy")).exit_code, 0);
+  const barn::learning::Policy policy = barn::learning::Policy::load(dir_ / "tiny.policy");
+  barn::core::RobotConfig fast;
+  fast.turn_efficiency = 1.5;
+  EXPECT_EQ(policy.info().plant_hash, barn::learning::plantHash(fast, {}));
+
+  barn::core::writeFileAtomic(dir_ / "tiny_lflh.yaml", "type: lflh\nlflh: {policy: tiny.policy}\n");
+  const std::string args = "run --controller tiny_lflh --config " + path("tiny_lflh.yaml") + " --worlds 0 --trials 2 --out ";
+  const RunResult other = run(args + path("other_plant"));
+  ASSERT_EQ(other.exit_code, 0) << other.output;
+  const std::string warning = "warning: tiny_lflh: its policy was trained on another plant";
+  EXPECT_THAT(other.output, HasSubstr(warning));
+  EXPECT_EQ(other.output.find(warning), other.output.rfind(warning));
+  const RunResult same = run(args + path("same_plant") + " --sim-config " + path("fast.yaml"));
+  ASSERT_EQ(same.exit_code, 0) << same.output;
+  EXPECT_THAT(same.output, testing::Not(HasSubstr("trained on another plant")));
+}
+
+TEST_F(BarnLflh, JoiningARecordingOfAnotherPlantIsExitTwo) {
+  barn::core::writeFileAtomic(dir_ / "fast.yaml", "robot: {turn_efficiency: 1.5}\n");
+  barn::core::writeFileAtomic(dir_ / "joined.yaml", "name: joined\ncollect: {duration: 20.0}\nhallucination: {stride: 4}\n"
+                                                    "train: {hidden: 16, epochs: 2}\nalso_train_on: [tiny.yaml]\n");
+  ASSERT_EQ(run("lflh collect --config " + path("joined.yaml") + " --out " + path("data")).exit_code, 0);
+  ASSERT_EQ(run("lflh collect --config " + path("tiny.yaml") + " --sim-config " + path("fast.yaml") + " --out " + path("data")).exit_code, 0);
+  const RunResult result =
+      run("lflh train --config " + path("joined.yaml") + " --data " + path("data") + " --out " + path("j.policy"));
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_THAT(result.output, HasSubstr("exploration_tiny.csv was recorded on another plant"));
+  EXPECT_FALSE(fs::exists(dir_ / "j.policy"));
 }
 
 TEST_F(BarnLflh, TrainingOnDataFromOtherCollectSettingsIsExitTwo) {

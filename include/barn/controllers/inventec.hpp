@@ -207,6 +207,7 @@ class InventecController : public Controller {
   core::Twist act(const Observation& observation) override;
   double period() const override { return 1.0 / config_.rate; }
   void checkLidar(const core::LidarConfig& lidar) const override { learning::checkPolicyLidar(*policy_, lidar); }
+  std::uint64_t trainedPlant() const override { return policy_->info().plant_hash; }
   std::string_view stateLabel() const override { return toString(state_); }
   InventecState state() const { return state_; }
 

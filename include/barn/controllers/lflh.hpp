@@ -95,6 +95,7 @@ class LflhController : public Controller {
   core::Twist act(const Observation& observation) override;
   double period() const override { return 1.0 / config_.rate; }
   void checkLidar(const core::LidarConfig& lidar) const override { learning::checkPolicyLidar(*policy_, lidar); }
+  std::uint64_t trainedPlant() const override { return policy_->info().plant_hash; }
   /// The deployed controller's action of the last tick; "" for the bare policy.
   std::string_view stateLabel() const override { return config_.deployed ? toString(action_) : std::string_view{}; }
   LflhAction action() const { return action_; }
