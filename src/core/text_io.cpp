@@ -159,4 +159,16 @@ bool parseDouble(std::string_view text, double& value) {
   return result.ec == std::errc() && result.ptr == text.data() + text.size();
 }
 
+std::string formatHex(std::uint64_t value) {
+  char digits[16];
+  const auto result = std::to_chars(digits, digits + sizeof digits, value, 16);
+  return "0x" + std::string(digits, result.ptr);
+}
+
+bool parseHex(std::string_view text, std::uint64_t& value) {
+  if (text.rfind("0x", 0) == 0) text.remove_prefix(2);
+  const auto result = std::from_chars(text.data(), text.data() + text.size(), value, 16);
+  return result.ec == std::errc() && result.ptr == text.data() + text.size();
+}
+
 }  // namespace barn::core

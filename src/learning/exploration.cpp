@@ -1,7 +1,6 @@
 #include "barn/learning/exploration.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <sstream>
 
@@ -19,18 +18,6 @@ constexpr const char* kColumns = "t,x,y,yaw,v,vy,w,cmd_v,cmd_w";
 
 double moveToward(double value, double target, double max_step) {
   return value + std::clamp(target - value, -max_step, max_step);
-}
-
-std::string hex(std::uint64_t value) {
-  std::ostringstream out;
-  out << "0x" << std::hex << value;
-  return out.str();
-}
-
-bool parseHex(const std::string& text, std::uint64_t& value) {
-  const char* begin = text.data() + (text.rfind("0x", 0) == 0 ? 2 : 0);
-  const auto [end, ec] = std::from_chars(begin, text.data() + text.size(), value, 16);
-  return ec == std::errc() && end == text.data() + text.size();
 }
 
 }  // namespace
@@ -105,8 +92,8 @@ void writeRecording(const std::filesystem::path& path, const Recording& recordin
   std::string text;
   text.reserve(recording.records.size() * 160);
   text += kMagic;
-  text += "\n# name: " + recording.name + "\n# collect_hash: " + hex(recording.collect_hash) + "\n";
-  if (recording.plant_hash != 0) text += "# plant_hash: " + hex(recording.plant_hash) + "\n";
+  text += "\n# name: " + recording.name + "\n# collect_hash: " + core::formatHex(recording.collect_hash) + "\n";
+  if (recording.plant_hash != 0) text += "# plant_hash: " + core::formatHex(recording.plant_hash) + "\n";
   text += "# rate: " + core::formatDouble(recording.rate) + "\n";
   text += kColumns;
   text += '\n';
@@ -144,10 +131,10 @@ Recording readRecording(const std::filesystem::path& path) {
     if (key == "name") {
       recording.name = value;
     } else if (key == "collect_hash") {
-      if (!parseHex(value, recording.collect_hash)) fail("collect_hash: expected a hexadecimal number");
+      if (!core::parseHex(value, recording.collect_hash)) fail("collect_hash: expected a hexadecimal number");
       has_hash = true;
     } else if (key == "plant_hash") {
-      if (!parseHex(value, recording.plant_hash) || recording.plant_hash == 0) fail("plant_hash: expected a nonzero hexadecimal number");
+      if (!core::parseHex(value, recording.plant_hash) || recording.plant_hash == 0) fail("plant_hash: expected a nonzero hexadecimal number");
     } else if (key == "rate") {
       if (!core::parseDouble(value, recording.rate) || !(recording.rate > 0.0)) fail("rate: expected a positive number");
       has_rate = true;

@@ -7,7 +7,6 @@
 #include <cstring>
 #include <limits>
 #include <map>
-#include <sstream>
 #include <vector>
 
 #include "barn/core/errors.hpp"
@@ -104,11 +103,7 @@ class HeaderWriter {
   void operator()(const char* key, FormatVersion version) { line(key, std::to_string(version.value)); }
   void operator()(const char* key, FixedText fixed) { line(key, fixed.text); }
   void operator()(const char* key, double value) { line(key, core::formatDouble(value)); }
-  void operator()(const char* key, HexNumber number) {
-    std::ostringstream out;
-    out << "0x" << std::hex << number.value;
-    line(key, out.str());
-  }
+  void operator()(const char* key, HexNumber number) { line(key, core::formatHex(number.value)); }
   void operator()(const char* key, Loss loss) {
     line(key, std::isnan(loss.value) ? std::string(kUnknown) : core::formatDouble(loss.value));
   }
@@ -146,9 +141,7 @@ class HeaderReader {
   void operator()(const char* key, double& value) { value = number(key); }
   void operator()(const char* key, HexNumber& number) {
     const std::string& text = header_[key];
-    const char* begin = text.data() + (text.rfind("0x", 0) == 0 ? 2 : 0);
-    const auto [end, ec] = std::from_chars(begin, text.data() + text.size(), number.value, 16);
-    if (ec != std::errc() || end != text.data() + text.size()) fail("header: " + std::string(key) + " '" + text + "': expected hexadecimal");
+    if (!core::parseHex(text, number.value)) fail("header: " + std::string(key) + " '" + text + "': expected hexadecimal");
   }
   void operator()(const char* key, Loss& loss) {
     loss.value = header_[key] == kUnknown ? std::numeric_limits<double>::quiet_NaN() : number(key);

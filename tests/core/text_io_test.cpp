@@ -22,6 +22,20 @@ fs::path scratch(const std::string& stem) {
   return dir;
 }
 
+TEST(TextIo, HexRoundTripsEveryWidthAndRefusesWhatIsNotHex) {
+  for (const std::uint64_t value : {std::uint64_t{0}, std::uint64_t{0x1f}, std::uint64_t{0xd746bee9593fcd1bull},
+                                    ~std::uint64_t{0}}) {
+    std::uint64_t back = 1;
+    ASSERT_TRUE(parseHex(formatHex(value), back)) << formatHex(value);
+    EXPECT_EQ(back, value);
+  }
+  EXPECT_EQ(formatHex(0xabcull), "0xabc");
+  std::uint64_t value = 7;
+  EXPECT_TRUE(parseHex("ff", value));  // the prefix is optional
+  EXPECT_EQ(value, 255u);
+  for (const char* bad : {"", "0x", "0xg1", "12 ", "-1", "0x10000000000000000"}) EXPECT_FALSE(parseHex(bad, value)) << bad;
+}
+
 TEST(TextIo, AFolderIsNotReadAsAnEmptyFile) {
   const fs::path dir = scratch("barn_text_io_folder");
   try {

@@ -43,4 +43,9 @@ std::uint64_t fnv1a64(std::string_view text, std::uint64_t hash = 0xcbf29ce48422
 /// Parses a whole string as a double (std::from_chars); false if it is not one.
 bool parseDouble(std::string_view text, double& value);
 
+/// "0x" and the lowercase hexadecimal digits of `value`: how file headers write hashes.
+std::string formatHex(std::uint64_t value);
+/// Parses a whole string as a hexadecimal number, with or without "0x"; false if it is not one.
+bool parseHex(std::string_view text, std::uint64_t& value);
+
 }  // namespace barn::core
