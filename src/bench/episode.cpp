@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <exception>
 
+#include "barn/core/text_io.hpp"
 #include "barn/core/world_geometry.hpp"
 #include "barn/learning/exploration.hpp"
 
@@ -109,13 +110,10 @@ std::string plantMismatch(const controllers::Controller& controller, const Episo
   const std::uint64_t trained = controller.trainedPlant();
   const std::uint64_t running = learning::plantHash(config.robot, config.physics);
   if (trained == 0 || trained == running) return {};
-  char message[320];
-  std::snprintf(message, sizeof(message),
-                "its policy was trained on another plant (plant_hash 0x%llx) than this run's robot and physics "
-                "(0x%llx), so it steers as if the robot moved like that one; train one on this plant with "
-                "`barn lflh collect --sim-config` and `barn lflh train`",
-                static_cast<unsigned long long>(trained), static_cast<unsigned long long>(running));
-  return message;
+  return "its policy was trained on another plant (plant_hash " + core::formatHex(trained) +
+         ") than this run's robot and physics (" + core::formatHex(running) +
+         "), so it steers as if the robot moved like that one; train one on this plant with "
+         "`barn lflh collect --sim-config` and `barn lflh train`";
 }
 
 Episode::Episode(const core::WorldSpec& world, const sim::ObstacleField& field, const EpisodeConfig& config,
