@@ -477,10 +477,16 @@ TEST(InventecController, StartsInLflhOnceItHasAPathAndSendsThePolicysCommand) {
   EXPECT_FLOAT_EQ(static_cast<float>(ticks[2].command.angular), 0.1f);
 }
 
-TEST(InventecController, ClipsTheSpeedToPointSevenAndBoostsToTwoOnlyAboveOneWithAClearFront) {
-  EXPECT_FLOAT_EQ(static_cast<float>(runTicks(codeConfig(), 0.9, 0.0, kAhead, kNothing, 3)[2].command.linear),
+TEST(InventecController, ClipsTheSpeedToPointSevenAndBoostsToTwoOnlyAboveTheThresholdWithAClearFront) {
+  // The default threshold (0.8, barnbench's policy) and the code's 1.0 (the published network).
+  EXPECT_FLOAT_EQ(static_cast<float>(runTicks(codeConfig(), 0.75, 0.0, kAhead, kNothing, 3)[2].command.linear),
                   0.7f);
-  EXPECT_EQ(runTicks(codeConfig(), 1.5, 0.0, kAhead, kNothing, 3)[2].command.linear, 2.0);
+  EXPECT_EQ(runTicks(codeConfig(), 0.85, 0.0, kAhead, kNothing, 3)[2].command.linear, 2.0);
+  InventecConfig published_scale = codeConfig();
+  published_scale.boost_threshold = 1.0;
+  EXPECT_FLOAT_EQ(static_cast<float>(runTicks(published_scale, 0.9, 0.0, kAhead, kNothing, 3)[2].command.linear),
+                  0.7f);
+  EXPECT_EQ(runTicks(published_scale, 1.5, 0.0, kAhead, kNothing, 3)[2].command.linear, 2.0);
   // Everything 1.4 m away: nothing in reach of the checks, but not clear for a boost (1.5 m).
   InventecConfig no_hard_turn = codeConfig();
   no_hard_turn.heading_limit_deg = 180.0;
