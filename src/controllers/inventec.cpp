@@ -203,11 +203,16 @@ bool InventecController::frontUnsafe(const std::vector<Eigen::Vector2d>& points,
 }
 
 bool InventecController::rotationUnsafe(const std::vector<Eigen::Vector2d>& points, const core::LaserScan& scan,
-                                        const core::Twist& turn) const {
+                                        const core::Pose2& pose, const core::Twist& turn) const {
   const InventecSafetyConfig& s = config_.safety;
   if (s.type == SafetyCheck::Front) return beamRolloutHit(scan, turn, final_pose_);
   if (s.type == SafetyCheck::Mpc) {
-    return rolloutHit(points, footprint_.grownBy(s.mpc_offset), turn, s.mpc_dt, s.mpc_steps);
+    const core::Rect body = footprint_.grownBy(s.mpc_offset);
+    if (!s.mpc_costmap_turns) return rolloutHit(points, body, turn, s.mpc_dt, s.mpc_steps);
+    // Only cells the rolled-out footprint can reach: its farthest corner, plus the drive.
+    const double reach = std::hypot(std::max(-body.min_x, body.max_x), std::max(-body.min_y, body.max_y)) +
+                         std::abs(turn.linear) * s.mpc_dt * s.mpc_steps;
+    return rolloutHit(inscribedCellPoints(nav_.localCostmap(), pose, reach), body, turn, s.mpc_dt, s.mpc_steps);
   }
   if (s.type == SafetyCheck::Fi) {
     return rolloutHit(points, footprint_, turn, s.rollout_dt, s.rollout_steps);
@@ -227,7 +232,7 @@ bool InventecController::alignmentAborted(const std::vector<Eigen::Vector2d>& po
   // The code's aligning turns (BackTrack, Wiggle) stop on the rotate check's flag alone.
   if (config_.codeVariant() && config_.safety.type == SafetyCheck::Front && config_.safety.rotate_check)
     return rotateCheckFires(points, pose, turn);
-  return rotationUnsafe(points, scan, turn);
+  return rotationUnsafe(points, scan, pose, turn);
 }
 
 core::Twist InventecController::shape(const core::Twist& raw, const core::LaserScan& scan) const {
@@ -307,7 +312,7 @@ core::Twist InventecController::hardTurnCommand(const core::LaserScan& scan, con
   const core::Twist command = turnToward(in.heading_error);
   const InventecSafetyConfig& s = config_.safety;
   in.rotation_unsafe = s.type != SafetyCheck::None &&
-                       (rotationUnsafe(points, scan, command) ||
+                       (rotationUnsafe(points, scan, pose, command) ||
                         (config_.codeVariant() && s.ring && ringHit(scan, s.ring_front, s.ring_edge)) ||
                         rotateCheckFires(points, pose, command));
   return command;

@@ -138,6 +138,26 @@ double cellsToNearestObstacle(const nav::Costmap& costmap, nav::CellIndex cell, 
 
 }  // namespace
 
+std::vector<Eigen::Vector2d> inscribedCellPoints(const nav::Costmap& costmap, const core::Pose2& pose, double reach) {
+  std::vector<Eigen::Vector2d> points;
+  nav::CellIndex centre;
+  if (!costmap.toCell(pose.position(), centre)) return points;
+  const double inscribed_cells = costmap.config().inscribed_radius / costmap.resolution();
+  const int span = static_cast<int>(std::ceil(reach / costmap.resolution())) + 1;
+  for (int dy = -span; dy <= span; ++dy) {
+    for (int dx = -span; dx <= span; ++dx) {
+      const nav::CellIndex cell{centre.x + dx, centre.y + dy};
+      if (!costmap.inBounds(cell.x, cell.y)) continue;
+      const Eigen::Vector2d at = costmap.cellCentre(cell);
+      if ((at - pose.position()).norm() > reach) continue;
+      const double distance = cellsToNearestObstacle(costmap, cell, inscribed_cells + 1.0);
+      if (std::isfinite(distance) && costmap.inflationCostAtCells(distance) >= nav::kInscribedCost)
+        points.push_back(pose.inverseTransform(at));
+    }
+  }
+  return points;
+}
+
 bool rearRegionBlocked(const nav::Costmap& costmap, const core::Pose2& pose, const core::Rect& region, double weight) {
   // The cells under the region: sampled at half the cell size so every cell it covers is seen.
   std::vector<nav::CellIndex> cells;

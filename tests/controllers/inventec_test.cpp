@@ -427,6 +427,46 @@ TEST(RotateCheck, SeesTheTurnedFootprintAndOnlyTheRearHalfTheTailSwingsInto) {
   EXPECT_FALSE(rotateCheckHit({}, map, core::Pose2{0.0, 0.0, std::numbers::pi}, 1.0, check));
 }
 
+TEST(SafetyChecks, InscribedCellPointsAreObstacleCellsAndTheirInscribedRingInTheRobotFrame) {
+  // The team's local costmap: 5 cm cells, inscribed radius 0.085 m (1.7 cells), so an obstacle
+  // cell and its 8 neighbours (1 and 1.41 cells away) cost inscribed or more, the ring 2 cells
+  // away does not.
+  nav::Costmap map = teamLocalCostmap(5.0);
+  map.markObstacle({-0.325, -0.125});  // the cell [-0.35, -0.30] x [-0.15, -0.10], behind on the right
+  const core::Pose2 pose{0.0, 0.0, 0.0};
+  std::vector<Eigen::Vector2d> points = inscribedCellPoints(map, pose, 1.0);
+  ASSERT_EQ(points.size(), 9u);
+  for (const Eigen::Vector2d& p : points) {
+    EXPECT_LE(std::abs(p.x() + 0.325), 0.05 + 1e-9);
+    EXPECT_LE(std::abs(p.y() + 0.125), 0.05 + 1e-9);
+  }
+  // Only the cells whose centres lie within the reach: the obstacle cell is 0.348 m away.
+  EXPECT_TRUE(inscribedCellPoints(map, pose, 0.2).empty());
+  // In the robot frame: turned half round, the same cells lie ahead on the left.
+  for (const Eigen::Vector2d& p : inscribedCellPoints(map, core::Pose2{0.0, 0.0, std::numbers::pi}, 1.0)) {
+    EXPECT_GT(p.x(), 0.27);
+    EXPECT_GT(p.y(), 0.07);
+  }
+}
+
+TEST(SafetyChecks, ATurnInPlaceRolledOutAgainstTheCostmapSeesWhatTheTailSwingsInto) {
+  // An obstacle cell behind on the right, centred at (-0.225, -0.275): from the LiDAR (0.055 m
+  // ahead of the centre) at -135.5 deg, just outside its 270 deg, so the scan has no point
+  // there; the costmap remembers it. Its inscribed ring reaches to (-0.175, -0.225), outside the
+  // footprint (|y| > 0.215).
+  nav::Costmap map = teamLocalCostmap(5.0);
+  map.markObstacle({-0.21, -0.26});
+  const core::Pose2 pose{0.0, 0.0, 0.0};
+  const core::Rect body = core::Rect::centred(0.508, 0.43);
+  const std::vector<Eigen::Vector2d> remembered = inscribedCellPoints(map, pose, 0.5);
+  // Turning left for 0.4 s swings the rear right corner (-0.254, -0.215) into the cells.
+  EXPECT_TRUE(rolloutHit(remembered, body, {0.0, 1.0}, 0.02, 20));
+  // The obstacle cells alone (without the inscribed ring) stay outside the whole turn.
+  EXPECT_FALSE(rolloutHit({{-0.225, -0.275}}, body, {0.0, 1.0}, 0.02, 20));
+  // Turning right swings it away.
+  EXPECT_FALSE(rolloutHit(remembered, body, {0.0, -1.0}, 0.02, 20));
+}
+
 // ---- The controller: what act() sends in each state ----
 
 struct Tick {

@@ -72,6 +72,10 @@ struct InventecSafetyConfig {
   int mpc_steps = 20;              // code and paper: 20 steps
   double mpc_dt = 0.02;            // [s] code (real-world): 0.4 s horizon
   double mpc_offset = 0.0;         // [m] footprint growth in the rollout
+  // code (real world): turns in place are rolled out against the local costmap's inscribed and
+  // lethal cells (published cost >= 99), which remember what lies behind, where the LiDAR cannot
+  // see and the tail swings; false: against the scan's returns, like the other commands
+  bool mpc_costmap_turns = true;
   // fi (paper)
   double fi_offset = 0.04;         // [m] paper: FI 0.04 m (loaded but unused by the code)
   // The LiDAR ring that aborts HardTurn (code: is_collide)
@@ -90,7 +94,7 @@ struct InventecSafetyConfig {
     v("front_pad_y", front_pad_y); v("front_speed_gain", front_speed_gain); v("front_rotate_gain", front_rotate_gain);
     v("rollout_length", rollout_length); v("rollout_width", rollout_width); v("rollout_tolerance", rollout_tolerance);
     v("rollout_steps", rollout_steps); v("rollout_dt", rollout_dt); v("mpc_steps", mpc_steps); v("mpc_dt", mpc_dt);
-    v("mpc_offset", mpc_offset); v("fi_offset", fi_offset); v("ring", ring); v("ring_front", ring_front);
+    v("mpc_offset", mpc_offset); v("mpc_costmap_turns", mpc_costmap_turns); v("fi_offset", fi_offset); v("ring", ring); v("ring_front", ring_front);
     v("ring_edge", ring_edge); v("rotate_check", rotate_check); v("rear_strip_centre", rear_strip_centre);
     v("rear_strip_depth", rear_strip_depth); v("rear_strip_width", rear_strip_width);
   }
@@ -222,7 +226,7 @@ class InventecController : public Controller {
                      const core::Twist& command) const;
   bool frontUnsafe(const std::vector<Eigen::Vector2d>& points, const core::LaserScan& scan,
                    const core::Twist& command) const;
-  bool rotationUnsafe(const std::vector<Eigen::Vector2d>& points, const core::LaserScan& scan,
+  bool rotationUnsafe(const std::vector<Eigen::Vector2d>& points, const core::LaserScan& scan, const core::Pose2& pose,
                       const core::Twist& turn) const;
   bool rotateCheckFires(const std::vector<Eigen::Vector2d>& points, const core::Pose2& pose,
                         const core::Twist& turn) const;

@@ -83,6 +83,13 @@ bool frontClear(const core::LaserScan& scan, double angle, double distance);
 /// 100 lethal, 99 inscribed, the rest scaled into 1-98 (unknown, -1, does not occur here).
 int publishedCost(std::uint8_t cost);
 
+/// The cells within `reach` of the robot centre that the costmap costs inscribed or lethal
+/// (published 99 or 100: an obstacle cell, or one within the map's inscribed radius of one,
+/// measured between cell centres as costmap_2d inflates), as robot-frame points at the cell
+/// centres: what the team's real-world code rolled turns in place out against. Found from the
+/// obstacle cells directly, so the map's own (lazy) inflation is never run.
+std::vector<Eigen::Vector2d> inscribedCellPoints(const nav::Costmap& costmap, const core::Pose2& pose, double reach);
+
 /// The team's costmap test of a robot-frame rectangle behind the robot (the LiDAR cannot see
 /// there; the costmap remembers what it saw): true if a cell under it is lethal, or if the mean
 /// published value of its cells with a nonzero cost exceeds `weight` x 100 (weight <= 0: the
