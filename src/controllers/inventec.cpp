@@ -61,6 +61,8 @@ void validate(const InventecConfig& c, core::Errors& errors, const std::string& 
   errors.check(s.rear_strip_depth > 0.0, prefix + ".safety.rear_strip_depth", "must be > 0");
   errors.check(s.rear_strip_width > 0.0, prefix + ".safety.rear_strip_width", "must be > 0");
   errors.check(c.roi_depth > 0.0, prefix + ".roi_depth", "must be > 0");
+  errors.check(c.roi_width > 0.0, prefix + ".roi_width", "must be > 0");
+  errors.check(c.roi_length > 0.0, prefix + ".roi_length", "must be > 0");
   errors.check(c.rear_weight >= 0.0 && c.rear_weight <= 1.0, prefix + ".rear_weight", "must be in [0, 1]");
   errors.check(c.backtrack_distance > 0.0, prefix + ".backtrack_distance", "must be > 0");
   errors.check(c.backtrack_speed > 0.0, prefix + ".backtrack_speed", "must be > 0");
@@ -144,6 +146,7 @@ void InventecController::reset(const EpisodeInfo& info) {
   info_ = info;
   // The checks size the robot by its planning footprint (0.508 x 0.43, the paper's and the code's).
   footprint_ = core::Rect::centred(info.robot.footprint_length, info.robot.footprint_width);
+  roi_box_ = core::Rect::centred(config_.roi_length, config_.roi_width);
   const InventecSafetyConfig& s = config_.safety;
   front_.front_angle = degrees(s.front_angle_deg);
   front_.half_width = info.robot.footprint_width / 2;
@@ -344,7 +347,7 @@ core::Twist InventecController::backTrackCommand(const core::LaserScan& scan, co
   const bool stalled = reverse_ticks_ >= 2 && reversed <= reversed_ + 1e-4;
   in.backtrack_done = far_enough || stalled;
   in.rear_blocked = config_.backtrack_roi &&
-                    rearRegionBlocked(nav_.localCostmap(), pose, rearStrip(footprint_, config_.roi_depth), config_.rear_weight);
+                    rearRegionBlocked(nav_.localCostmap(), pose, rearStrip(roi_box_, config_.roi_depth), config_.rear_weight);
   reversed_ = reversed;
   ++reverse_ticks_;
   return {-config_.backtrack_speed, 0.0};

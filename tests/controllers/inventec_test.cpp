@@ -349,6 +349,23 @@ TEST(SafetyChecks, RearRegionSeesOnlyWhatIsDirectlyBehind) {
   EXPECT_TRUE(rearRegionBlocked(map, pose, strip, 0.0));
 }
 
+TEST(SafetyChecks, BackTrackStripIsTheCodesTenByTenCellBoxExtended) {
+  // The code drew the box on the 5 cm local costmap as (int(0.43 / 0.05) + 2) x int(0.508 / 0.05)
+  // = 10 x 10 cells: its strip reaches 0.25 m to each side, past the 0.43 m robot's 0.215.
+  nav::CostmapConfig c;
+  c.rolling = true;
+  nav::Costmap map(c);
+  map.recentre({0.0, 0.0});
+  // The robot 2 cm off the cell grid: its 0.43 m strip reaches y = 0.235, the code's 0.27, and
+  // the cell [-0.30, -0.25] x [0.25, 0.30] lies between.
+  map.markObstacle({-0.28, 0.27});
+  const InventecConfig config;
+  const core::Pose2 pose{0.0, 0.02, 0.0};
+  EXPECT_TRUE(rearRegionBlocked(map, pose, rearStrip(core::Rect::centred(config.roi_length, config.roi_width), config.roi_depth), 0.0));
+  // A strip only as wide as the robot misses it.
+  EXPECT_FALSE(rearRegionBlocked(map, pose, rearStrip(core::Rect::centred(0.508, 0.43), config.roi_depth), 0.0));
+}
+
 TEST(SafetyChecks, PublishedCostIsCostmap2dsZeroToHundredScale) {
   EXPECT_EQ(publishedCost(nav::kFreeCost), 0);
   EXPECT_EQ(publishedCost(1), 1);

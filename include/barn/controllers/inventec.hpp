@@ -125,6 +125,11 @@ struct InventecConfig {
   InventecSafetyConfig safety;
   bool backtrack_roi = true;             // check the costmap strip behind while reversing
   double roi_depth = 0.1;                // [m] code (simulation): rear_length_m
+  // [m] The box whose rear edge the strip extends: code (simulation) draws it on the 5 cm local
+  // costmap as (int(0.43 / 0.05) + 2) x int(0.508 / 0.05) = 10 x 10 cells (the real-world code:
+  // 8 x 10), so the strip is 0.5 m wide, wider than the 0.43 m robot.
+  double roi_width = 0.5;
+  double roi_length = 0.5;
   // A rear region is blocked when a cell is lethal or, with rear_weight > 0, when the mean
   // published cost (0-100) of its cells exceeds rear_weight x 100 (0 = lethal cells only).
   // code (simulation): 0.85. On the pivoting plant it keeps the tail off the cylinders that
@@ -168,7 +173,7 @@ struct InventecConfig {
     v("heading_tolerance_deg", heading_tolerance_deg); v("heading_limit_deg", heading_limit_deg);
     v("heading_gain", heading_gain); v("min_turn_rate", min_turn_rate);
     v("safety", safety); v("backtrack_roi", backtrack_roi);
-    v("roi_depth", roi_depth); v("rear_weight", rear_weight); v("backtrack_distance", backtrack_distance); v("backtrack_speed", backtrack_speed);
+    v("roi_depth", roi_depth); v("roi_width", roi_width); v("roi_length", roi_length); v("rear_weight", rear_weight); v("backtrack_distance", backtrack_distance); v("backtrack_speed", backtrack_speed);
     v("backtrack_reverse", backtrack_reverse); v("align_tolerance_deg", align_tolerance_deg);
     v("wiggle_min_deg", wiggle_min_deg); v("wiggle_span", wiggle_span); v("wiggle_choices", wiggle_choices);
     v("forward_speed", forward_speed); v("forward_turn_rate", forward_turn_rate);
@@ -256,6 +261,7 @@ class InventecController : public Controller {
   core::Rng rng_{0};                         // the Wiggle's draws, seeded from the episode seed
   InventecState state_ = InventecState::Initial;
   core::Rect footprint_;                            // the planning footprint (info.robot: 0.508 x 0.43)
+  core::Rect roi_box_;                              // the box the BackTrack strip extends (roi_length x roi_width)
   FrontCheck front_;
   RotateCheck rotate_;
   BeamRollout final_pose_;
