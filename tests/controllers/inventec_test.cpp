@@ -460,7 +460,9 @@ TEST(SafetyChecks, InscribedCellPointsAreObstacleCellsAndTheirInscribedRingInThe
   // Only the cells whose centres lie within the reach: the obstacle cell is 0.348 m away.
   EXPECT_TRUE(inscribedCellPoints(map, pose, 0.2).empty());
   // In the robot frame: turned half round, the same cells lie ahead on the left.
-  for (const Eigen::Vector2d& p : inscribedCellPoints(map, core::Pose2{0.0, 0.0, std::numbers::pi}, 1.0)) {
+  points = inscribedCellPoints(map, core::Pose2{0.0, 0.0, std::numbers::pi}, 1.0);
+  ASSERT_EQ(points.size(), 9u);
+  for (const Eigen::Vector2d& p : points) {
     EXPECT_GT(p.x(), 0.27);
     EXPECT_GT(p.y(), 0.07);
   }

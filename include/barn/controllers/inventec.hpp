@@ -94,8 +94,8 @@ struct InventecSafetyConfig {
     v("front_pad_y", front_pad_y); v("front_speed_gain", front_speed_gain); v("front_rotate_gain", front_rotate_gain);
     v("rollout_length", rollout_length); v("rollout_width", rollout_width); v("rollout_tolerance", rollout_tolerance);
     v("rollout_steps", rollout_steps); v("rollout_dt", rollout_dt); v("mpc_steps", mpc_steps); v("mpc_dt", mpc_dt);
-    v("mpc_offset", mpc_offset); v("mpc_costmap_turns", mpc_costmap_turns); v("fi_offset", fi_offset); v("ring", ring); v("ring_front", ring_front);
-    v("ring_edge", ring_edge); v("rotate_check", rotate_check); v("rear_strip_centre", rear_strip_centre);
+    v("mpc_offset", mpc_offset); v("mpc_costmap_turns", mpc_costmap_turns); v("fi_offset", fi_offset); v("ring", ring);
+    v("ring_front", ring_front); v("ring_edge", ring_edge); v("rotate_check", rotate_check); v("rear_strip_centre", rear_strip_centre);
     v("rear_strip_depth", rear_strip_depth); v("rear_strip_width", rear_strip_width);
   }
 };
@@ -173,7 +173,8 @@ struct InventecConfig {
     v("heading_tolerance_deg", heading_tolerance_deg); v("heading_limit_deg", heading_limit_deg);
     v("heading_gain", heading_gain); v("min_turn_rate", min_turn_rate);
     v("safety", safety); v("backtrack_roi", backtrack_roi);
-    v("roi_depth", roi_depth); v("roi_width", roi_width); v("roi_length", roi_length); v("rear_weight", rear_weight); v("backtrack_distance", backtrack_distance); v("backtrack_speed", backtrack_speed);
+    v("roi_depth", roi_depth); v("roi_width", roi_width); v("roi_length", roi_length); v("rear_weight", rear_weight);
+    v("backtrack_distance", backtrack_distance); v("backtrack_speed", backtrack_speed);
     v("backtrack_reverse", backtrack_reverse); v("align_tolerance_deg", align_tolerance_deg);
     v("wiggle_min_deg", wiggle_min_deg); v("wiggle_span", wiggle_span); v("wiggle_choices", wiggle_choices);
     v("forward_speed", forward_speed); v("forward_turn_rate", forward_turn_rate);
