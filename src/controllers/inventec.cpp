@@ -213,8 +213,7 @@ bool InventecController::rotationUnsafe(const std::vector<Eigen::Vector2d>& poin
     const core::Rect body = footprint_.grownBy(s.mpc_offset);
     if (!s.mpc_costmap_turns) return rolloutHit(points, body, turn, s.mpc_dt, s.mpc_steps);
     // Only cells the rolled-out footprint can reach: its farthest corner, plus the drive.
-    const double reach = std::hypot(std::max(-body.min_x, body.max_x), std::max(-body.min_y, body.max_y)) +
-                         std::abs(turn.linear) * s.mpc_dt * s.mpc_steps;
+    const double reach = body.farthestCornerDistance() + std::abs(turn.linear) * s.mpc_dt * s.mpc_steps;
     return rolloutHit(inscribedCellPoints(nav_.localCostmap(), pose, reach), body, turn, s.mpc_dt, s.mpc_steps);
   }
   if (s.type == SafetyCheck::Fi) {

@@ -17,8 +17,7 @@ std::vector<Rect> RobotConfig::collisionRects() const {
 double RobotConfig::collisionRadius() const {
   double radius = 0.0;
   for (const Rect& r : collisionRects())
-    radius = std::max(radius, std::hypot(std::max(std::abs(r.min_x), std::abs(r.max_x)),
-                                         std::max(std::abs(r.min_y), std::abs(r.max_y))));
+    radius = std::max(radius, r.farthestCornerDistance());
   return radius;
 }
 

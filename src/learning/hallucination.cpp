@@ -270,8 +270,7 @@ std::vector<Obstacle> mirrored(const std::vector<Obstacle>& obstacles) {
 
 SweptFootprint::SweptFootprint(const std::vector<core::Pose2>& motion, const core::Rect& footprint, double step)
     : footprint_(footprint), step_(step) {
-  const double corner = std::hypot(std::max(std::abs(footprint.min_x), std::abs(footprint.max_x)),
-                                   std::max(std::abs(footprint.min_y), std::abs(footprint.max_y)));
+  const double corner = footprint.farthestCornerDistance();
   for (std::size_t k = 0; k < motion.size(); ++k) {
     if (k == 0) {
       poses_.push_back(motion[0]);

@@ -43,5 +43,11 @@ TEST(RobotConfig, ValidateNamesEveryBadFieldUnderItsPrefix) {
   EXPECT_EQ(errors.messages().size(), 2u);
 }
 
+TEST(Rect, FarthestCornerDistanceIsFromTheOriginWhereverTheRectangleLies) {
+  EXPECT_NEAR(Rect::centred(0.6, 0.8).farthestCornerDistance(), 0.5, 1e-15);
+  // Entirely behind and to the right of the origin: the corner (-0.4, -0.3).
+  EXPECT_NEAR((Rect{-0.4, -0.1, -0.3, -0.2}).farthestCornerDistance(), 0.5, 1e-15);
+}
+
 }  // namespace
 }  // namespace barn::core

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 
 #include <Eigen/Core>
 
@@ -37,6 +38,11 @@ struct Rect {
   double centreY() const { return 0.5 * (min_y + max_y); }
   double halfLength() const { return 0.5 * (max_x - min_x); }
   double halfWidth() const { return 0.5 * (max_y - min_y); }
+  /// Distance from the origin to the farthest corner: the radius the rectangle sweeps turning
+  /// about the origin.
+  double farthestCornerDistance() const {
+    return std::hypot(std::max(std::abs(min_x), std::abs(max_x)), std::max(std::abs(min_y), std::abs(max_y)));
+  }
 
   /// Front left, rear left, rear right, front right: counter-clockwise.
   std::array<Eigen::Vector2d, 4> corners() const {
