@@ -357,12 +357,25 @@ void Costmap::reinflate(CellBox changed, int grow) const {
       if (obstacle_[index(ox, oy)] == kLethalCost) stampObstacle(ox, oy, target);
 }
 
+Eigen::Vector2d Costmap::windowOriginFor(const Eigen::Vector2d& origin, const Eigen::Vector2d& position) const {
+  if (!config_.rolling) return origin;
+  // costmap_2d's updateOrigin: the corner the robot asks for is half the window from
+  // `position`; the window moves toward it by whole cells, rounded toward zero, so cells keep their
+  // place and the window stays put until the robot is a full cell from where it would put it.
+  // (The small margin only keeps a move of exactly k cells from rounding to k - 1.)
+  const double res = config_.resolution;
+  const auto cells = [&](double wanted, double now) {
+    const double d = (wanted - now) / res;
+    return static_cast<int>(d + (d >= 0.0 ? 1e-9 : -1e-9));
+  };
+  return {origin.x() + res * cells(position.x() - config_.width / 2, origin.x()),
+          origin.y() + res * cells(position.y() - config_.height / 2, origin.y())};
+}
+
 void Costmap::recentre(const Eigen::Vector2d& position) {
   if (!config_.rolling) return;
   const double res = config_.resolution;
-  // The window's corner snapped to the odom grid, so cells keep their place when it moves.
-  const Eigen::Vector2d wanted(std::floor((position.x() - config_.width / 2) / res) * res,
-                               std::floor((position.y() - config_.height / 2) / res) * res);
+  const Eigen::Vector2d wanted = windowOriginFor(origin_, position);
   const int shift_x = static_cast<int>(std::lround((wanted.x() - origin_.x()) / res));
   const int shift_y = static_cast<int>(std::lround((wanted.y() - origin_.y()) / res));
   if (shift_x == 0 && shift_y == 0) return;

@@ -264,6 +264,27 @@ TEST(Costmap, RollingWindowKeepsObstaclesSeenEarlierWhileTheyStayInside) {
   EXPECT_EQ(map.costAt({1.0, 0.0}), kFreeCost);
 }
 
+TEST(Costmap, RollingWindowMovesByWholeCellsOnceTheRobotIsACellFromTheCentre) {
+  // costmap_2d's updateOrigin: a robot jittering across a cell boundary does not move the
+  // window back and forth.
+  CostmapConfig c;
+  c.rolling = true;  // 10 x 10 m at 0.05 m
+  Costmap map(c);
+  const auto expectOrigin = [&](const Eigen::Vector2d& position, double x, double y) {
+    const Eigen::Vector2d predicted = map.windowOriginFor(map.origin(), position);
+    map.recentre(position);
+    EXPECT_NEAR(map.origin().x(), x, 1e-9) << position.transpose();
+    EXPECT_NEAR(map.origin().y(), y, 1e-9) << position.transpose();
+    EXPECT_EQ(predicted, map.origin()) << position.transpose();
+  };
+  expectOrigin({0.0, 0.0}, -5.0, -5.0);
+  expectOrigin({0.049, -0.049}, -5.0, -5.0);  // within a cell of the centre
+  expectOrigin({0.051, 0.0}, -4.95, -5.0);    // a full cell along x
+  expectOrigin({0.02, 0.0}, -4.95, -5.0);     // back across the boundary: it stays
+  expectOrigin({-0.031, 0.0}, -5.0, -5.0);    // a full cell back from the new centre
+  expectOrigin({1.0, -2.0}, -4.0, -7.0);      // many cells at once
+}
+
 TEST(Costmap, TracksUnknownSpaceWhenAsked) {
   CostmapConfig c = smallMap();
   c.track_unknown = true;

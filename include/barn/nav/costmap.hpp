@@ -36,8 +36,8 @@ struct CostmapConfig {
   double resolution = 0.05;         // [m] cell size
   double width = 10.0;              // [m] along x
   double height = 10.0;             // [m] along y
-  double origin_x = -5.0;           // [m] odom frame: lower-left corner (fixed map) or offset
-  double origin_y = -5.0;           //     from the robot (rolling window)
+  double origin_x = -5.0;           // [m] odom frame: lower-left corner of a fixed map (a rolling
+  double origin_y = -5.0;           //     window is centred on the robot instead)
   bool rolling = false;             // the window follows the robot (local costmap)
   double obstacle_range = 2.5;      // [m] returns closer than this mark obstacles
   double raytrace_range = 3.0;      // [m] free space is cleared up to here along each ray
@@ -73,8 +73,12 @@ class Costmap {
   /// `robot_position`.
   void integrateScan(const core::LaserScan& scan, const core::Pose2& sensor_pose, const Eigen::Vector2d& robot_position);
 
-  /// Re-centres a rolling window on `position` (no-op for a fixed map).
+  /// Re-centres a rolling window on `position` (no-op for a fixed map), as costmap_2d does:
+  /// the window moves by whole cells, and only once the robot is a full cell from the centre.
   void recentre(const Eigen::Vector2d& position);
+  /// Where recentre(position) would put the lower-left corner of a window now at `origin`
+  /// (`origin` itself for a fixed map, or while the robot is within a cell of the centre).
+  Eigen::Vector2d windowOriginFor(const Eigen::Vector2d& origin, const Eigen::Vector2d& position) const;
 
   /// Frees the obstacle cells under the convex polygon (odom frame, corners in order), the
   /// cells of polygonCells(): costmap_2d's footprint clearing, so the robot never sees itself
