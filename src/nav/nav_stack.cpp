@@ -43,6 +43,8 @@ void validate(const NavStackConfig& c, core::Errors& errors, const std::string& 
                "must not shrink the footprint to nothing");
   errors.check(c.global_update_rate > 0.0, prefix + ".global_update_rate", "must be > 0");
   errors.check(c.local_update_rate > 0.0, prefix + ".local_update_rate", "must be > 0");
+  errors.check(c.local_costmap_view == "live" || c.local_costmap_view == "published", prefix + ".local_costmap_view",
+               "must be live or published, got '" + c.local_costmap_view + "'");
 }
 
 NavStack::NavStack(const NavStackConfig& config)
@@ -52,6 +54,9 @@ void NavStack::reset(const Eigen::Vector2d& goal) {
   global_ = Costmap(config_.global_costmap);
   local_ = Costmap(config_.local_costmap);
   local_updates_queued_ = 0;
+  published_updates_ = 0;
+  queued_window_origin_ = local_.origin();
+  published_once_ = false;
   // A fresh planner too: its cache is keyed on the costmap's address and version, which the
   // new costmap can repeat.
   planner_ = GlobalPlanner(config_.planner);
@@ -81,6 +86,10 @@ void NavStack::update(double time, const core::LaserScan& scan, const core::Pose
   LocalUpdate& update = local_updates_[local_updates_queued_++];
   update.has_scan = new_scan && time - last_local_update_ >= 1.0 / config_.local_update_rate - kSlack;
   update.robot_pose = robot_pose;
+  const Eigen::Vector2d window_origin = local_.windowOriginFor(queued_window_origin_, robot_pose.position());
+  if (!published_once_ || window_origin != queued_window_origin_) published_updates_ = local_updates_queued_;
+  published_once_ = true;
+  queued_window_origin_ = window_origin;
   if (update.has_scan) {
     update.scan.stamp = scan.stamp;
     update.scan.angle_min = scan.angle_min;
@@ -113,19 +122,24 @@ void NavStack::applyLocalUpdate(const LocalUpdate& update) const {
   if (config_.footprint_clearing) local_.clearPolygon(footprintAt(update.robot_pose));
 }
 
-void NavStack::applyLocalUpdates() const {
-  for (std::size_t i = 0; i < local_updates_queued_; ++i) applyLocalUpdate(local_updates_[i]);
-  local_updates_queued_ = 0;
+void NavStack::applyLocalUpdates(std::size_t count) const {
+  if (count == 0) return;
+  for (std::size_t i = 0; i < count; ++i) applyLocalUpdate(local_updates_[i]);
+  // The rest move to the front; the entries keep their scan buffers for reuse.
+  std::rotate(local_updates_.begin(), local_updates_.begin() + static_cast<std::ptrdiff_t>(count),
+              local_updates_.begin() + static_cast<std::ptrdiff_t>(local_updates_queued_));
+  local_updates_queued_ -= count;
+  published_updates_ -= std::min(published_updates_, count);
 }
 
 void NavStack::clearCostmapsOutside(const Eigen::Vector2d& centre, double keep) {
   global_.clearOutside(centre, keep);
-  applyLocalUpdates();
+  applyLocalUpdates(local_updates_queued_);
   local_.clearOutside(centre, keep);
 }
 
 void NavStack::resetLocalCostmap() {
-  applyLocalUpdates();
+  applyLocalUpdates(local_updates_queued_);
   local_.reset();
 }
 

@@ -99,5 +99,53 @@ TEST(NavStack, ClearingOutsideARadiusForgetsOnlyTheFarObstacles) {
   EXPECT_EQ(wallRemembered(nav), 0);
 }
 
+TEST(NavStack, ThePublishedLocalCostmapIsTheMapOfTheWindowsLastMove) {
+  // costmap_2d publishes the rolling map whole only when the window has moved: a node reading
+  // that topic alone keeps the last such map while the robot turns on the spot.
+  NavStackConfig published_config;
+  published_config.local_costmap_view = "published";
+  NavStack published(published_config), live({});
+  const core::LaserScan wall = wallScan(-0.45, 0.45, 1.0);
+  const auto wallMarked = [&](const NavStack& nav, const core::Pose2& sensor) {
+    int marked = 0;
+    for (const Eigen::Vector2d& w : wallPoints(wall, sensor)) {
+      CellIndex cell;
+      if (nav.localCostmap().toCell(w, cell) && nav.localCostmap().isObstacle(cell.x, cell.y)) ++marked;
+    }
+    return marked;
+  };
+  const auto step = [&](double time, const core::Pose2& robot) {
+    core::LaserScan scan = wall;
+    scan.stamp = time;
+    for (NavStack* nav : {&published, &live}) nav->update(time, scan, robot, robot);
+  };
+  for (NavStack* nav : {&published, &live}) nav->reset({0.0, 5.0});
+  // The first map is published: the wall ahead (+y) is in both views.
+  const core::Pose2 facing_y{0.0, 0.0, std::numbers::pi / 2};
+  step(0.0, facing_y);
+  EXPECT_GT(wallMarked(published, facing_y), 20);
+  // The robot turns to +x, 2 cm off the centre: the window stays, so the published map does not
+  // hold the wall it sees now.
+  const core::Pose2 facing_x{0.02, 0.0, 0.0};
+  step(0.05, facing_x);
+  EXPECT_GT(wallMarked(live, facing_x), 20);
+  EXPECT_EQ(wallMarked(published, facing_x), 0);
+  EXPECT_GT(wallMarked(published, facing_y), 20);
+  // A full cell from the centre the window moves, and the next map holds the wall.
+  const core::Pose2 moved{0.08, 0.0, 0.0};
+  step(0.10, moved);
+  EXPECT_GT(wallMarked(published, moved), 20);
+  EXPECT_EQ(wallMarked(published, moved), wallMarked(live, moved));
+}
+
+TEST(NavStack, RejectsAnUnknownLocalCostmapView) {
+  NavStackConfig config;
+  config.local_costmap_view = "stale";
+  core::Errors errors;
+  validate(config, errors, "nav");
+  ASSERT_EQ(errors.messages().size(), 1u);
+  EXPECT_NE(errors.messages()[0].find("nav.local_costmap_view"), std::string::npos) << errors.messages()[0];
+}
+
 }  // namespace
 }  // namespace barn::nav

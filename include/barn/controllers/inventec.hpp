@@ -160,6 +160,9 @@ struct InventecConfig {
     c.local_costmap.inscribed_radius = 0.085;
     c.local_costmap.inflation_radius = 5.0;
     c.local_costmap.cost_scaling_factor = 1.0;
+    // The simulation code subscribed to the local costmap topic alone, not to its partial
+    // updates: its rear and rotate checks read the map of the rolling window's last move.
+    c.local_costmap_view = "published";
     return c;
   }
 

@@ -6,6 +6,7 @@
 /// It sees only what a controller sees: scans, odometry and the goal.
 
 #include <optional>
+#include <string>
 
 #include "barn/nav/costmap.hpp"
 #include "barn/nav/global_planner.hpp"
@@ -22,13 +23,20 @@ struct NavStackConfig {
   CostmapConfig local_costmap = defaultLocalCostmap();
   double global_update_rate = 10.0;  // [Hz] (BARN: global 10, local 20)
   double local_update_rate = 20.0;   // [Hz]
+  // How the controller sees the local costmap: "live", every update (a local planner inside
+  // move_base, or a node that also reads the costmap_updates topic); "published", the map as
+  // costmap_2d publishes it whole, which it does only when the rolling window has moved (in
+  // between it sends partial updates): a node reading the costmap topic alone keeps the map
+  // of the window's last move, e.g. while the robot turns on the spot.
+  std::string local_costmap_view = "live";
   PlannerConfig planner;
 
   template <class V> void visit(V& v) {
     v("footprint_length", footprint_length); v("footprint_width", footprint_width);
     v("footprint_padding", footprint_padding); v("footprint_clearing", footprint_clearing);
     v("global_costmap", global_costmap); v("local_costmap", local_costmap);
-    v("global_update_rate", global_update_rate); v("local_update_rate", local_update_rate); v("planner", planner);
+    v("global_update_rate", global_update_rate); v("local_update_rate", local_update_rate);
+    v("local_costmap_view", local_costmap_view); v("planner", planner);
   }
 
   /// BARN's corridor in the odom frame (start at the origin, goal 10 m ahead): 6 x 15 m.
@@ -65,9 +73,10 @@ class NavStack {
   bool hasPath() const { return !path_.empty(); }
   const Path& path() const { return path_; }  // odom frame, robot -> goal; empty if none
   const Costmap& globalCostmap() const { return global_; }
-  /// The local costmap, brought up to date first (see local_updates_).
+  /// The local costmap as the config's local_costmap_view sees it: up to date, or as of the
+  /// last update that moved the window (see local_updates_).
   const Costmap& localCostmap() const {
-    applyLocalUpdates();
+    applyLocalUpdates(config_.local_costmap_view == "published" ? published_updates_ : local_updates_queued_);
     return local_;
   }
   /// move_base's clearing recoveries: both costmaps forget obstacles farther than `keep`
@@ -90,7 +99,8 @@ class NavStack {
     core::Pose2 sensor_pose;
     core::Pose2 robot_pose;
   };
-  void applyLocalUpdates() const;
+  /// Applies the first `count` queued updates, in order; the rest stay queued.
+  void applyLocalUpdates(std::size_t count) const;
   void applyLocalUpdate(const LocalUpdate& update) const;
 
   NavStackConfig config_;
@@ -101,6 +111,11 @@ class NavStack {
   mutable Costmap local_;
   mutable std::vector<LocalUpdate> local_updates_;  // entries [0, queued) are pending; the rest keep their buffers
   mutable std::size_t local_updates_queued_ = 0;
+  // The published view: the queued updates up to the last one that moved the window (or the
+  // episode's first, costmap_2d's first publication), and where the window is after them all.
+  mutable std::size_t published_updates_ = 0;
+  Eigen::Vector2d queued_window_origin_ = Eigen::Vector2d::Zero();
+  bool published_once_ = false;
   GlobalPlanner planner_;
   Eigen::Vector2d goal_ = Eigen::Vector2d::Zero();
   Path path_;
