@@ -118,7 +118,7 @@ void GoalField::startOver(const Costmap& costmap, CellIndex start, CellIndex goa
   search();
   // The cells the search reached but did not settle are D* Lite's open list (a start that
   // cannot be entered among them: it is never expanded); heaped at once.
-  for (std::size_t i = 0; i < n; ++i)
+  for (auto i = static_cast<std::size_t>(searched_from_); i < static_cast<std::size_t>(searched_to_); ++i)
     if (rhs_[i] != g_[i]) {
       const std::int64_t k1 = rhs_[i] + h_[i];  // the search's start: h_ is current
       queued_[i] = 1;
@@ -271,6 +271,7 @@ void GoalField::search() {
   const auto start = static_cast<std::size_t>(start_);
   std::size_t pending = 0;
   std::size_t expanded = 0;
+  int settled_lo = std::numeric_limits<int>::max(), settled_hi = -1;
   std::size_t next_seed = 0;
   std::int64_t key = seeds_.front().key;  // the key of the bucket being scanned
   int slot = 0;
@@ -317,6 +318,8 @@ void GoalField::search() {
       if (g_here + h_here != key) continue;  // a stale entry
       g[i] = g_here;
       ++expanded;
+      settled_lo = std::min(settled_lo, i);
+      settled_hi = std::max(settled_hi, i);
       // Backward: a neighbour p reaches this cell by entering it.
       const std::uint8_t c = cost[i];
       // Inlined at each of the eight uses: most offers fail the first test, so the call
@@ -349,6 +352,8 @@ void GoalField::search() {
     const int i = seeds_[k].cell;
     if (g[i] != kInfinite) continue;
     g[i] = rhs[i];
+    settled_lo = std::min(settled_lo, i);
+    settled_hi = std::max(settled_hi, i);
     const std::uint8_t c = cost[i];
     offerToEnterers(i, steps, straight_cost[c], diagonal_cost[c], passable, [&](int p, int step) {
       const int px = p % w, py = p / w;
@@ -356,6 +361,11 @@ void GoalField::search() {
     });
   }
   last_expanded_ = expanded;
+  // Only a settled cell's neighbours can have got an rhs without a g: the open list lies within
+  // a row and a cell of the settled range.
+  const int n = static_cast<int>(cost_.size());
+  searched_from_ = settled_hi < 0 ? 0 : std::max(0, settled_lo - w - 1);
+  searched_to_ = settled_hi < 0 ? 0 : std::min(n, settled_hi + w + 2);
   takeSnapshot(settled_to);
 }
 

@@ -134,6 +134,8 @@ class GoalField {
   std::vector<Seed> seeds_;       // scratch of search(): where it starts, by key
   std::vector<std::uint8_t> kept_;  // scratch of seedSearch(): 1 where the snapshot's g is kept
 
+  int searched_from_ = 0, searched_to_ = 0;  // flat range holding every cell search() left open
+
   std::vector<CellIndex> path_;
   std::int64_t path_cost_ = 0;
   std::size_t last_expanded_ = 0;
