@@ -39,7 +39,7 @@ void NavFn::resize(int nx, int ny) {
   cells_.assign(n, Cell{kPotHigh, static_cast<std::uint8_t>(kCostObs), 0});
   gradx_.assign(n, 0.0f);
   grady_.assign(n, 0.0f);
-  for (auto& b : buf_) b.assign(n, 0);
+  for (auto& b : buf_) b.assign(n + 4, 0);  // + updateCell's unkept writes past the end (see there)
   grad_cells_.clear();
   map_ = nullptr;
   cleared_cell_ = -1;
@@ -147,38 +147,33 @@ void NavFn::updateCell(int n) {
   // Planar wave: a front arriving from one side only (difference >= h) gives a + h; from
   // both, NavFn's quadratic fit of the 2D solution: a + h (-0.2301 r^2 + 0.5307 r + 0.7040),
   // r = difference / h (r = 0, a diagonal front: 0.704 h ~ h / sqrt 2; r = 1: h).
-  float pot;
-  if (dc >= hf) {
-    pot = ta + hf;
-  } else {
-    const float rr = dc / hf;
-    const float v = static_cast<float>(-0.2301 * rr * rr + 0.5307 * rr + 0.7040);
-    pot = ta + hf * v;
-  }
+  // Both branches are computed and one is selected: which applies varies cell by cell, and a
+  // mispredicted branch costs more than the polynomial.
+  const float rr = dc / hf;
+  const float v = static_cast<float>(-0.2301 * rr * rr + 0.5307 * rr + 0.7040);
+  const float pot = dc >= hf ? ta + hf : ta + hf * v;
   if (!(pot < cells_[i].pot)) return;
   cells_[i].pot = pot;
   // Queue each neighbour whose potential exceeds pot + cost(neighbour) / sqrt 2 (compared
-  // with the values read before this update, as NavFn does).
-  const float le = edge_lut_[cells_[i - 1].cost];
-  const float re = edge_lut_[cells_[i + 1].cost];
-  const float ue = edge_lut_[cells_[i - w].cost];
-  const float de = edge_lut_[cells_[i + w].cost];
-  int* buffer = next_;
-  int* size = &next_size_;
-  if (!(pot < threshold_)) {
-    buffer = over_;
-    size = &over_size_;
-  }
-  const auto push_to = [&](std::size_t m) {
-    if (!cells_[m].pending && cells_[m].cost < kCostObs) {
-      buffer[(*size)++] = static_cast<int>(m);
-      cells_[m].pending = 1;
-    }
+  // with the values read before this update, as NavFn does), in NavFn's order (left, right,
+  // up, down). Branch-free: the index is written at the buffer's end either way and kept only
+  // when the neighbour qualifies (the buffers have room for it, see resize).
+  const bool above = !(pot < threshold_);
+  int* buffer = above ? over_ : next_;
+  int& size = above ? over_size_ : next_size_;
+  int n_size = size;
+  const auto push_if = [&](std::size_t m, bool worse) {
+    Cell& cell = cells_[m];
+    const bool push = worse & (cell.pending == 0) & (cell.cost < kCostObs);
+    buffer[n_size] = static_cast<int>(m);
+    n_size += push;
+    cell.pending |= static_cast<std::uint8_t>(push);
   };
-  if (l > pot + le) push_to(i - 1);
-  if (r > pot + re) push_to(i + 1);
-  if (u > pot + ue) push_to(i - w);
-  if (d > pot + de) push_to(i + w);
+  push_if(i - 1, l > pot + edge_lut_[cells_[i - 1].cost]);
+  push_if(i + 1, r > pot + edge_lut_[cells_[i + 1].cost]);
+  push_if(i - w, u > pot + edge_lut_[cells_[i - w].cost]);
+  push_if(i + w, d > pot + edge_lut_[cells_[i + w].cost]);
+  size = n_size;
 }
 
 void NavFn::gradCell(int n) {

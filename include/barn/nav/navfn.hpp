@@ -90,7 +90,8 @@ class NavFn {
   std::vector<int> grad_cells_;        // cells with a cached gradient, to reset
   // The current / next / overflow buffers. NavFn caps each at 10000 cells and drops pushes
   // beyond; here each is a preallocated array of ns cells (a cell is in at most one buffer at
-  // a time, guarded by its pending flag), so nothing is ever dropped. BARN's wavefronts are a
+  // a time, guarded by its pending flag), plus room for updateCell's unkept writes past the
+  // end, so nothing is ever dropped. BARN's wavefronts are a
   // few hundred cells, far below NavFn's cap, so this changes nothing in practice.
   std::vector<int> buf_[3];
   int* cur_ = nullptr;
