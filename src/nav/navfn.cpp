@@ -135,15 +135,12 @@ void NavFn::updateCell(int n) {
   const float r = cells_[i + 1].pot;
   const float u = cells_[i - w].pot;
   const float d = cells_[i + w].pot;
-  float tc = l < r ? l : r;  // lowest horizontal neighbour
-  float ta = u < d ? u : d;  // lowest vertical neighbour
+  const float tc = l < r ? l : r;  // lowest horizontal neighbour
+  const float tv = u < d ? u : d;  // lowest vertical neighbour
   if (cells_[i].cost >= kCostObs) return;  // never propagate into obstacles
   const float hf = static_cast<float>(cells_[i].cost);
-  float dc = tc - ta;
-  if (dc < 0) {
-    dc = -dc;
-    ta = tc;  // ta = a, the lowest of all
-  }
+  const float dc = std::fabs(tc - tv);    // NavFn: dc = tc - ta, negated if negative ...
+  const float ta = tc < tv ? tc : tv;     // ... and then ta = tc: the lowest of all
   // Planar wave: a front arriving from one side only (difference >= h) gives a + h; from
   // both, NavFn's quadratic fit of the 2D solution: a + h (-0.2301 r^2 + 0.5307 r + 0.7040),
   // r = difference / h (r = 0, a diagonal front: 0.704 h ~ h / sqrt 2; r = 1: h).
