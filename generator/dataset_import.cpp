@@ -199,4 +199,41 @@ VerifyReport verifyDataset(const std::vector<DatasetWorld>& dataset, double metr
   return report;
 }
 
+std::optional<DatasetHalves> absentWorldsMetrics(const std::vector<DatasetWorld>& dataset) {
+  std::vector<const DatasetWorld*> both;
+  for (const DatasetWorld& d : dataset)
+    if (d.has_metrics && d.has_norm_metrics) both.push_back(&d);
+  const int n = static_cast<int>(both.size());
+  if (n < 2 || static_cast<int>(dataset.size()) >= kDatasetSize) return std::nullopt;
+  DatasetHalves halves;
+  halves.present.worlds = n;
+  halves.absent.worlds = kDatasetSize - n;
+  for (std::size_t k = 0; k < 5; ++k) {
+    // x = mean + sd z for every world: the least-squares line through (z, x).
+    double sum_z = 0.0, sum_x = 0.0, sum_zz = 0.0, sum_zx = 0.0, sum_xx = 0.0;
+    for (const DatasetWorld* d : both) {
+      const double z = d->norm_metrics.toArray()[k];
+      const double x = d->metrics.toArray()[k];
+      sum_z += z, sum_x += x, sum_zz += z * z, sum_zx += z * x, sum_xx += x * x;
+    }
+    const double spread_z = n * sum_zz - sum_z * sum_z;
+    if (!(spread_z > 0.0)) return std::nullopt;  // every z alike: the line is not determined
+    const double sd_all = (n * sum_zx - sum_z * sum_x) / spread_z;
+    const double mean_all = (sum_x - sd_all * sum_z) / n;
+    for (const DatasetWorld* d : both) {
+      const double x = d->metrics.toArray()[k];
+      if (std::abs(mean_all + sd_all * d->norm_metrics.toArray()[k] - x) > 1e-6 * (1.0 + std::abs(x))) return std::nullopt;
+    }
+    halves.present.mean[k] = sum_x / n;
+    halves.present.sd[k] = std::sqrt(std::max(0.0, sum_xx / n - halves.present.mean[k] * halves.present.mean[k]));
+    // The absent worlds' sums are the whole set's less the present ones'.
+    const double absent = halves.absent.worlds;
+    const double mean_absent = (kDatasetSize * mean_all - sum_x) / absent;
+    const double square_absent = (kDatasetSize * (sd_all * sd_all + mean_all * mean_all) - sum_xx) / absent;
+    halves.absent.mean[k] = mean_absent;
+    halves.absent.sd[k] = std::sqrt(std::max(0.0, square_absent - mean_absent * mean_absent));
+  }
+  return halves;
+}
+
 }  // namespace barn::generator

@@ -3,7 +3,9 @@
 /// path_files/path_N.npy, metrics_files/metrics_N.npy and, for --verify, cspace_files/ and
 /// norm_metrics_files/.
 
+#include <array>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -53,5 +55,25 @@ struct VerifyReport {
 /// Recomputes C-space, A* path (start and goal from the stored path's ends) and metrics of
 /// every world and compares them with the stored arrays.
 VerifyReport verifyDataset(const std::vector<DatasetWorld>& dataset, double metric_tolerance = 1e-9);
+
+/// Each difficulty metric's mean and (population) standard deviation over a set of worlds.
+struct MetricsSummary {
+  int worlds = 0;
+  std::array<double, 5> mean{};
+  std::array<double, 5> sd{};
+};
+
+/// The worlds of a partial dataset and the ones it lacks, as far as their metrics go. The
+/// stored norm_metrics are z-scores over all 300 worlds, so with the raw metrics of the worlds
+/// present they fix each metric's mean and spread over all 300, and so over the absent ones:
+/// how the missing worlds compare in difficulty, without them.
+struct DatasetHalves {
+  MetricsSummary present;
+  MetricsSummary absent;
+};
+
+/// Empty for a complete dataset, where fewer than two worlds carry both arrays, or where the
+/// z-scores do not follow one mean and spread per metric (then they are not over a common set).
+std::optional<DatasetHalves> absentWorldsMetrics(const std::vector<DatasetWorld>& dataset);
 
 }  // namespace barn::generator

@@ -1,6 +1,7 @@
 // barn import-barn: the original BARN dataset as barnbench world files, with --verify.
 
 #include <cstdio>
+#include <string>
 
 #include "barn/core/world_file.hpp"
 #include "commands.hpp"
@@ -31,6 +32,20 @@ void printVerifyReport(const generator::VerifyReport& report) {
   }
 }
 
+// How the worlds of a partial dataset compare in difficulty with the ones it lacks (from the
+// stored z-scores, see absentWorldsMetrics): e.g. the held-out half of the official set.
+void printAbsentWorlds(const generator::DatasetHalves& halves) {
+  std::printf("difficulty metrics, mean (sd): the %d worlds here and the %d not here (from the stored z-scores over all %d)\n",
+              halves.present.worlds, halves.absent.worlds, halves.present.worlds + halves.absent.worlds);
+  std::printf("  %-26s %-16s %s\n", "metric", "here", "not here");
+  for (std::size_t k = 0; k < 5; ++k) {
+    char here[40], absent[40];
+    std::snprintf(here, sizeof(here), "%.3f (%.3f)", halves.present.mean[k], halves.present.sd[k]);
+    std::snprintf(absent, sizeof(absent), "%.3f (%.3f)", halves.absent.mean[k], halves.absent.sd[k]);
+    std::printf("  %-26s %-16s %s\n", std::string(core::DifficultyMetrics::kNames[k]).c_str(), here, absent);
+  }
+}
+
 }  // namespace
 
 void addImportCommand(CLI::App& app, CommandContext& context) {
@@ -51,6 +66,7 @@ void addImportCommand(CLI::App& app, CommandContext& context) {
       if (!report.ok()) context.exit_code = 1;
     }
     std::printf("%s", parameterSetTable(worlds).c_str());
+    if (const auto halves = generator::absentWorldsMetrics(dataset)) printAbsentWorlds(*halves);
     core::writeWorldSet(options->out, worlds);
     std::printf("wrote %zu world files and index.csv to %s\n", worlds.size(), options->out.c_str());
   });

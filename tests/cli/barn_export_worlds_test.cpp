@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -94,6 +95,20 @@ TEST_F(BarnExportWorlds, NpyExportImportsBackWithTheSameGridsPathsAndMetrics) {
     EXPECT_EQ(w.path, original.path) << "world " << w.id;
     EXPECT_EQ(w.metrics.toArray(), original.metrics.toArray()) << "world " << w.id;
   }
+
+  // The exported z-scores are over all 300 worlds, so the import also tells how the 290 it
+  // lacks compare: their mean closest wall is the one of the world files not exported.
+  double sum = 0.0;
+  int absent = 0;
+  for (const core::WorldSpec& w : core::readWorldSet(kWorlds))
+    if (w.id % 30 != 0) sum += w.metrics.closest_wall, ++absent;
+  ASSERT_EQ(absent, 290);
+  char mean[32];
+  std::snprintf(mean, sizeof(mean), "%.3f", sum / absent);
+  EXPECT_THAT(r.output, HasSubstr("the 10 worlds here and the 290 not here"));
+  const std::size_t row = r.output.find("closest_wall");
+  ASSERT_NE(row, std::string::npos) << r.output;
+  EXPECT_THAT(r.output.substr(row, r.output.find('\n', row) - row), HasSubstr(mean)) << r.output;
 
   // --world-dir: the imported set exported again gives the same arrays (norm_metrics aside:
   // the import z-scores over the ten worlds it imported).
