@@ -204,7 +204,8 @@ std::optional<DatasetHalves> absentWorldsMetrics(const std::vector<DatasetWorld>
   for (const DatasetWorld& d : dataset)
     if (d.has_metrics && d.has_norm_metrics) both.push_back(&d);
   const int n = static_cast<int>(both.size());
-  if (n < 2 || static_cast<int>(dataset.size()) >= kDatasetSize) return std::nullopt;
+  // Every world present must carry both, or the present and absent sums would not split the set.
+  if (n < 2 || n != static_cast<int>(dataset.size()) || n >= kDatasetSize) return std::nullopt;
   DatasetHalves halves;
   halves.present.worlds = n;
   halves.absent.worlds = kDatasetSize - n;

@@ -1,7 +1,7 @@
 #pragma once
 /// Import of the original BARN dataset (Perille et al. 2020; layout in dataset_files.hpp): grid_files/grid_N.npy,
 /// path_files/path_N.npy, metrics_files/metrics_N.npy and, for --verify, cspace_files/ and
-/// norm_metrics_files/.
+/// norm_metrics_files/ (which also give a partial dataset's missing worlds' metrics).
 
 #include <array>
 #include <filesystem>
@@ -72,7 +72,7 @@ struct DatasetHalves {
   MetricsSummary absent;
 };
 
-/// Empty for a complete dataset, where fewer than two worlds carry both arrays, or where the
+/// Empty for a complete dataset, where a world lacks either array or fewer than two are present, or where the
 /// z-scores do not follow one mean and spread per metric (then they are not over a common set).
 std::optional<DatasetHalves> absentWorldsMetrics(const std::vector<DatasetWorld>& dataset);
 

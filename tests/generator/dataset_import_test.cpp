@@ -139,6 +139,10 @@ TEST(AbsentWorldsMetrics, NothingForACompleteSetOrZScoresOverDifferentSets) {
   std::vector<DatasetWorld> present(all.begin(), all.begin() + 150);
   present[3].norm_metrics.tortuosity += 0.5;  // not a z-score of the same set any more
   EXPECT_FALSE(absentWorldsMetrics(present).has_value());
+  present[3] = all[3];
+  ASSERT_TRUE(absentWorldsMetrics(present).has_value());
+  present[4].has_norm_metrics = false;  // a world whose z-scores are missing: no split of the set
+  EXPECT_FALSE(absentWorldsMetrics(present).has_value());
   present.resize(1);
   EXPECT_FALSE(absentWorldsMetrics(present).has_value());
 }
