@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 #include "barn/core/errors.hpp"
 #include "barn/core/npy.hpp"
@@ -54,6 +55,10 @@ std::vector<core::Cell> readPathNpy(const fs::path& path) {
 core::DifficultyMetrics readMetricsNpy(const fs::path& path) {
   const core::NpyFloat64Array array = core::readNpyFloat64(path);
   if (array.shape != std::vector<std::size_t>{5}) throw core::InputError(path.string() + ": expected 5 metrics");
+  for (std::size_t k = 0; k < 5; ++k)
+    if (!std::isfinite(array.values[k]))
+      throw core::InputError(path.string() + ": " + std::string(core::DifficultyMetrics::kNames[k]) + " is " +
+                             std::to_string(array.values[k]) + ", expected a finite number");
   return core::DifficultyMetrics::fromArray({array.values[0], array.values[1], array.values[2], array.values[3], array.values[4]});
 }
 

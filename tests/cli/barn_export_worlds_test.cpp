@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -120,6 +121,19 @@ TEST_F(BarnExportWorlds, NpyExportImportsBackWithTheSameGridsPathsAndMetrics) {
       EXPECT_EQ(readFile(again / file), readFile(dataset / file)) << file;
     }
   }
+}
+
+TEST_F(BarnExportWorlds, ImportOfANonFiniteMetricExitsTwoNamingTheFileAndMetricAndWritesNothing) {
+  const fs::path dataset = dir_ / "dataset";
+  exportWorlds("--worlds 0:3 --format npy --out " + quote(dataset));
+  const fs::path metrics = dataset / generator::datasetFile(generator::kMetricsFiles, 1);
+  core::NpyFloat64Array nan_metrics{{5}, {2.0, 5.0, std::nan(""), 4.0, 1.2}};
+  writeFile(metrics, core::formatNpyFloat64(nan_metrics));
+  const fs::path out = dir_ / "imported";
+  const RunResult r = run("import-barn " + quote(dataset) + " --out " + quote(out));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, AllOf(HasSubstr("metrics_1.npy"), HasSubstr("dispersion")));
+  EXPECT_FALSE(fs::exists(out / "index.csv"));
 }
 
 TEST_F(BarnExportWorlds, BadInputExitsTwoNamingTheFlagAndWritesNothing) {
