@@ -48,7 +48,9 @@ void validate(const NavStackConfig& c, core::Errors& errors, const std::string& 
 }
 
 NavStack::NavStack(const NavStackConfig& config)
-    : config_(config), global_(config.global_costmap), local_(config.local_costmap), planner_(config.planner) {}
+    : config_(config),
+      published_view_(config.local_costmap_view == "published"),
+      global_(config.global_costmap), local_(config.local_costmap), planner_(config.planner) {}
 
 void NavStack::reset(const Eigen::Vector2d& goal) {
   global_ = Costmap(config_.global_costmap);

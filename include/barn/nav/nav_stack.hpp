@@ -76,7 +76,7 @@ class NavStack {
   /// The local costmap as the config's local_costmap_view sees it: up to date, or as of the
   /// last update that moved the window (see local_updates_).
   const Costmap& localCostmap() const {
-    applyLocalUpdates(config_.local_costmap_view == "published" ? published_updates_ : local_updates_queued_);
+    applyLocalUpdates(published_view_ ? published_updates_ : local_updates_queued_);
     return local_;
   }
   /// move_base's clearing recoveries: both costmaps forget obstacles farther than `keep`
@@ -104,6 +104,7 @@ class NavStack {
   void applyLocalUpdate(const LocalUpdate& update) const;
 
   NavStackConfig config_;
+  bool published_view_;  // config_.local_costmap_view is "published" (read a few times a tick)
   Costmap global_;
   // The local costmap is only read by some controllers (DWA every tick, Inventec's rear check
   // now and then, LfLH never), so its updates are queued and applied, in order, when it is read:
