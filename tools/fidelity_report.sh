@@ -9,13 +9,13 @@
 #   WORK_DIR        where the records go (default: a new temporary folder)
 # Environment: DWA_TRIALS (10), INVENTEC_TRIALS (2; also for eband and lflh), JOBS (all cores),
 # SIM_CONFIG (default sim).
-# Runs on the official test worlds (0, 6, ..., 294) that both the dataset and the results file
-# hold, and dwa, inventec_fi and inventec_mpc on barnbench's own worlds of the other test ids.
-# Needs build/barn (tools/setup.sh) and python3.
+# Runs on the official test worlds (0, 6, ..., 294) both inputs hold, and dwa, inventec_fi and
+# inventec_mpc on barnbench's own worlds of the other test ids (dwa on both also at the 0.5 m
+# success radius the Gazebo file fits). Needs build/barn (tools/setup.sh) and python3.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if [ $# -lt 2 ]; then
-  sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'
+  sed -n '2,/^set -euo/p' "$0" | grep '^#' | sed 's/^# \{0,1\}//' >&2
   exit 2
 fi
 dataset=$1
