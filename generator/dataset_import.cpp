@@ -205,10 +205,14 @@ VerifyReport verifyDataset(const std::vector<DatasetWorld>& dataset, double metr
 }
 
 std::optional<DatasetHalves> absentWorldsMetrics(const std::vector<DatasetWorld>& dataset) {
-  std::vector<const DatasetWorld*> both;
+  // Each world's raw metrics and z-scores, as arrays.
+  std::vector<std::array<double, 5>> raw, z_scores;
   for (const DatasetWorld& d : dataset)
-    if (d.has_metrics && d.has_norm_metrics) both.push_back(&d);
-  const int n = static_cast<int>(both.size());
+    if (d.has_metrics && d.has_norm_metrics) {
+      raw.push_back(d.metrics.toArray());
+      z_scores.push_back(d.norm_metrics.toArray());
+    }
+  const int n = static_cast<int>(raw.size());
   // Every world present must carry both, or the present and absent sums would not split the set.
   if (n < 2 || n != static_cast<int>(dataset.size()) || n >= kDatasetSize) return std::nullopt;
   DatasetHalves halves;
@@ -217,18 +221,17 @@ std::optional<DatasetHalves> absentWorldsMetrics(const std::vector<DatasetWorld>
   for (std::size_t k = 0; k < 5; ++k) {
     // x = mean + sd z for every world: the least-squares line through (z, x).
     double sum_z = 0.0, sum_x = 0.0, sum_zz = 0.0, sum_zx = 0.0, sum_xx = 0.0;
-    for (const DatasetWorld* d : both) {
-      const double z = d->norm_metrics.toArray()[k];
-      const double x = d->metrics.toArray()[k];
+    for (std::size_t i = 0; i < raw.size(); ++i) {
+      const double z = z_scores[i][k], x = raw[i][k];
       sum_z += z, sum_x += x, sum_zz += z * z, sum_zx += z * x, sum_xx += x * x;
     }
     const double spread_z = n * sum_zz - sum_z * sum_z;
     if (!(spread_z > 0.0)) return std::nullopt;  // every z alike: the line is not determined
     const double sd_all = (n * sum_zx - sum_z * sum_x) / spread_z;
     const double mean_all = (sum_x - sd_all * sum_z) / n;
-    for (const DatasetWorld* d : both) {
-      const double x = d->metrics.toArray()[k];
-      if (std::abs(mean_all + sd_all * d->norm_metrics.toArray()[k] - x) > 1e-6 * (1.0 + std::abs(x))) return std::nullopt;
+    for (std::size_t i = 0; i < raw.size(); ++i) {
+      const double x = raw[i][k];
+      if (std::abs(mean_all + sd_all * z_scores[i][k] - x) > 1e-6 * (1.0 + std::abs(x))) return std::nullopt;
     }
     halves.present.mean[k] = sum_x / n;
     halves.present.sd[k] = std::sqrt(std::max(0.0, sum_xx / n - halves.present.mean[k] * halves.present.mean[k]));

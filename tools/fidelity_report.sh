@@ -41,38 +41,31 @@ ids=$(awk '$1 % 6 == 0 {print $1}' "$gazebo_out" | sort -n | uniq | while read -
 echo "fidelity_report: test worlds $ids -> $work"
 
 build/barn import-out "$gazebo_out" --world-dir "$worlds" --out "$work/gazebo_dwa" --controller-label gazebo:dwa > /dev/null
-run() {  # controller trials [record name, sim config arguments]
-  local out=${3:-$1}
-  build/barn run --controller "$1" --world-dir "$worlds" --worlds "$ids" --trials "$2" --jobs "$jobs" \
-    "${@:4}" --out "$work/$out" > "$work/$out.log"
-  echo "fidelity_report: $out done"
+run() {  # world dir, worlds, controller, trials, record name, sim config arguments
+  build/barn run --controller "$3" --world-dir "$1" --worlds "$2" --trials "$4" --jobs "$jobs" \
+    "${@:6}" --out "$work/$5" > "$work/$5.log"
+  echo "fidelity_report: $5 done"
 }
-run dwa "$dwa_trials" dwa "${sim[@]}"
+run "$worlds" "$ids" dwa "$dwa_trials" dwa "${sim[@]}"
 build/barn compare "$work/gazebo_dwa" "$work/dwa" --json > "$work/compare_dwa.json" 2> /dev/null
 build/barn compare "$work/gazebo_dwa" "$work/dwa" -o docs/fidelity_dwa.png > "$work/compare_dwa.txt"
 # The same at the 0.5 m success radius of the run.py draft the Gazebo file may come from
 # (docs/fidelity.md, "The success radius of the Gazebo run").
 radius_sim="$work/sim_success_radius_0.5.yaml"
 { grep -v '^success_radius:' "${SIM_CONFIG:-configs/sim/barn.yaml}"; echo "success_radius: 0.5"; } > "$radius_sim"
-run dwa "$dwa_trials" dwa_radius_0.5 --sim-config "$radius_sim"
+run "$worlds" "$ids" dwa "$dwa_trials" dwa_radius_0.5 --sim-config "$radius_sim"
 build/barn compare "$work/gazebo_dwa" "$work/dwa_radius_0.5" --json > "$work/compare_dwa_radius_0.5.json" 2> /dev/null
-for c in inventec_fi inventec_mpc inventec_fi_paper eband lflh; do run "$c" "$inventec_trials" "$c" "${sim[@]}"; done
+for c in inventec_fi inventec_mpc inventec_fi_paper eband lflh; do
+  run "$worlds" "$ids" "$c" "$inventec_trials" "$c" "${sim[@]}"
+done
 # The test worlds the dataset lacks (150-294 for the distributed half): barnbench's own worlds of
 # the same ids stand in for them in aggregate (docs/fidelity.md, "The test worlds this
 # comparison lacks"), for an estimate over all 50.
 missing=$(seq 0 6 294 | grep -vxF -f <(tr , '\n' <<<"$ids") | paste -sd, - || true)
 if [ -n "$missing" ]; then
-  generated() {  # controller trials [record name suffix, sim config arguments]
-    local out=generated_$1${3:-}
-    local config=("${sim[@]}")
-    [ $# -gt 3 ] && config=("${@:4}")
-    build/barn run --controller "$1" --world-dir worlds --worlds "$missing" --trials "$2" --jobs "$jobs" "${config[@]}" \
-      --out "$work/$out" > "$work/$out.log"
-    echo "fidelity_report: $out done"
-  }
-  generated dwa "$dwa_trials"
-  generated dwa "$dwa_trials" _radius_0.5 --sim-config "$radius_sim"
-  for c in inventec_fi inventec_mpc; do generated "$c" "$inventec_trials"; done
+  run worlds "$missing" dwa "$dwa_trials" generated_dwa "${sim[@]}"
+  run worlds "$missing" dwa "$dwa_trials" generated_dwa_radius_0.5 --sim-config "$radius_sim"
+  for c in inventec_fi inventec_mpc; do run worlds "$missing" "$c" "$inventec_trials" "generated_$c" "${sim[@]}"; done
 fi
 
 python3 - "$work" "$gazebo_out" "$dwa_trials" "$inventec_trials" <<'PY'
