@@ -186,7 +186,7 @@ bool InventecController::commandUnsafe(const std::vector<Eigen::Vector2d>& point
                                        const core::Twist& command) const {
   const InventecSafetyConfig& s = config_.safety;
   if (s.type == SafetyCheck::Front) {
-    return beamRolloutHit(scan, command, final_pose_) || frontCheckHit(scan, info_.lidar, command, front_);
+    return beamRolloutHit(scan, command, final_pose_) || frontCheckHit(scan, info_.lidar, beams_, command, front_);
   }
   if (s.type == SafetyCheck::Mpc) {
     return rolloutHit(points, footprint_.grownBy(s.mpc_offset), command, s.mpc_dt, s.mpc_steps);
@@ -201,7 +201,7 @@ bool InventecController::commandUnsafe(const std::vector<Eigen::Vector2d>& point
 bool InventecController::frontUnsafe(const std::vector<Eigen::Vector2d>& points, const core::LaserScan& scan,
                                      const core::Twist& command) const {
   // The code's Forward looks at the front check only (simulation) or the rollout (real world).
-  if (config_.safety.type == SafetyCheck::Front) return frontCheckHit(scan, info_.lidar, command, front_);
+  if (config_.safety.type == SafetyCheck::Front) return frontCheckHit(scan, info_.lidar, beams_, command, front_);
   return commandUnsafe(points, scan, command);
 }
 

@@ -40,8 +40,9 @@ bool rolloutHit(const std::vector<Eigen::Vector2d>& points, const core::Rect& fo
   for (int k = 0; k < steps; ++k) {
     pose = unicycleStep(pose, command, dt);
     // The points in the frame of the rolled-out pose.
+    const core::ToPoseFrame toPose(pose);
     for (const auto& p : points)
-      if (footprint.contains(pose.inverseTransform(p))) return true;
+      if (footprint.contains(toPose(p))) return true;
   }
   return false;
 }
@@ -66,20 +67,20 @@ bool beamRolloutHit(const core::LaserScan& scan, const core::Twist& command, con
   return false;
 }
 
-bool frontCheckHit(const core::LaserScan& scan, const core::LidarConfig& lidar, const core::Twist& command,
-                   const FrontCheck& check) {
+bool frontCheckHit(const core::LaserScan& scan, const core::LidarConfig& lidar, core::BeamDirections& beams,
+                   const core::Twist& command, const FrontCheck& check) {
   const core::Rect region{-check.half_length, check.half_length + std::max(check.pad_front, check.speed_gain * command.linear),
                    -check.half_width - check.pad_x, check.half_width + check.pad_x};
   // The region is turned by rotate_gain * w about the robot centre; a point is inside if, turned
   // back by the same angle, it lies in the axis-aligned rectangle. (The code rotated a polygon
   // and asked matplotlib; for a rectangle this is the same test.)
-  const core::Pose2 turned{0.0, 0.0, check.rotate_gain * command.angular};
+  const core::ToPoseFrame turnedBack(core::Pose2{0.0, 0.0, check.rotate_gain * command.angular});
+  beams.update(scan);
   for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
     const double r = scan.ranges[i];
-    const double a = scan.angle(i);
-    if (!std::isfinite(r) || std::abs(a) > check.front_angle) continue;
-    const Eigen::Vector2d p(lidar.mount_x + r * std::cos(a), lidar.mount_y + r * std::sin(a));
-    if (region.contains(turned.inverseTransform(p))) return true;
+    if (!std::isfinite(r) || std::abs(scan.angle(i)) > check.front_angle) continue;
+    const Eigen::Vector2d p(lidar.mount_x + r * beams.cos(i), lidar.mount_y + r * beams.sin(i));
+    if (region.contains(turnedBack(p))) return true;
   }
   return false;
 }
@@ -206,9 +207,9 @@ bool rearRegionBlocked(const nav::Costmap& costmap, const core::Pose2& pose, con
 
 bool rotateCheckHit(const std::vector<Eigen::Vector2d>& points, const nav::Costmap& costmap, const core::Pose2& pose,
                     double turn_rate, const RotateCheck& check) {
-  const core::Pose2 turned{0.0, 0.0, check.rotate_gain * turn_rate};
+  const core::ToPoseFrame turnedBack(core::Pose2{0.0, 0.0, check.rotate_gain * turn_rate});
   for (const auto& p : points)
-    if (check.body.contains(turned.inverseTransform(p))) return true;
+    if (check.body.contains(turnedBack(p))) return true;
   // Turning left (w > 0) swings the tail to the right (-y), and the other way round.
   const double half = check.rear_width / 2;
   const core::Rect rear{-check.rear_centre - check.rear_depth / 2, -check.rear_centre + check.rear_depth / 2,

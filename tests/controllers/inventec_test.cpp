@@ -144,48 +144,51 @@ Eigen::Vector2d pointOf(const core::LaserScan& scan) {
 TEST(FrontCheck, IgnoresReturnsBeyondFortySevenDegreesEvenInsideTheBox) {
   const core::LidarConfig lidar;
   const FrontCheck check;
+  core::BeamDirections beams;
   // 0.25 m from the sensor at 50 deg: robot frame (0.216, 0.192), inside |y| <= 0.225, x <= 0.354.
   const core::LaserScan at50 = oneReturn(50 * kDeg, 0.25);
   const Eigen::Vector2d p = pointOf(at50);
   ASSERT_LT(std::abs(p.y()), 0.225);
   ASSERT_LT(p.x(), 0.354);
-  EXPECT_FALSE(frontCheckHit(at50, lidar, {0.5, 0.0}, check));
+  EXPECT_FALSE(frontCheckHit(at50, lidar, beams, {0.5, 0.0}, check));
   // The same distance at 40 deg is seen.
-  EXPECT_TRUE(frontCheckHit(oneReturn(40 * kDeg, 0.25), lidar, {0.5, 0.0}, check));
+  EXPECT_TRUE(frontCheckHit(oneReturn(40 * kDeg, 0.25), lidar, beams, {0.5, 0.0}, check));
 }
 
 TEST(FrontCheck, ReachGrowsWithSpeed) {
   const core::LidarConfig lidar;
   const FrontCheck check;
+  core::BeamDirections beams;
   // Straight ahead, 0.40 m from the sensor: x = 0.455 from the centre.
   const core::LaserScan ahead = oneReturn(0.0, 0.40);
   // The reach is 0.254 + max(0.1, 0.25 v): 0.354 at v <= 0.4, 0.429 at 0.7, 0.504 at 1.0.
-  EXPECT_FALSE(frontCheckHit(ahead, lidar, {0.1, 0.0}, check));
-  EXPECT_FALSE(frontCheckHit(ahead, lidar, {0.7, 0.0}, check));
-  EXPECT_TRUE(frontCheckHit(ahead, lidar, {1.0, 0.0}, check));
+  EXPECT_FALSE(frontCheckHit(ahead, lidar, beams, {0.1, 0.0}, check));
+  EXPECT_FALSE(frontCheckHit(ahead, lidar, beams, {0.7, 0.0}, check));
+  EXPECT_TRUE(frontCheckHit(ahead, lidar, beams, {1.0, 0.0}, check));
   // Lateral limit: 0.215 + 0.01 (points 0.25 m ahead of the sensor, bearing about 42 deg).
   const core::LaserScan side = oneReturn(std::atan2(0.23, 0.25), std::hypot(0.25, 0.23));  // y = 0.23
-  EXPECT_FALSE(frontCheckHit(side, lidar, {0.3, 0.0}, check));
+  EXPECT_FALSE(frontCheckHit(side, lidar, beams, {0.3, 0.0}, check));
   const core::LaserScan inner = oneReturn(std::atan2(0.22, 0.25), std::hypot(0.25, 0.22));  // y = 0.22
-  EXPECT_TRUE(frontCheckHit(inner, lidar, {0.3, 0.0}, check));
+  EXPECT_TRUE(frontCheckHit(inner, lidar, beams, {0.3, 0.0}, check));
 }
 
 TEST(FrontCheck, TurningRotatesTheRegionTowardTheTurn) {
   const core::LidarConfig lidar;
   const FrontCheck check;
+  core::BeamDirections beams;
   // A point ahead-left, just outside the straight region (|y| > 0.225): robot frame (0.30, 0.25).
   const double bx = 0.30 - lidar.mount_x, by = 0.25;
   const core::LaserScan left = oneReturn(std::atan2(by, bx), std::hypot(bx, by));
-  EXPECT_FALSE(frontCheckHit(left, lidar, {0.7, 0.0}, check));
+  EXPECT_FALSE(frontCheckHit(left, lidar, beams, {0.7, 0.0}, check));
   // Turning left at 2 rad/s turns the region 0.4 rad to the left: in the region's frame the
   // point is at (0.374, 0.114), inside the 0.429 m reach of 0.7 m/s.
-  EXPECT_TRUE(frontCheckHit(left, lidar, {0.7, 2.0}, check));
+  EXPECT_TRUE(frontCheckHit(left, lidar, beams, {0.7, 2.0}, check));
   // Turning right swings the region away from it: (0.179, 0.347), outside.
-  EXPECT_FALSE(frontCheckHit(left, lidar, {0.7, -2.0}, check));
+  EXPECT_FALSE(frontCheckHit(left, lidar, beams, {0.7, -2.0}, check));
   // A point ahead-left inside the straight region, (0.34, 0.20), drops out when turning right.
   const core::LaserScan inside = oneReturn(std::atan2(0.20, 0.34 - lidar.mount_x), std::hypot(0.34 - lidar.mount_x, 0.20));
-  EXPECT_TRUE(frontCheckHit(inside, lidar, {0.3, 0.0}, check));
-  EXPECT_FALSE(frontCheckHit(inside, lidar, {0.3, -2.0}, check));
+  EXPECT_TRUE(frontCheckHit(inside, lidar, beams, {0.3, 0.0}, check));
+  EXPECT_FALSE(frontCheckHit(inside, lidar, beams, {0.3, -2.0}, check));
 }
 
 // ---- The final-pose rollout ----

@@ -270,7 +270,7 @@ class InventecController : public Controller {
   RotateCheck rotate_;
   BeamRollout final_pose_;
   std::vector<Eigen::Vector2d> breadcrumbs_;  // odom positions driven in LfLH
-  core::BeamDirections beams_;               // the scan's beam directions, for scanPoints
+  mutable core::BeamDirections beams_;       // a cache of the scan's beam directions (scanPoints, front check)
   Eigen::Vector2d backtrack_target_ = Eigen::Vector2d::Zero();
   bool aligned_ = false;                     // BackTrack: rear faces the target, reversing
   Eigen::Vector2d reverse_start_ = Eigen::Vector2d::Zero();

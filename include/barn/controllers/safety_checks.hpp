@@ -67,8 +67,8 @@ struct FrontCheck {
   double speed_gain = 0.25;    // [s] code: linear_v_gain
   double rotate_gain = 0.2;    // [s] code: rotate_w_gain
 };
-bool frontCheckHit(const core::LaserScan& scan, const core::LidarConfig& lidar, const core::Twist& command,
-                   const FrontCheck& check);
+bool frontCheckHit(const core::LaserScan& scan, const core::LidarConfig& lidar, core::BeamDirections& beams,
+                   const core::Twist& command, const FrontCheck& check);
 
 /// The LiDAR ring of the team's code (`is_collide`): true if any raw range (from the sensor, not
 /// the robot centre) is at or below a threshold that grows linearly with |bearing| from `front`

@@ -22,12 +22,24 @@ struct Pose2 {
     return {x + c * p.x() - s * p.y(), y + s * p.x() + c * p.y()};
   }
   /// The parent-frame point `p` expressed in this pose's frame.
-  Eigen::Vector2d inverseTransform(const Eigen::Vector2d& p) const {
-    const double c = std::cos(yaw), s = std::sin(yaw);
-    const double dx = p.x() - x, dy = p.y() - y;
-    return {c * dx + s * dy, -s * dx + c * dy};
-  }
+  Eigen::Vector2d inverseTransform(const Eigen::Vector2d& p) const;
 };
+
+/// Pose2::inverseTransform with the pose's cosine and sine computed once, for loops over many
+/// points (the compiler cannot hoist std::cos, which may set errno).
+class ToPoseFrame {
+ public:
+  explicit ToPoseFrame(const Pose2& pose) : x_(pose.x), y_(pose.y), c_(std::cos(pose.yaw)), s_(std::sin(pose.yaw)) {}
+  Eigen::Vector2d operator()(const Eigen::Vector2d& p) const {
+    const double dx = p.x() - x_, dy = p.y() - y_;
+    return {c_ * dx + s_ * dy, -s_ * dx + c_ * dy};
+  }
+
+ private:
+  double x_, y_, c_, s_;
+};
+
+inline Eigen::Vector2d Pose2::inverseTransform(const Eigen::Vector2d& p) const { return ToPoseFrame(*this)(p); }
 
 /// A velocity command in the robot frame, as ROS cmd_vel for a differential drive.
 struct Twist {
