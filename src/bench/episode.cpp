@@ -155,8 +155,13 @@ Episode::Episode(const core::WorldSpec& world, const sim::ObstacleField& field, 
 
 std::vector<Eigen::Vector2d> Episode::referencePath() const { return referencePathInOdom(*world_, protocol_); }
 
+core::Pose2 Episode::odomPose() const {
+  const core::Pose2 pose = simulator_.pose();
+  return drifting_ ? drifting_->pose() : core::Pose2{pose.x - odom_origin_.x(), pose.y - odom_origin_.y(), pose.yaw};
+}
+
 void Episode::takeScan() {
-  pending_scan_ = {simulator_.pose(), simulator_.time(), pending_scan_.number + 1, false};
+  pending_scan_ = {simulator_.pose(), odomPose(), simulator_.time(), pending_scan_.number + 1, false};
 }
 
 void Episode::castPendingScan() {
@@ -175,7 +180,8 @@ void Episode::arriveAtTick() {
   controllers::Observation& obs = observation_;
   obs.time = simulator_.time();
   obs.scan = &scan_;
-  obs.odom_pose = drifting_ ? drifting_->pose() : core::Pose2{pose.x - odom_origin_.x(), pose.y - odom_origin_.y(), pose.yaw};
+  obs.odom_pose = odomPose();
+  obs.scan_odom_pose = pending_scan_.odom_pose;
   obs.odom_twist = {simulator_.forwardSpeed(), simulator_.yawRate()};
   if (sigma.position_stddev > 0.0 || sigma.yaw_stddev > 0.0 || sigma.speed_stddev > 0.0) {
     obs.odom_pose.x += sigma.position_stddev * odometry_noise_.normal();

@@ -523,7 +523,7 @@ DwaTrajectory DwaController::findBestPath(const core::Pose2& pose, const core::T
 
 core::Twist DwaController::act(const Observation& obs) {
   const core::Pose2 pose = obs.odom_pose;
-  nav_.update(obs.time, *obs.scan, info_.lidar.sensorPose(pose), pose);
+  nav_.update(obs.time, *obs.scan, info_.lidar.sensorPose(obs.scan_odom_pose), pose);
 
   if (const auto command = move_base_.beforeController(obs, nav_)) return *command;
   updateDistanceMaps(pose);

@@ -516,7 +516,7 @@ EbandController::Command EbandController::commandFor(const std::vector<EbandBubb
 
 core::Twist EbandController::act(const Observation& obs) {
   const core::Pose2 pose = obs.odom_pose;
-  nav_.update(obs.time, *obs.scan, info_.lidar.sensorPose(pose), pose);
+  nav_.update(obs.time, *obs.scan, info_.lidar.sensorPose(obs.scan_odom_pose), pose);
 
   if (goal_reached_) return {};  // move_base succeeded (BARN's episode ends 1 m before)
   if (const auto command = move_base_.beforeController(obs, nav_)) return *command;

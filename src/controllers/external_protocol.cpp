@@ -106,6 +106,7 @@ std::string observationMessage(const Observation& obs) {
     }
   out += ']';
   numbers(out, "pose", {obs.odom_pose.x, obs.odom_pose.y, obs.odom_pose.yaw});
+  numbers(out, "scan_pose", {obs.scan_odom_pose.x, obs.scan_odom_pose.y, obs.scan_odom_pose.yaw});
   numbers(out, "twist", {obs.odom_twist.linear, obs.odom_twist.angular});
   numbers(out, "goal", {obs.goal.x(), obs.goal.y()});
   return out + '}';

@@ -377,7 +377,7 @@ core::Twist InventecController::forwardCommand(const core::LaserScan& scan, cons
 core::Twist InventecController::act(const Observation& obs) {
   const core::Pose2 pose = obs.odom_pose;
   const core::LaserScan& scan = *obs.scan;
-  nav_.update(obs.time, scan, info_.lidar.sensorPose(pose), pose);
+  nav_.update(obs.time, scan, info_.lidar.sensorPose(obs.scan_odom_pose), pose);
   const std::vector<Eigen::Vector2d> points = scanPoints(scan, info_.lidar, beams_);
   const PathCues cues = pathCues(pose);
   InventecInputs in;

@@ -113,7 +113,7 @@ void LflhController::reset(const EpisodeInfo& info) {
 }
 
 core::Twist LflhController::act(const Observation& obs) {
-  nav_.update(obs.time, *obs.scan, info_.lidar.sensorPose(obs.odom_pose), obs.odom_pose);
+  nav_.update(obs.time, *obs.scan, info_.lidar.sensorPose(obs.scan_odom_pose), obs.odom_pose);
   // Until the first plan (and if planning never succeeds) the goal itself is the target.
   const nav::Path path = nav_.hasPath() ? nav_.path() : nav::Path{obs.odom_pose.position(), obs.goal};
   const Eigen::Vector2d goal = localGoalDirection(path, obs.odom_pose, config_.local_goal_distance);

@@ -77,6 +77,8 @@ class PyEpisode {
       d["scan"] = scan;
     }
     d["pose"] = py::array_t<double>(3, std::array<double, 3>{o.odom_pose.x, o.odom_pose.y, o.odom_pose.yaw}.data());
+    d["scan_pose"] = py::array_t<double>(
+        3, std::array<double, 3>{o.scan_odom_pose.x, o.scan_odom_pose.y, o.scan_odom_pose.yaw}.data());
     d["twist"] = py::array_t<double>(2, std::array<double, 2>{o.odom_twist.linear, o.odom_twist.angular}.data());
     d["goal"] = py::array_t<double>(2, std::array<double, 2>{o.goal.x(), o.goal.y()}.data());
     d["time"] = o.time;

@@ -494,6 +494,35 @@ TEST(Episode, AScanIsTheSameWhetherOrNotTheScansBeforeItWereRead) {
   EXPECT_GT(noisy_beams, 1000);  // and they carry noise
 }
 
+TEST(Episode, TheScanComesWithTheOdometryOfItsCapture) {
+  // At 20 Hz every other tick reads a scan taken 10 ms earlier (the LiDAR runs at 50 Hz). Its
+  // pose must be the odometry of that moment, as tf gives a ROS node at the scan's stamp: the
+  // pose the same drive reports at that time when stepped at the LiDAR's own rate.
+  const core::WorldSpec world = blockedWorld();
+  const sim::ObstacleField field = sim::ObstacleField::fromWorld(world);
+  const core::Twist drive{0.4, 0.3};
+  Episode at_20hz(world, field, {}, 4, 0.05);
+  Episode at_50hz(world, field, {}, 4, 0.02);
+  int older_scans = 0;
+  for (int tick = 0; tick < 20 && !at_20hz.done(); ++tick) {
+    const controllers::Observation& obs = at_20hz.observation();
+    while (at_50hz.observation().time < obs.scan->stamp - 1e-9) at_50hz.step(drive);
+    const controllers::Observation& at_capture = at_50hz.observation();
+    ASSERT_EQ(at_capture.time, obs.scan->stamp);
+    EXPECT_EQ(obs.scan_odom_pose.x, at_capture.odom_pose.x) << "at t = " << obs.time;
+    EXPECT_EQ(obs.scan_odom_pose.y, at_capture.odom_pose.y);
+    EXPECT_EQ(obs.scan_odom_pose.yaw, at_capture.odom_pose.yaw);
+    if (obs.scan->stamp < obs.time - 1e-9) {
+      ++older_scans;
+      EXPECT_GT((obs.odom_pose.position() - obs.scan_odom_pose.position()).norm(), 0.001);  // moved since
+    } else {
+      EXPECT_EQ(obs.scan_odom_pose.x, obs.odom_pose.x);
+    }
+    at_20hz.step(drive);
+  }
+  EXPECT_EQ(older_scans, 10);
+}
+
 TEST(Episode, TrajectoryIsOnlyRecordedWhenAsked) {
   ConstantController controller({1.0, 0.0});
   EXPECT_TRUE(run(emptyWorld(), controller, {}, 1, false).trajectory.empty());

@@ -336,11 +336,12 @@ TEST(ExternalProtocol, ObservationsWriteNullForBeamsWithoutReturn) {
   obs.time = 0.05;
   obs.scan = &scan;
   obs.odom_pose = {1.0, 2.0, 0.5};
+  obs.scan_odom_pose = {0.75, 2.0, 0.25};
   obs.odom_twist = {0.25, -0.125};
   obs.goal = {0.0, 10.0};
   EXPECT_EQ(external::observationMessage(obs),
             R"({"type": "observation", "time": 0.05, "scan": [1.5, null], "pose": [1, 2, 0.5], )"
-            R"("twist": [0.25, -0.125], "goal": [0, 10]})");
+            R"("scan_pose": [0.75, 2, 0.25], "twist": [0.25, -0.125], "goal": [0, 10]})");
   EXPECT_THAT(external::resetMessage(EpisodeInfo{}, 0.05), AllOf(HasSubstr(R"({"type": "reset", "protocol": 1, )"),
                                                                   HasSubstr(R"("period": 0.05)"),
                                                                   Not(HasSubstr("reference_path"))));

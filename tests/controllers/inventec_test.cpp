@@ -509,7 +509,7 @@ std::vector<Tick> runTicks(InventecConfig config, double v, double w, Eigen::Vec
   std::vector<Tick> out;
   for (int k = 0; k < ticks; ++k) {
     Observation obs;
-    obs.odom_pose = info.start;
+    obs.odom_pose = obs.scan_odom_pose = info.start;
     obs.time = k * controller.period();
     scan.stamp = obs.time;
     obs.scan = &scan;

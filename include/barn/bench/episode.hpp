@@ -192,6 +192,7 @@ class Episode {
   long step_ = 0;  // physics steps taken
   struct PendingScan {
     core::Pose2 robot_pose;
+    core::Pose2 odom_pose;  // the odometry at the capture (what tf gives at the scan's stamp)
     double stamp = 0.0;
     long number = -1;  // 0 for the scan at the start
     bool cast = false;
@@ -200,6 +201,7 @@ class Episode {
   core::LaserScan scan_;  // the latest scan cast
   controllers::Observation observation_;
   core::Pose2 tick_pose_;
+  core::Pose2 odomPose() const;  // the odometry estimate now, before any white noise
   std::optional<long> timer_start_step_;
   Eigen::Vector2d previous_position_;
   bool done_ = false;

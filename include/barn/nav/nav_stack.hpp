@@ -59,7 +59,8 @@ class NavStack {
   void reset(const Eigen::Vector2d& goal);
 
   /// Folds in the latest scan (once per scan, at the costmaps' rates) and replans when due.
-  /// `sensor_pose` is the LiDAR's pose in the odom frame.
+  /// `sensor_pose` is the LiDAR's pose in the odom frame when the scan was taken (tf at its
+  /// stamp), `robot_pose` the robot's now.
   void update(double time, const core::LaserScan& scan, const core::Pose2& sensor_pose, const core::Pose2& robot_pose);
 
   /// The padded footprint's corners in the robot frame (counter-clockwise).

@@ -14,8 +14,9 @@
     barnbench.merge(["shard_1", "shard_2"], out="merged")         # run(..., shard=(k, 2)) each
 
 Observations are dicts of numpy arrays in the odom frame (the start, facing the protocol's
-heading): "scan" (720 float32, inf for no return), "pose" (x, y, yaw), "twist" (v, w),
-"goal" (x, y), and "time" (simulated seconds). One step is one control period (Env.dt).
+heading): "scan" (720 float32, inf for no return), "pose" (x, y, yaw), "scan_pose" (the pose
+when the scan was taken, up to one LiDAR period earlier: place the scan's returns with it),
+"twist" (v, w), "goal" (x, y), and "time" (simulated seconds). One step is one control period (Env.dt).
 """
 
 import json
@@ -74,6 +75,7 @@ class Env:
             self.observation_space = _gym.spaces.Dict({
                 "scan": _gym.spaces.Box(0.0, inf, shape=(720,), dtype=np.float32),
                 "pose": _gym.spaces.Box(-inf, inf, shape=(3,), dtype=np.float64),
+                "scan_pose": _gym.spaces.Box(-inf, inf, shape=(3,), dtype=np.float64),
                 "twist": _gym.spaces.Box(-inf, inf, shape=(2,), dtype=np.float64),
                 "goal": _gym.spaces.Box(-inf, inf, shape=(2,), dtype=np.float64),
                 "time": _gym.spaces.Box(0.0, inf, shape=(), dtype=np.float64),
