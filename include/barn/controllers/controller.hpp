@@ -35,9 +35,9 @@ struct Observation {
   double time = 0.0;                 // [s] simulated time since the episode began
   const core::LaserScan* scan = nullptr;  // the latest scan (never null during an episode)
   core::Pose2 odom_pose;             // odom frame
-  // The odometry when the scan was taken (what tf gives a ROS node at the scan's stamp): the
-  // pose to place the scan's returns with. The scan is up to one LiDAR period older than the
-  // tick, and the robot has moved since.
+  // The odometry when the scan was taken (what tf gives a ROS node at the scan's stamp; the
+  // drift included, the optional white noise of odom_pose not): the pose to place the scan's
+  // returns with. The scan is up to one LiDAR period older than the tick.
   core::Pose2 scan_odom_pose;
   core::Twist odom_twist;            // robot frame: forward speed, yaw rate
   Eigen::Vector2d goal = Eigen::Vector2d::Zero();  // [m] odom frame
