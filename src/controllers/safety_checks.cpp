@@ -52,8 +52,9 @@ bool beamRolloutHit(const core::LaserScan& scan, const core::Twist& command, con
   for (int k = 0; k < check.steps; ++k) final_pose = unicycleStep(final_pose, command, check.dt);
   const core::Rect& r = check.rectangle;
   const int n = check.points_per_side;
+  const core::FromPoseFrame fromFinalPose(final_pose);
   const auto hit = [&](double local_x, double local_y) {
-    const Eigen::Vector2d p = final_pose.transform({local_x, local_y});
+    const Eigen::Vector2d p = fromFinalPose({local_x, local_y});
     const double index = std::floor((std::atan2(p.y(), p.x()) - scan.angle_min) / scan.angle_increment);
     if (!(index >= 0.0 && index < static_cast<double>(scan.ranges.size()))) return false;  // outside the field of view
     return scan.ranges[static_cast<std::size_t>(index)] < std::abs(p.x()) + std::abs(p.y()) + check.tolerance;
@@ -145,6 +146,7 @@ std::vector<Eigen::Vector2d> inscribedCellPoints(const nav::Costmap& costmap, co
   if (!costmap.toCell(pose.position(), centre)) return points;
   const double inscribed_cells = costmap.config().inscribed_radius / costmap.resolution();
   const int span = static_cast<int>(std::ceil(reach / costmap.resolution())) + 1;
+  const core::ToPoseFrame toRobot(pose);
   for (int dy = -span; dy <= span; ++dy) {
     for (int dx = -span; dx <= span; ++dx) {
       const nav::CellIndex cell{centre.x + dx, centre.y + dy};
@@ -153,7 +155,7 @@ std::vector<Eigen::Vector2d> inscribedCellPoints(const nav::Costmap& costmap, co
       if ((at - pose.position()).norm() > reach) continue;
       const double distance = cellsToNearestObstacle(costmap, cell, inscribed_cells + 1.0);
       if (std::isfinite(distance) && costmap.inflationCostAtCells(distance) >= nav::kInscribedCost)
-        points.push_back(pose.inverseTransform(at));
+        points.push_back(toRobot(at));
     }
   }
   return points;
@@ -162,11 +164,12 @@ std::vector<Eigen::Vector2d> inscribedCellPoints(const nav::Costmap& costmap, co
 bool rearRegionBlocked(const nav::Costmap& costmap, const core::Pose2& pose, const core::Rect& region, double weight) {
   // The cells under the region: sampled at half the cell size so every cell it covers is seen.
   std::vector<nav::CellIndex> cells;
+  const core::FromPoseFrame fromRobot(pose);
   const double step = costmap.resolution() / 2;
   for (double x = region.min_x; x <= region.max_x + 1e-9; x += step) {
     for (double y = region.min_y; y <= region.max_y + 1e-9; y += step) {
       nav::CellIndex cell;
-      if (!costmap.toCell(pose.transform({x, y}), cell)) continue;
+      if (!costmap.toCell(fromRobot({x, y}), cell)) continue;
       if (costmap.isObstacle(cell.x, cell.y)) return true;
       if (std::find_if(cells.begin(), cells.end(), [&](const nav::CellIndex& c) { return c.x == cell.x && c.y == cell.y; }) ==
           cells.end())

@@ -17,16 +17,24 @@ struct Pose2 {
 
   Eigen::Vector2d position() const { return {x, y}; }
   /// The point `p` given in this pose's frame, expressed in the parent frame.
-  Eigen::Vector2d transform(const Eigen::Vector2d& p) const {
-    const double c = std::cos(yaw), s = std::sin(yaw);
-    return {x + c * p.x() - s * p.y(), y + s * p.x() + c * p.y()};
-  }
+  Eigen::Vector2d transform(const Eigen::Vector2d& p) const;
   /// The parent-frame point `p` expressed in this pose's frame.
   Eigen::Vector2d inverseTransform(const Eigen::Vector2d& p) const;
 };
 
-/// Pose2::inverseTransform with the pose's cosine and sine computed once, for loops over many
-/// points (the compiler cannot hoist std::cos, which may set errno).
+/// Pose2::transform and inverseTransform with the pose's cosine and sine computed once, for
+/// loops over many points (the compiler cannot hoist std::cos, which may set errno).
+class FromPoseFrame {
+ public:
+  explicit FromPoseFrame(const Pose2& pose) : x_(pose.x), y_(pose.y), c_(std::cos(pose.yaw)), s_(std::sin(pose.yaw)) {}
+  Eigen::Vector2d operator()(const Eigen::Vector2d& p) const {
+    return {x_ + c_ * p.x() - s_ * p.y(), y_ + s_ * p.x() + c_ * p.y()};
+  }
+
+ private:
+  double x_, y_, c_, s_;
+};
+
 class ToPoseFrame {
  public:
   explicit ToPoseFrame(const Pose2& pose) : x_(pose.x), y_(pose.y), c_(std::cos(pose.yaw)), s_(std::sin(pose.yaw)) {}
@@ -39,6 +47,7 @@ class ToPoseFrame {
   double x_, y_, c_, s_;
 };
 
+inline Eigen::Vector2d Pose2::transform(const Eigen::Vector2d& p) const { return FromPoseFrame(*this)(p); }
 inline Eigen::Vector2d Pose2::inverseTransform(const Eigen::Vector2d& p) const { return ToPoseFrame(*this)(p); }
 
 /// A velocity command in the robot frame, as ROS cmd_vel for a differential drive.
