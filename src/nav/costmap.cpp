@@ -59,7 +59,21 @@ Costmap::Costmap(const CostmapConfig& config) : config_(config) {
   obstacle_.assign(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_), unseen);
   cost_.assign(obstacle_.size(), unseen);
   inflated_state_ = obstacle_;
-  inflation_cells_ = static_cast<int>(std::ceil(config.inflation_radius / config.resolution));
+  inflation_cells_ = inflationReach();
+}
+
+int Costmap::inflationReach() const {
+  // costmap_2d cuts at ceil(inflation_radius / resolution) cells, but the cost is an integer
+  // that falls with distance and is 0 long before a wide radius (BARN's global 5 m at cost
+  // scaling 3: past 2.1 m). Obstacles farther than the last nonzero cost change nothing, so the
+  // reach stops there: the same costs, for a fraction of the work.
+  const int cut = static_cast<int>(std::ceil(config_.inflation_radius / config_.resolution));
+  for (long long squared = static_cast<long long>(cut) * cut; squared > 0; --squared) {
+    const double cells = std::sqrt(static_cast<double>(squared));
+    if (inflationCostAtCells(cells) > kFreeCost)
+      return std::min(cut, static_cast<int>(std::ceil(cells)));
+  }
+  return 0;
 }
 
 void Costmap::buildKernel() const {

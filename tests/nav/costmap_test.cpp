@@ -171,6 +171,38 @@ TEST(Costmap, InflatesAroundAnObstacleAtKnownDistances) {
   EXPECT_EQ(map.cost(hit.x + 3, hit.y + 4), 160);
 }
 
+TEST(Costmap, AWideRadiusCostsWhatItsTableSaysAtEveryCellOutToTheRadius) {
+  // The Inventec team's global inflation: radius 5 m, scaling 3, inscribed 0.24 m. Its cost
+  // reaches 0 at about 2.1 m, so barnbench stops the inflation there; every cell of the map,
+  // near or beyond, must still cost what the formula gives at its cell distance, before and
+  // after the obstacle is cleared again.
+  CostmapConfig c;
+  c.width = 12.0;
+  c.height = 12.0;
+  c.origin_x = -6.0;
+  c.origin_y = -6.0;
+  c.inscribed_radius = 0.24;
+  c.inflation_radius = 5.0;
+  c.cost_scaling_factor = 3.0;
+  Costmap map(c);
+  map.markObstacle({0.025, 0.025});
+  CellIndex hit;
+  ASSERT_TRUE(map.toCell({0.025, 0.025}, hit));
+  int nonzero_beyond_two_metres = 0;
+  for (int y = 0; y < map.heightCells(); ++y)
+    for (int x = 0; x < map.widthCells(); ++x) {
+      const double cells = std::hypot(x - hit.x, y - hit.y);
+      const std::uint8_t expected = cells > 100.0 ? kFreeCost : map.inflationCostAtCells(cells);
+      ASSERT_EQ(map.cost(x, y), expected) << "cell (" << x << ", " << y << ")";
+      if (cells > 40.0 && expected > kFreeCost) ++nonzero_beyond_two_metres;
+    }
+  EXPECT_GT(nonzero_beyond_two_metres, 0);  // the tail is there: costs 1 out to 2.08 m
+  EXPECT_EQ(map.inflationCost(2.2), kFreeCost);
+  map.clearPolygon({{0.2, 0.2}, {-0.2, 0.2}, {-0.2, -0.2}, {0.2, -0.2}});
+  for (int y = 0; y < map.heightCells(); ++y)
+    for (int x = 0; x < map.widthCells(); ++x) ASSERT_EQ(map.cost(x, y), kFreeCost);
+}
+
 TEST(Costmap, ClearingAnObstacleRemovesItsInflation) {
   Costmap map(smallMap());
   map.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});

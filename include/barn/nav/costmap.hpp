@@ -151,6 +151,9 @@ class Costmap {
   std::uint8_t inflationCostAtCells(double cells) const;
 
  private:
+  /// How many cells an obstacle's inflation reaches: ceil(inflation_radius / resolution), or
+  /// less where the cost has fallen to 0 before.
+  int inflationReach() const;
   std::size_t index(int x, int y) const { return static_cast<std::size_t>(y) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(x); }
   /// Cells [x0, x1) x [y0, y1).
   struct CellBox {
@@ -194,7 +197,7 @@ class Costmap {
   mutable std::vector<CellIndex> changed_;
   mutable std::vector<CellBox> pending_;
   mutable bool stale_ = false;
-  int inflation_cells_ = 0;             // ceil(inflation_radius / resolution)
+  int inflation_cells_ = 0;             // cells an obstacle's cost reaches (inflationReach)
   // The inflation cost of an obstacle cell at each offset (dx, dy) in [-r, r]^2, r the
   // inflation reach in cells, row-major: a cell's cost is the largest any obstacle stamps on it
   // (cost falls with distance, so that is the cost at the nearest obstacle). Built by the first
