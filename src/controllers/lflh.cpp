@@ -13,7 +13,10 @@ nav::NavStackConfig LflhConfig::lflhNav() {
   nav::NavStackConfig c;
   c.footprint_padding = 0.075;
   c.global_costmap.inscribed_radius = 0.24;  // 0.165 + 0.075
-  c.global_costmap.inflation_radius = 1.0;
+  // The team's 5 m. Until 2026-11-27 cut at 1 m (cost 26 of 252) to save inflation and
+  // replanning work; the tail beyond, costs 1-26 out to 2.1 m, moves the plan toward open
+  // ground and changed inventec_fi's episodes toward the team's (docs/fidelity.md).
+  c.global_costmap.inflation_radius = 5.0;
   c.global_costmap.cost_scaling_factor = 3.0;
   c.local_costmap.inscribed_radius = 0.24;
   c.local_costmap.inflation_radius = 1.0;

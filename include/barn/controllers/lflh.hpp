@@ -58,8 +58,8 @@ struct LflhConfig {
 
   /// The LfLH/Inventec move_base costmaps (the Inventec team's published move_base
   /// configuration): footprint padding 0.075, a wide exponential inflation that keeps the NavFn
-  /// path in the middle of gaps (k = 3 global, 1 local; BARN's 5 m radius cut at 1 m, where the
-  /// global cost has fallen to 26 of 252).
+  /// path in the middle of gaps (global: radius 5 m, k = 3, whose cost reaches 0 at 2.1 m; local:
+  /// k = 1, cut here at 1 m, the local map being read only by Inventec, which sets its 5 m).
   static nav::NavStackConfig lflhNav();
 };
 void validate(const LflhConfig& config, core::Errors& errors, const std::string& prefix);
