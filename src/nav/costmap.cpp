@@ -10,6 +10,9 @@
 namespace barn::nav {
 
 namespace {
+// No obstacle within the reach, as a squared distance in cells (Costmap::nearest_).
+constexpr std::uint32_t kNoObstacle = std::numeric_limits<std::uint32_t>::max();
+
 // Byte loops in blocks of 16 through non-aliasing pointers: the shape GCC's -O2 vectoriser
 // (its "very cheap" cost model: no alias checks, no remainder loop) turns into 16-byte
 // instructions; the few cells left over go one by one.
@@ -22,17 +25,28 @@ void raiseTo(std::uint8_t* __restrict dst, const std::uint8_t* __restrict src, i
   for (; i < n; ++i) dst[i] = std::max(dst[i], src[i]);
 }
 
-/// A cell costs `cost` and an obstacle's kernel gives it `gave`: that obstacle set (or tied)
-/// its cost. Branch-free, so that anyGiven vectorises.
-bool gaveItsCost(std::uint8_t gave, std::uint8_t cost) { return (gave != kFreeCost) & (cost == gave); }
-
-/// True if gaveItsCost(gave[i], cost[i]) for some i < n.
-bool anyGiven(const std::uint8_t* __restrict gave, const std::uint8_t* __restrict cost, int n) {
-  std::uint8_t any = 0;  // a byte, not a bool: the vectoriser keeps a bool reduction scalar
+/// dst[i] = min(dst[i], src[i]) for i < n (4 per 16-byte block).
+void lowerTo(std::uint32_t* __restrict dst, const std::uint32_t* __restrict src, int n) {
   int i = 0;
-  for (; i + 16 <= n; i += 16)
-    for (int k = 0; k < 16; ++k) any |= static_cast<std::uint8_t>(gaveItsCost(gave[i + k], cost[i + k]));
-  for (; i < n; ++i) any |= static_cast<std::uint8_t>(gaveItsCost(gave[i], cost[i]));
+  for (; i + 4 <= n; i += 4)
+    for (int k = 0; k < 4; ++k) dst[i + k] = std::min(dst[i + k], src[i + k]);
+  for (; i < n; ++i) dst[i] = std::min(dst[i], src[i]);
+}
+
+/// An obstacle lies `at` (squared cells, kNoObstacle past its reach) from a cell whose nearest
+/// obstacle was `nearest` away: it was that nearest obstacle (or tied with it). Branch-free, so
+/// that anyWasNearest vectorises.
+bool wasNearest(std::uint32_t at, std::uint32_t nearest) {
+  return (at != kNoObstacle) & (nearest == at);
+}
+
+/// True if wasNearest(at[i], nearest[i]) for some i < n.
+bool anyWasNearest(const std::uint32_t* __restrict at, const std::uint32_t* __restrict nearest, int n) {
+  std::uint32_t any = 0;
+  int i = 0;
+  for (; i + 4 <= n; i += 4)
+    for (int k = 0; k < 4; ++k) any |= static_cast<std::uint32_t>(wasNearest(at[i + k], nearest[i + k]));
+  for (; i < n; ++i) any |= static_cast<std::uint32_t>(wasNearest(at[i], nearest[i]));
   return any != 0;
 }
 }  // namespace
@@ -58,6 +72,7 @@ Costmap::Costmap(const CostmapConfig& config) : config_(config) {
   const std::uint8_t unseen = config.track_unknown ? kUnknownCost : kFreeCost;
   obstacle_.assign(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_), unseen);
   cost_.assign(obstacle_.size(), unseen);
+  nearest_.assign(obstacle_.size(), kNoObstacle);
   inflated_state_ = obstacle_;
   inflation_cells_ = inflationReach();
 }
@@ -81,21 +96,28 @@ void Costmap::buildKernel() const {
   // cells of its source, and the cost is taken at the cell distance times the resolution.
   const int r = inflation_cells_;
   const int side = 2 * r + 1;
-  kernel_.assign(static_cast<std::size_t>(side) * static_cast<std::size_t>(side), kFreeCost);
+  const std::size_t cells_in_box = static_cast<std::size_t>(side) * static_cast<std::size_t>(side);
+  kernel_.assign(cells_in_box, kFreeCost);
+  kernel_distance_.assign(cells_in_box, kNoObstacle);
   for (int dy = -r; dy <= r; ++dy)
     for (int dx = -r; dx <= r; ++dx) {
-      const double cells = std::sqrt(static_cast<double>(dx * dx + dy * dy));
+      const auto squared = static_cast<std::uint32_t>(dx * dx + dy * dy);
+      const double cells = std::sqrt(static_cast<double>(squared));
       const std::uint8_t cost = cells > r ? kFreeCost : inflationCostAtCells(cells);
-      kernel_[static_cast<std::size_t>((dy + r) * side + dx + r)] = cost;
-      if (cost > kFreeCost && (dx != 0 || dy != 0)) offsets_by_distance_.push_back({dx, dy, dy * width_ + dx, cost});
+      const auto k = static_cast<std::size_t>((dy + r) * side + dx + r);
+      kernel_[k] = cost;
+      if (cost > kFreeCost) kernel_distance_[k] = squared;
+      if (cost > kFreeCost && squared > 0) offsets_by_distance_.push_back({dx, dy, dy * width_ + dx, squared, cost});
     }
   std::stable_sort(offsets_by_distance_.begin(), offsets_by_distance_.end(),
-                   [](const KernelOffset& a, const KernelOffset& b) { return a.dx * a.dx + a.dy * a.dy < b.dx * b.dx + b.dy * b.dy; });
-  // Costs fall with distance, so the offsets that give at most cost c are a suffix.
-  for (int c = 0; c < 256; ++c)
-    first_offset_at_most_[static_cast<std::size_t>(c)] = static_cast<std::size_t>(
-        std::find_if(offsets_by_distance_.begin(), offsets_by_distance_.end(), [&](const KernelOffset& o) { return o.cost <= c; }) -
-        offsets_by_distance_.begin());
+                   [](const KernelOffset& a, const KernelOffset& b) { return a.squared < b.squared; });
+  // first_offset_from_[d]: the first offset at least sqrt(d) cells away (the end past the last).
+  const std::uint32_t farthest = offsets_by_distance_.empty() ? 0 : offsets_by_distance_.back().squared;
+  first_offset_from_.assign(farthest + 2, offsets_by_distance_.size());
+  for (std::size_t k = offsets_by_distance_.size(); k-- > 0;)
+    for (std::uint32_t d = offsets_by_distance_[k].squared; d > (k > 0 ? offsets_by_distance_[k - 1].squared : 0); --d)
+      first_offset_from_[d] = k;
+  if (!offsets_by_distance_.empty()) first_offset_from_[0] = 0;
 }
 
 std::uint8_t Costmap::inflationCostAtCells(double cells) const {
@@ -176,25 +198,26 @@ void Costmap::inflatePending() const {
       recomputeOnce(c.x, c.y);
       continue;
     }
-    // Only cells whose cost this obstacle gave (or tied) can drop; the others owe theirs to a
-    // nearer obstacle that is still there.
+    // Only cells whose nearest obstacle this was (or tied with it) can cost less now; the
+    // others owe their cost to a nearer obstacle that is still there.
     recomputeOnce(c.x, c.y);
     const int side = 2 * r + 1;
     const int x0 = std::max(0, c.x - r), x1 = std::min(width_ - 1, c.x + r);
     for (int y = std::max(0, c.y - r); y <= std::min(height_ - 1, c.y + r); ++y) {
-      const std::uint8_t* gave = &kernel_[static_cast<std::size_t>((y - c.y + r) * side + (x0 - c.x + r))];
-      const std::uint8_t* cost = &cost_[index(x0, y)];
+      const std::uint32_t* at = &kernel_distance_[static_cast<std::size_t>((y - c.y + r) * side + (x0 - c.x + r))];
+      const std::uint32_t* nearest = &nearest_[index(x0, y)];
       const int n = x1 - x0 + 1;
       // Most rows hold no such cell: a branch-free pass finds the ones that do.
-      if (!anyGiven(gave, cost, n)) continue;
+      if (!anyWasNearest(at, nearest, n)) continue;
       for (int k = 0; k < n; ++k)
-        if (gaveItsCost(gave[k], cost[k])) recomputeOnce(x0 + k, y);
+        if (wasNearest(at[k], nearest[k])) recomputeOnce(x0 + k, y);
     }
   }
   for (const CellIndex& c : changed_) {
     const std::size_t i = index(c.x, c.y);
     if (obstacle_[i] == inflated_state_[i] || obstacle_[i] != kLethalCost) continue;
     cost_[i] = kLethalCost;
+    nearest_[i] = 0;
     stampObstacle(c.x, c.y, {0, 0, width_, height_});
   }
   for (const CellIndex& c : changed_) {
@@ -310,8 +333,11 @@ void Costmap::stampObstacle(int ox, int oy, CellBox target) const {
   // Only free cells take a stamp, and every other cell already costs at least any stamp
   // (lethal 254 and unknown 255; a new obstacle not yet stamped is set to lethal after), so a
   // plain maximum does it.
-  for (int y = y0; y < y1; ++y)
-    raiseTo(&cost_[index(x0, y)], &kernel_[static_cast<std::size_t>((y - oy + r) * side + (x0 - ox + r))], x1 - x0);
+  for (int y = y0; y < y1; ++y) {
+    const auto k = static_cast<std::size_t>((y - oy + r) * side + (x0 - ox + r));
+    raiseTo(&cost_[index(x0, y)], &kernel_[k], x1 - x0);
+    lowerTo(&nearest_[index(x0, y)], &kernel_distance_[k], x1 - x0);
+  }
 }
 
 void Costmap::recomputeCell(int x, int y) const {
@@ -319,33 +345,32 @@ void Costmap::recomputeCell(int x, int y) const {
   const std::uint8_t state = obstacle_[i];
   if (state != kFreeCost) {
     cost_[i] = state;
+    nearest_[i] = 0;  // not a free cell: no cost to explain, and 0 bounds any distance from below
     return;
   }
-  // The nearest obstacle decides: offsets are visited nearest first. The cell's cost so far is
-  // the largest any obstacle of the state it was computed for gives it, so offsets giving more
+  // The nearest obstacle decides: offsets are visited nearest first. The cell's nearest
+  // obstacle in the state it was computed for was nearest_ away, so offsets nearer than that
   // can only hold obstacles new since then, and inflatePending stamps those afterwards.
   const int r = inflation_cells_;
-  const auto first = offsets_by_distance_.begin() + static_cast<std::ptrdiff_t>(first_offset_at_most_[cost_[i]]);
+  const std::uint32_t from = std::min<std::uint32_t>(nearest_[i], static_cast<std::uint32_t>(first_offset_from_.size() - 1));
+  const auto first = offsets_by_distance_.begin() + static_cast<std::ptrdiff_t>(first_offset_from_[from]);
   const auto last = offsets_by_distance_.end();
+  const auto found = [&](const KernelOffset& o) {
+    cost_[i] = o.cost;
+    nearest_[i] = o.squared;
+  };
   if (x >= r && y >= r && x + r < width_ && y + r < height_) {  // the whole kernel on the map
     const std::uint8_t* here = &obstacle_[i];
     for (auto o = first; o != last; ++o)
-      if (here[o->flat] == kLethalCost) {
-        cost_[i] = o->cost;
-        return;
-      }
-    cost_[i] = kFreeCost;
-    return;
-  }
-  for (auto it = first; it != last; ++it) {
-    const KernelOffset& o = *it;
-    const int ox = x + o.dx, oy = y + o.dy;
-    if (inBounds(ox, oy) && obstacle_[index(ox, oy)] == kLethalCost) {
-      cost_[i] = o.cost;
-      return;
+      if (here[o->flat] == kLethalCost) return found(*o);
+  } else {
+    for (auto o = first; o != last; ++o) {
+      const int ox = x + o->dx, oy = y + o->dy;
+      if (inBounds(ox, oy) && obstacle_[index(ox, oy)] == kLethalCost) return found(*o);
     }
   }
   cost_[i] = kFreeCost;
+  nearest_[i] = kNoObstacle;
 }
 
 void Costmap::reinflate(CellBox changed, int grow) const {
@@ -360,6 +385,7 @@ void Costmap::reinflate(CellBox changed, int grow) const {
     for (int x = target.x0; x < target.x1; ++x) {
       const std::uint8_t state = obstacle_[row + static_cast<std::size_t>(x)];
       cost_[row + static_cast<std::size_t>(x)] = state == kLethalCost || state == kUnknownCost ? state : kFreeCost;
+      nearest_[row + static_cast<std::size_t>(x)] = state == kLethalCost ? 0 : kNoObstacle;
     }
   }
   // Each obstacle stamps its kernel on the free cells of the target; a cell keeps the largest
@@ -397,23 +423,24 @@ void Costmap::recentre(const Eigen::Vector2d& position) {
   // the direction that reads each source row before it is overwritten.
   const std::uint8_t unseen = config_.track_unknown ? kUnknownCost : kFreeCost;
   const int keep_x0 = std::clamp(-shift_x, 0, width_), keep_x1 = std::clamp(width_ - shift_x, 0, width_);
-  const auto shiftGrid = [&](std::vector<std::uint8_t>& grid) {
+  const auto shiftGrid = [&]<class Cell>(std::vector<Cell>& grid, Cell fill) {
     for (int k = 0; k < height_; ++k) {
       const int y = shift_y >= 0 ? k : height_ - 1 - k;
-      std::uint8_t* row = &grid[index(0, y)];
+      Cell* row = &grid[index(0, y)];
       const int old_y = y + shift_y;
       if (old_y < 0 || old_y >= height_ || keep_x1 <= keep_x0) {
-        std::fill(row, row + width_, unseen);
+        std::fill(row, row + width_, fill);
         continue;
       }
-      std::memmove(row + keep_x0, &grid[index(keep_x0 + shift_x, old_y)], static_cast<std::size_t>(keep_x1 - keep_x0));
-      std::fill(row, row + keep_x0, unseen);
-      std::fill(row + keep_x1, row + width_, unseen);
+      std::memmove(row + keep_x0, &grid[index(keep_x0 + shift_x, old_y)], sizeof(Cell) * static_cast<std::size_t>(keep_x1 - keep_x0));
+      std::fill(row, row + keep_x0, fill);
+      std::fill(row + keep_x1, row + width_, fill);
     }
   };
-  shiftGrid(obstacle_);
-  shiftGrid(cost_);
-  shiftGrid(inflated_state_);
+  shiftGrid(obstacle_, unseen);
+  shiftGrid(cost_, unseen);
+  shiftGrid(inflated_state_, unseen);
+  shiftGrid(nearest_, kNoObstacle);
   origin_ = wanted;
   ++version_;
   // Regions still to re-inflate move with the cells.
@@ -488,6 +515,7 @@ void Costmap::reset() {
   const std::uint8_t unseen = config_.track_unknown ? kUnknownCost : kFreeCost;
   std::fill(obstacle_.begin(), obstacle_.end(), unseen);
   std::fill(cost_.begin(), cost_.end(), unseen);
+  std::fill(nearest_.begin(), nearest_.end(), kNoObstacle);
   inflated_state_ = obstacle_;
   changed_.clear();
   pending_.clear();

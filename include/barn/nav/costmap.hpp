@@ -204,14 +204,22 @@ class Costmap {
   // inflation (buildKernel): a map whose costs are never read never pays for it (a 5 m kernel
   // has 31 000 offsets to sort).
   mutable std::vector<std::uint8_t> kernel_;
+  // The same offsets' squared distance in cells where they cost more than 0, else
+  // the largest value (no obstacle).
+  mutable std::vector<std::uint32_t> kernel_distance_;
   // The kernel's non-zero offsets (the centre excluded), nearest first.
   struct KernelOffset {
     int dx = 0, dy = 0;
-    std::ptrdiff_t flat = 0;  // dy * width + dx
+    std::ptrdiff_t flat = 0;    // dy * width + dx
+    std::uint32_t squared = 0;  // dx^2 + dy^2
     std::uint8_t cost = 0;
   };
   mutable std::vector<KernelOffset> offsets_by_distance_;
-  mutable std::array<std::size_t, 256> first_offset_at_most_{};  // first offset whose cost is <= the index
+  mutable std::vector<std::size_t> first_offset_from_;  // [d]: first offset with squared >= d
+  // Per cell, the squared distance in cells to the obstacle its cost comes from (the largest
+  // value if none is within the reach; 0 for a cell that is not free): the obstacle a cleared cell was
+  // is known exactly, where equal costs would also name every other obstacle whose cost ties.
+  mutable std::vector<std::uint32_t> nearest_;
   // Scratch of inflatePending(): the round in which each cell was last recomputed.
   mutable std::vector<std::uint32_t> recomputed_in_round_;
   mutable std::uint32_t recompute_round_ = 0;
