@@ -311,7 +311,7 @@ TEST(GlobalPlanner, NewSearchKeepsTheFieldBeyondTheChangesAndGivesTheExhaustiveP
 }
 
 TEST(GlobalPlanner, KeptFieldPlansAsAFreshOneWhileARobotRevealsAnObstacleField) {
-  // The run's own case at its own scale: BARN's 6 x 15 m global costmap at 5 cm with LfLH's 1 m
+  // The run's own case at its own scale: BARN's 6 x 15 m global costmap at 5 cm with LfLH's 5 m
   // inflation, a robot driving its own path through a field of 15 cm cylinders that it marks
   // as they come within 2.5 m, while returns it marked flicker out and back (the scan noise, so
   // costs fall as well as rise, near the robot and ahead of it). Small random maps miss what
@@ -324,7 +324,7 @@ TEST(GlobalPlanner, KeptFieldPlansAsAFreshOneWhileARobotRevealsAnObstacleField) 
     config.origin_x = -3.0;
     config.origin_y = -2.0;
     config.inscribed_radius = 0.24;
-    config.inflation_radius = 1.0;
+    config.inflation_radius = 5.0;
     config.cost_scaling_factor = 3.0;
     Costmap map(config);
     std::vector<Eigen::Vector2d> cylinders;
