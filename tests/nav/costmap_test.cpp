@@ -265,6 +265,53 @@ TEST(Costmap, IncrementalInflationEqualsInflatingFromScratch) {
   expectIncrementalInflationEqualsInflatingFromScratch(smallMap(), false);
 }
 
+TEST(Costmap, IncrementalInflationEqualsInflatingFromScratchWithTheLflhStacksWideInflation) {
+  // The Inventec team's global inflation (5 m at scaling 3) over a sparse field: a few dozen
+  // obstacles come and go, so most cells owe their cost to one 1-2 m away, in the tail where
+  // many obstacles tie at the same low cost. What a cleared obstacle leaves must come from the
+  // distances the map keeps, not from the costs. Checked after every read.
+  CostmapConfig c = smallMap();
+  c.inscribed_radius = 0.24;
+  c.inflation_radius = 5.0;
+  c.cost_scaling_factor = 3.0;
+  Costmap map(c);
+  std::uint64_t state = 777;
+  const auto uniform = [&state] {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(state >> 11) / 9007199254740992.0;
+  };
+  std::vector<Eigen::Vector2d> marked;
+  int far_cells = 0;
+  for (int step = 0; step < 40; ++step) {
+    for (int k = 0; k < 2; ++k) {
+      marked.push_back({-2.9 + 5.8 * uniform(), -2.9 + 5.8 * uniform()});
+      map.markObstacle(marked.back());
+    }
+    if (marked.size() > 6) {  // clear one at random, with the cells around it
+      const std::size_t gone = static_cast<std::size_t>(uniform() * static_cast<double>(marked.size()));
+      const Eigen::Vector2d p = marked[gone];
+      map.clearPolygon({p + Eigen::Vector2d(-0.06, -0.06), p + Eigen::Vector2d(0.06, -0.06), p + Eigen::Vector2d(0.06, 0.06),
+                        p + Eigen::Vector2d(-0.06, 0.06)});
+      marked.erase(marked.begin() + static_cast<std::ptrdiff_t>(gone));
+    }
+    if (step % 5 != 4) continue;
+    // From scratch: the cost at the nearest obstacle cell, over the few obstacle cells there are.
+    std::vector<CellIndex> obstacles;
+    for (int y = 0; y < map.heightCells(); ++y)
+      for (int x = 0; x < map.widthCells(); ++x)
+        if (map.isObstacle(x, y)) obstacles.push_back({x, y});
+    for (int y = 0; y < map.heightCells(); ++y)
+      for (int x = 0; x < map.widthCells(); ++x) {
+        double nearest = kInf;
+        for (const CellIndex& o : obstacles) nearest = std::min(nearest, std::hypot(o.x - x, o.y - y));
+        const std::uint8_t expected = nearest > 100.0 ? kFreeCost : map.inflationCostAtCells(nearest);
+        ASSERT_EQ(map.cost(x, y), expected) << "step " << step << ", cell " << x << ", " << y;
+        far_cells += expected > kFreeCost && expected < 10;  // 1.4-2.1 m from the nearest obstacle
+      }
+  }
+  EXPECT_GT(far_cells, 1000);  // the tail was exercised
+}
+
 CostmapConfig smallRollingMap() {
   CostmapConfig c = smallMap();
   c.width = c.height = 5.0;
