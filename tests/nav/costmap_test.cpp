@@ -22,6 +22,15 @@ core::LaserScan scanAhead(double ahead, double others = kInf) {
   return scan;
 }
 
+// The LfLH / Inventec stack's global inflation (LflhConfig::lflhNav): 5 m at scaling 3 around
+// an inscribed radius of 0.24 m; its cost reaches 0 at about 2.1 m.
+CostmapConfig withLflhInflation(CostmapConfig c) {
+  c.inscribed_radius = 0.24;
+  c.inflation_radius = 5.0;
+  c.cost_scaling_factor = 3.0;
+  return c;
+}
+
 CostmapConfig smallMap() {
   CostmapConfig c;
   c.width = 6.0;
@@ -172,19 +181,15 @@ TEST(Costmap, InflatesAroundAnObstacleAtKnownDistances) {
 }
 
 TEST(Costmap, AWideRadiusCostsWhatItsTableSaysAtEveryCellOutToTheRadius) {
-  // The Inventec team's global inflation: radius 5 m, scaling 3, inscribed 0.24 m. Its cost
-  // reaches 0 at about 2.1 m, so barnbench stops the inflation there; every cell of the map,
-  // near or beyond, must still cost what the formula gives at its cell distance, before and
-  // after the obstacle is cleared again.
+  // The Inventec team's global inflation stops where its cost reaches 0 (about 2.1 m); every
+  // cell of the map, near or beyond, must still cost what the formula gives at its cell
+  // distance, before and after the obstacle is cleared again.
   CostmapConfig c;
   c.width = 12.0;
   c.height = 12.0;
   c.origin_x = -6.0;
   c.origin_y = -6.0;
-  c.inscribed_radius = 0.24;
-  c.inflation_radius = 5.0;
-  c.cost_scaling_factor = 3.0;
-  Costmap map(c);
+  Costmap map(withLflhInflation(c));
   map.markObstacle({0.025, 0.025});
   CellIndex hit;
   ASSERT_TRUE(map.toCell({0.025, 0.025}, hit));
@@ -269,12 +274,8 @@ TEST(Costmap, IncrementalInflationEqualsInflatingFromScratchWithTheLflhStacksWid
   // The Inventec team's global inflation (5 m at scaling 3) over a sparse field: a few dozen
   // obstacles come and go, so most cells owe their cost to one 1-2 m away, in the tail where
   // many obstacles tie at the same low cost. What a cleared obstacle leaves must come from the
-  // distances the map keeps, not from the costs. Checked after every read.
-  CostmapConfig c = smallMap();
-  c.inscribed_radius = 0.24;
-  c.inflation_radius = 5.0;
-  c.cost_scaling_factor = 3.0;
-  Costmap map(c);
+  // distances the map keeps, not from the costs. Checked every fifth step.
+  Costmap map(withLflhInflation(smallMap()));
   std::uint64_t state = 777;
   const auto uniform = [&state] {
     state = state * 6364136223846793005ULL + 1442695040888963407ULL;
