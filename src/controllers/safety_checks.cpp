@@ -40,9 +40,9 @@ bool rolloutHit(const std::vector<Eigen::Vector2d>& points, const core::Rect& fo
   for (int k = 0; k < steps; ++k) {
     pose = unicycleStep(pose, command, dt);
     // The points in the frame of the rolled-out pose.
-    const core::ToPoseFrame toPose(pose);
+    const core::PoseFrame rolledOut(pose);
     for (const auto& p : points)
-      if (footprint.contains(toPose(p))) return true;
+      if (footprint.contains(rolledOut.toLocal(p))) return true;
   }
   return false;
 }
@@ -52,9 +52,9 @@ bool beamRolloutHit(const core::LaserScan& scan, const core::Twist& command, con
   for (int k = 0; k < check.steps; ++k) final_pose = unicycleStep(final_pose, command, check.dt);
   const core::Rect& r = check.rectangle;
   const int n = check.points_per_side;
-  const core::FromPoseFrame fromFinalPose(final_pose);
+  const core::PoseFrame finalFrame(final_pose);
   const auto hit = [&](double local_x, double local_y) {
-    const Eigen::Vector2d p = fromFinalPose({local_x, local_y});
+    const Eigen::Vector2d p = finalFrame.toParent({local_x, local_y});
     const double index = std::floor((std::atan2(p.y(), p.x()) - scan.angle_min) / scan.angle_increment);
     if (!(index >= 0.0 && index < static_cast<double>(scan.ranges.size()))) return false;  // outside the field of view
     return scan.ranges[static_cast<std::size_t>(index)] < std::abs(p.x()) + std::abs(p.y()) + check.tolerance;
@@ -75,13 +75,13 @@ bool frontCheckHit(const core::LaserScan& scan, const core::LidarConfig& lidar, 
   // The region is turned by rotate_gain * w about the robot centre; a point is inside if, turned
   // back by the same angle, it lies in the axis-aligned rectangle. (The code rotated a polygon
   // and asked matplotlib; for a rectangle this is the same test.)
-  const core::ToPoseFrame turnedBack(core::Pose2{0.0, 0.0, check.rotate_gain * command.angular});
+  const core::PoseFrame turned(core::Pose2{0.0, 0.0, check.rotate_gain * command.angular});
   beams.update(scan);
   for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
     const double r = scan.ranges[i];
     if (!std::isfinite(r) || std::abs(scan.angle(i)) > check.front_angle) continue;
     const Eigen::Vector2d p(lidar.mount_x + r * beams.cos(i), lidar.mount_y + r * beams.sin(i));
-    if (region.contains(turnedBack(p))) return true;
+    if (region.contains(turned.toLocal(p))) return true;
   }
   return false;
 }
@@ -146,7 +146,7 @@ std::vector<Eigen::Vector2d> inscribedCellPoints(const nav::Costmap& costmap, co
   if (!costmap.toCell(pose.position(), centre)) return points;
   const double inscribed_cells = costmap.config().inscribed_radius / costmap.resolution();
   const int span = static_cast<int>(std::ceil(reach / costmap.resolution())) + 1;
-  const core::ToPoseFrame toRobot(pose);
+  const core::PoseFrame robot(pose);
   for (int dy = -span; dy <= span; ++dy) {
     for (int dx = -span; dx <= span; ++dx) {
       const nav::CellIndex cell{centre.x + dx, centre.y + dy};
@@ -155,7 +155,7 @@ std::vector<Eigen::Vector2d> inscribedCellPoints(const nav::Costmap& costmap, co
       if ((at - pose.position()).norm() > reach) continue;
       const double distance = cellsToNearestObstacle(costmap, cell, inscribed_cells + 1.0);
       if (std::isfinite(distance) && costmap.inflationCostAtCells(distance) >= nav::kInscribedCost)
-        points.push_back(toRobot(at));
+        points.push_back(robot.toLocal(at));
     }
   }
   return points;
@@ -164,12 +164,12 @@ std::vector<Eigen::Vector2d> inscribedCellPoints(const nav::Costmap& costmap, co
 bool rearRegionBlocked(const nav::Costmap& costmap, const core::Pose2& pose, const core::Rect& region, double weight) {
   // The cells under the region: sampled at half the cell size so every cell it covers is seen.
   std::vector<nav::CellIndex> cells;
-  const core::FromPoseFrame fromRobot(pose);
+  const core::PoseFrame robot(pose);
   const double step = costmap.resolution() / 2;
   for (double x = region.min_x; x <= region.max_x + 1e-9; x += step) {
     for (double y = region.min_y; y <= region.max_y + 1e-9; y += step) {
       nav::CellIndex cell;
-      if (!costmap.toCell(fromRobot({x, y}), cell)) continue;
+      if (!costmap.toCell(robot.toParent({x, y}), cell)) continue;
       if (costmap.isObstacle(cell.x, cell.y)) return true;
       if (std::find_if(cells.begin(), cells.end(), [&](const nav::CellIndex& c) { return c.x == cell.x && c.y == cell.y; }) ==
           cells.end())
@@ -210,9 +210,9 @@ bool rearRegionBlocked(const nav::Costmap& costmap, const core::Pose2& pose, con
 
 bool rotateCheckHit(const std::vector<Eigen::Vector2d>& points, const nav::Costmap& costmap, const core::Pose2& pose,
                     double turn_rate, const RotateCheck& check) {
-  const core::ToPoseFrame turnedBack(core::Pose2{0.0, 0.0, check.rotate_gain * turn_rate});
+  const core::PoseFrame turned(core::Pose2{0.0, 0.0, check.rotate_gain * turn_rate});
   for (const auto& p : points)
-    if (check.body.contains(turnedBack(p))) return true;
+    if (check.body.contains(turned.toLocal(p))) return true;
   // Turning left (w > 0) swings the tail to the right (-y), and the other way round.
   const double half = check.rear_width / 2;
   const core::Rect rear{-check.rear_centre - check.rear_depth / 2, -check.rear_centre + check.rear_depth / 2,

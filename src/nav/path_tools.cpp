@@ -40,8 +40,8 @@ double headingError(const Path& path, const core::Pose2& pose, double lookahead)
 Path pathInRobotFrame(const Path& path, const core::Pose2& pose) {
   Path local;
   local.reserve(path.size());
-  const core::ToPoseFrame toRobot(pose);
-  for (const auto& p : path) local.push_back(toRobot(p));
+  const core::PoseFrame robot(pose);
+  for (const auto& p : path) local.push_back(robot.toLocal(p));
   return local;
 }
 

@@ -24,21 +24,15 @@ struct Pose2 {
 
 /// Pose2::transform and inverseTransform with the pose's cosine and sine computed once, for
 /// loops over many points (the compiler cannot hoist std::cos, which may set errno).
-class FromPoseFrame {
+class PoseFrame {
  public:
-  explicit FromPoseFrame(const Pose2& pose) : x_(pose.x), y_(pose.y), c_(std::cos(pose.yaw)), s_(std::sin(pose.yaw)) {}
-  Eigen::Vector2d operator()(const Eigen::Vector2d& p) const {
+  explicit PoseFrame(const Pose2& pose) : x_(pose.x), y_(pose.y), c_(std::cos(pose.yaw)), s_(std::sin(pose.yaw)) {}
+  /// A point given in the pose's frame, in the parent frame (Pose2::transform).
+  Eigen::Vector2d toParent(const Eigen::Vector2d& p) const {
     return {x_ + c_ * p.x() - s_ * p.y(), y_ + s_ * p.x() + c_ * p.y()};
   }
-
- private:
-  double x_, y_, c_, s_;
-};
-
-class ToPoseFrame {
- public:
-  explicit ToPoseFrame(const Pose2& pose) : x_(pose.x), y_(pose.y), c_(std::cos(pose.yaw)), s_(std::sin(pose.yaw)) {}
-  Eigen::Vector2d operator()(const Eigen::Vector2d& p) const {
+  /// A parent-frame point in the pose's frame (Pose2::inverseTransform).
+  Eigen::Vector2d toLocal(const Eigen::Vector2d& p) const {
     const double dx = p.x() - x_, dy = p.y() - y_;
     return {c_ * dx + s_ * dy, -s_ * dx + c_ * dy};
   }
@@ -47,8 +41,8 @@ class ToPoseFrame {
   double x_, y_, c_, s_;
 };
 
-inline Eigen::Vector2d Pose2::transform(const Eigen::Vector2d& p) const { return FromPoseFrame(*this)(p); }
-inline Eigen::Vector2d Pose2::inverseTransform(const Eigen::Vector2d& p) const { return ToPoseFrame(*this)(p); }
+inline Eigen::Vector2d Pose2::transform(const Eigen::Vector2d& p) const { return PoseFrame(*this).toParent(p); }
+inline Eigen::Vector2d Pose2::inverseTransform(const Eigen::Vector2d& p) const { return PoseFrame(*this).toLocal(p); }
 
 /// A velocity command in the robot frame, as ROS cmd_vel for a differential drive.
 struct Twist {
