@@ -299,7 +299,8 @@ EpisodeResult runEpisode(const core::WorldSpec& world, const sim::ObstacleField&
       break;
     }
     if (record_trajectory && std::isfinite(command.linear) && std::isfinite(command.angular))
-      trajectory.push_back({episode.observation().time, episode.tickPose(), command, std::string(controller.stateLabel())});
+      trajectory.push_back({episode.observation().time, episode.tickPose(), command, std::string(controller.stateLabel()),
+                            std::string(controller.parameterChanges())});
     episode.step(command, controller.stateLabel());
   }
   EpisodeResult result = episode.result();

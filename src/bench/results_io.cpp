@@ -143,11 +143,11 @@ std::vector<EpisodeResult> readEpisodesCsv(const std::filesystem::path& path, bo
 
 std::string trajectoryCsv(const EpisodeResult& result) {
   std::ostringstream out;
-  out << "time_s,x,y,yaw,cmd_linear,cmd_angular,state\n";
+  out << "time_s,x,y,yaw,cmd_linear,cmd_angular,state,params\n";
   for (const auto& s : result.trajectory) {
     out << core::formatDouble(s.time) << "," << core::formatDouble(s.pose.x) << "," << core::formatDouble(s.pose.y) << ","
         << core::formatDouble(s.pose.yaw) << "," << core::formatDouble(s.command.linear) << ","
-        << core::formatDouble(s.command.angular) << "," << sanitise(s.state) << "\n";
+        << core::formatDouble(s.command.angular) << "," << sanitise(s.state) << "," << sanitise(s.parameters) << "\n";
   }
   return out.str();
 }

@@ -127,6 +127,7 @@ ExternalController::~ExternalController() {
 
 void ExternalController::reset(const EpisodeInfo& info) {
   state_.clear();
+  costmaps_sent_ = {};
   if (!process_) {
     try {
       process_ = pool_->take();
@@ -146,14 +147,20 @@ core::Twist ExternalController::act(const Observation& obs) {
   char during[64];
   std::snprintf(during, sizeof(during), "the observation at t = %.2f s", obs.time);
   if (!process_) throw std::runtime_error("external controller: act() without a successful reset()");
-  const std::string answer = exchange(external::observationMessage(obs), config_.timeout, during);
+  const std::string answer = exchange(external::observationMessage(obs, costmaps_sent_), config_.timeout, during);
+  external::CommandAnswer command;
   try {
-    external::CommandAnswer command = external::readCommandAnswer(answer);
-    state_ = std::move(command.state);
-    return command.command;
+    command = external::readCommandAnswer(answer);
   } catch (const external::ProtocolError& e) {
     fail(during, e.what());
   }
+  state_ = std::move(command.state);
+  if (!command.params.empty() && !obs.stack_parameters)
+    throw std::runtime_error("external controller: \"params\" in the answer to " + std::string(during) +
+                             ", but the controller config has no global_plan block whose parameters it could set");
+  // An unknown key or a bad value ends the episode as an error naming the key.
+  for (const auto& [key, value] : command.params) obs.stack_parameters->set(key, value);
+  return command.command;
 }
 
 std::string ExternalController::exchange(const std::string& message, double timeout, const std::string& during) {

@@ -3,6 +3,7 @@
 #include "barn/controllers/dwa.hpp"
 #include "barn/controllers/eband.hpp"
 #include "barn/controllers/external.hpp"
+#include "barn/controllers/global_plan_feed.hpp"
 #include "barn/controllers/inventec.hpp"
 #include "barn/controllers/lflh.hpp"
 #include "barn/controllers/pure_pursuit.hpp"
@@ -81,6 +82,9 @@ const std::vector<Entry>& entries() {
   return kEntries;
 }
 
+// The optional block that runs move_base's stack beside any controller (global_plan_feed.hpp).
+constexpr const char* kGlobalPlanKey = "global_plan";
+
 const Entry& findEntry(const core::ConfigNode& config, std::string& type) {
   if (!config.isMap() || !config.has("type")) throw core::InputError(config.where("type") + ": missing (the controller type)");
   if (!config.child("type").read(type)) throw core::InputError(config.where("type") + ": expected a string");
@@ -88,7 +92,8 @@ const Entry& findEntry(const core::ConfigNode& config, std::string& type) {
     if (type == e.type) {
       core::Errors errors;
       for (const std::string& key : config.keys())
-        if (key != "type" && key != type) errors.add(config.where(key), "unknown key (expected 'type' and '" + type + "')");
+        if (key != "type" && key != type && key != kGlobalPlanKey)
+          errors.add(config.where(key), "unknown key (expected 'type', '" + type + "' and optionally '" + kGlobalPlanKey + "')");
       errors.throwIfAny();
       return e;
     }
@@ -109,6 +114,19 @@ PreparedController prepareController(const core::ConfigNode& config) {
   std::string type;
   PreparedController prepared;
   prepared.factory = findEntry(config, type).make(config.child(type), prepared.effective_config);
+  if (config.has(kGlobalPlanKey)) {
+    const core::ConfigNode block = config.child(kGlobalPlanKey);
+    auto plan = core::readConfig<GlobalPlanConfig>(block);
+    core::Errors errors;
+    validate(plan, errors, block.where());
+    errors.throwIfAny();
+    core::ConfigWriter writer(2);
+    plan.visit(writer);
+    prepared.effective_config += std::string(kGlobalPlanKey) + ":\n" + writer.text();
+    prepared.factory = [plan, inner = std::move(prepared.factory)] {
+      return std::make_unique<GlobalPlanFedController>(plan, inner());
+    };
+  }
   return prepared;
 }
 

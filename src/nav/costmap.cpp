@@ -60,7 +60,7 @@ void validate(const CostmapConfig& c, core::Errors& errors, const std::string& p
   errors.check(c.obstacle_range > 0.0, prefix + ".obstacle_range", "must be > 0");
   errors.check(c.raytrace_range > 0.0, prefix + ".raytrace_range", "must be > 0");
   errors.check(c.inscribed_radius >= 0.0, prefix + ".inscribed_radius", "must be >= 0");
-  errors.check(c.inflation_radius >= c.inscribed_radius, prefix + ".inflation_radius", "must be >= inscribed_radius");
+  errors.check(c.inflation_radius >= 0.0, prefix + ".inflation_radius", "must be >= 0");
   errors.check(c.cost_scaling_factor >= 0.0, prefix + ".cost_scaling_factor", "must be >= 0");
 }
 
@@ -508,6 +508,27 @@ void Costmap::markObstacle(const Eigen::Vector2d& p) {
   CellIndex cell;
   if (!toCell(p, cell)) return;
   setObstacle(cell.x, cell.y, kLethalCost);
+}
+
+void Costmap::setInflation(double inflation_radius, double cost_scaling_factor) {
+  if (inflation_radius == config_.inflation_radius && cost_scaling_factor == config_.cost_scaling_factor) return;
+  config_.inflation_radius = inflation_radius;
+  config_.cost_scaling_factor = cost_scaling_factor;
+  inflation_cells_ = inflationReach();
+  // The kernel is rebuilt at the next inflation, and the whole map re-inflated with it
+  // (InflationLayer's need_reinflation_): the single-cell changes are part of that.
+  kernel_.clear();
+  kernel_distance_.clear();
+  offsets_by_distance_.clear();
+  first_offset_from_.clear();
+  changed_.clear();
+  pending_.clear();
+  queueReinflation({0, 0, width_, height_});
+}
+
+void Costmap::setRanges(double obstacle_range, double raytrace_range) {
+  config_.obstacle_range = obstacle_range;
+  config_.raytrace_range = raytrace_range;
 }
 
 void Costmap::reset() {

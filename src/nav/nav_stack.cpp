@@ -1,6 +1,8 @@
 #include "barn/nav/nav_stack.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <stdexcept>
 
 #include "barn/core/rect.hpp"
 
@@ -50,9 +52,20 @@ void validate(const NavStackConfig& c, core::Errors& errors, const std::string& 
 NavStack::NavStack(const NavStackConfig& config)
     : config_(config),
       published_view_(config.local_costmap_view == "published"),
-      global_(config.global_costmap), local_(config.local_costmap), planner_(config.planner) {}
+      global_(config.global_costmap), local_(config.local_costmap),
+      global_parameters_(CostmapParameters::of(config.global_costmap)),
+      local_parameters_(CostmapParameters::of(config.local_costmap)),
+      global_update_rate_(config.global_update_rate), local_update_rate_(config.local_update_rate),
+      planner_config_(config.planner), planner_(config.planner) {}
 
 void NavStack::reset(const Eigen::Vector2d& goal) {
+  // Parameters changed while running go back to the configured ones.
+  global_parameters_ = CostmapParameters::of(config_.global_costmap);
+  local_parameters_ = CostmapParameters::of(config_.local_costmap);
+  global_parameters_pending_ = local_parameters_pending_ = false;
+  global_update_rate_ = config_.global_update_rate;
+  local_update_rate_ = config_.local_update_rate;
+  planner_config_ = config_.planner;
   global_ = Costmap(config_.global_costmap);
   local_ = Costmap(config_.local_costmap);
   local_updates_queued_ = 0;
@@ -61,7 +74,7 @@ void NavStack::reset(const Eigen::Vector2d& goal) {
   published_once_ = false;
   // A fresh planner too: its cache is keyed on the costmap's address and version, which the
   // new costmap can repeat.
-  planner_ = GlobalPlanner(config_.planner);
+  planner_ = GlobalPlanner(planner_config_);
   goal_ = goal;
   path_.clear();
   last_global_update_ = last_local_update_ = last_plan_ = last_scan_stamp_ = -1e9;
@@ -79,14 +92,19 @@ void NavStack::update(double time, const core::LaserScan& scan, const core::Pose
                       const core::Pose2& robot_pose) {
   constexpr double kSlack = 1e-9;  // periods are multiples of the control period up to rounding
   const bool new_scan = scan.stamp != last_scan_stamp_;
-  if (new_scan && time - last_global_update_ >= 1.0 / config_.global_update_rate - kSlack) {
+  if (new_scan && time - last_global_update_ >= 1.0 / global_update_rate_ - kSlack) {
+    if (global_parameters_pending_) global_parameters_.applyTo(global_);
+    global_parameters_pending_ = false;
     global_.integrateScan(scan, sensor_pose, robot_pose.position());
     if (config_.footprint_clearing) global_.clearPolygon(footprintAt(robot_pose));
     last_global_update_ = time;
   }
   if (local_updates_queued_ == local_updates_.size()) local_updates_.emplace_back();
   LocalUpdate& update = local_updates_[local_updates_queued_++];
-  update.has_scan = new_scan && time - last_local_update_ >= 1.0 / config_.local_update_rate - kSlack;
+  update.parameters.reset();
+  if (local_parameters_pending_) update.parameters = local_parameters_;
+  local_parameters_pending_ = false;
+  update.has_scan = new_scan && time - last_local_update_ >= 1.0 / local_update_rate_ - kSlack;
   update.robot_pose = robot_pose;
   const Eigen::Vector2d window_origin = local_.windowOriginFor(queued_window_origin_, robot_pose.position());
   if (!published_once_ || window_origin != queued_window_origin_) published_updates_ = local_updates_queued_;
@@ -103,7 +121,7 @@ void NavStack::update(double time, const core::LaserScan& scan, const core::Pose
     last_local_update_ = time;
   }
   last_scan_stamp_ = scan.stamp;
-  if (time - last_plan_ >= 1.0 / config_.planner.rate - kSlack) {
+  if (time - last_plan_ >= 1.0 / planner_config_.rate - kSlack) {
     replan(robot_pose);
     last_plan_ = time;
   }
@@ -116,6 +134,7 @@ std::vector<Eigen::Vector2d> NavStack::footprintAt(const core::Pose2& robot_pose
 }
 
 void NavStack::applyLocalUpdate(const LocalUpdate& update) const {
+  if (update.parameters) update.parameters->applyTo(local_);
   if (!update.has_scan) {
     local_.recentre(update.robot_pose.position());
     return;
@@ -143,6 +162,72 @@ void NavStack::clearCostmapsOutside(const Eigen::Vector2d& centre, double keep) 
 void NavStack::resetLocalCostmap() {
   applyLocalUpdates(local_updates_queued_);
   local_.reset();
+}
+
+const std::vector<std::string>& NavStack::settableParameters() {
+  static const std::vector<std::string> kKeys = {
+      "global_costmap.inflation_radius", "global_costmap.cost_scaling_factor", "global_costmap.obstacle_range",
+      "global_costmap.raytrace_range",   "local_costmap.inflation_radius",     "local_costmap.cost_scaling_factor",
+      "local_costmap.obstacle_range",    "local_costmap.raytrace_range",       "global_update_rate",
+      "local_update_rate",               "planner.rate",                       "planner.cost_factor",
+      "planner.neutral_cost"};
+  return kKeys;
+}
+
+void NavStack::setParameter(std::string_view key, double value) {
+  // Each value is checked by the validate() of its config, on a copy with the new value.
+  const auto checked = [&](const auto& candidate, auto validator) {
+    core::Errors errors;
+    validator(candidate, errors);
+    if (!std::isfinite(value)) errors.add(std::string(key), "must be a finite number");
+    if (!errors.empty()) throw std::invalid_argument(errors.messages().front());
+  };
+  const auto costmapParameter = [&](std::string_view name, const CostmapConfig& config, CostmapParameters& in_force,
+                                    bool& pending) {
+    CostmapParameters p = in_force;
+    if (name == "inflation_radius") p.inflation_radius = value;
+    else if (name == "cost_scaling_factor") p.cost_scaling_factor = value;
+    else if (name == "obstacle_range") p.obstacle_range = value;
+    else if (name == "raytrace_range") p.raytrace_range = value;
+    else return false;
+    CostmapConfig candidate = config;
+    candidate.inflation_radius = p.inflation_radius;
+    candidate.cost_scaling_factor = p.cost_scaling_factor;
+    candidate.obstacle_range = p.obstacle_range;
+    candidate.raytrace_range = p.raytrace_range;
+    const std::string map(key.substr(0, key.size() - name.size() - 1));
+    checked(candidate, [&](const CostmapConfig& c, core::Errors& e) { validate(c, e, map); });
+    in_force = p;
+    pending = true;
+    return true;
+  };
+  const auto after = [&](std::string_view prefix) -> std::optional<std::string_view> {
+    if (key.substr(0, prefix.size()) != prefix) return std::nullopt;
+    return key.substr(prefix.size());
+  };
+  if (const auto name = after("global_costmap.");
+      name && costmapParameter(*name, config_.global_costmap, global_parameters_, global_parameters_pending_))
+    return;
+  if (const auto name = after("local_costmap.");
+      name && costmapParameter(*name, config_.local_costmap, local_parameters_, local_parameters_pending_))
+    return;
+  if (key == "global_update_rate" || key == "local_update_rate") {
+    checked(value, [&](double rate, core::Errors& e) { e.check(rate > 0.0, std::string(key), "must be > 0 [Hz]"); });
+    (key == "global_update_rate" ? global_update_rate_ : local_update_rate_) = value;
+    return;
+  }
+  if (const auto name = after("planner."); name && (*name == "rate" || *name == "cost_factor" || *name == "neutral_cost")) {
+    PlannerConfig candidate = planner_config_;
+    (*name == "rate" ? candidate.rate : *name == "cost_factor" ? candidate.cost_factor : candidate.neutral_cost) = value;
+    checked(candidate, [](const PlannerConfig& c, core::Errors& e) { validate(c, e, "planner"); });
+    // New costs need a new planner (its caches hold the old ones); the rate alone does not.
+    if (*name != "rate") planner_ = GlobalPlanner(candidate);
+    planner_config_ = candidate;
+    return;
+  }
+  std::string known;
+  for (const std::string& k : settableParameters()) known += (known.empty() ? "" : ", ") + k;
+  throw std::invalid_argument(std::string(key) + ": not a settable parameter (settable: " + known + ")");
 }
 
 void NavStack::replan(const core::Pose2& robot_pose) {

@@ -188,12 +188,12 @@ TEST(EpisodesCsv, WritesTheCollisionPointStatesAndASanitisedError) {
 
 TEST(TrajectoryCsv, HasOneRowPerSample) {
   EpisodeResult r;
-  r.trajectory.push_back({0.0, {-2.0, 3.0, 1.57}, {1.0, 0.0}, "drive"});
-  r.trajectory.push_back({0.05, {-2.0, 3.05, 1.57}, {1.0, -0.5}, ""});
+  r.trajectory.push_back({0.0, {-2.0, 3.0, 1.57}, {1.0, 0.0}, "drive", ""});
+  r.trajectory.push_back({0.05, {-2.0, 3.05, 1.57}, {1.0, -0.5}, "", "planner.rate=10;local_costmap.inflation_radius=0.5"});
   EXPECT_EQ(trajectoryCsv(r),
-            "time_s,x,y,yaw,cmd_linear,cmd_angular,state\n"
-            "0,-2,3,1.57,1,0,drive\n"
-            "0.05,-2,3.05,1.57,1,-0.5,\n");
+            "time_s,x,y,yaw,cmd_linear,cmd_angular,state,params\n"
+            "0,-2,3,1.57,1,0,drive,\n"
+            "0.05,-2,3.05,1.57,1,-0.5,,planner.rate=10;local_costmap.inflation_radius=0.5\n");
 }
 
 TEST(SummaryTable, ShowsTheTitleAndTheScore) {

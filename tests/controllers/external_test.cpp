@@ -18,7 +18,6 @@
 
 #include "barn/bench/batch.hpp"
 #include "barn/controllers/external_protocol.hpp"
-#include "barn/controllers/flat_json.hpp"
 #include "barn/controllers/registry.hpp"
 #include "barn/core/config.hpp"
 #include "barn/core/world_geometry.hpp"
@@ -291,27 +290,60 @@ TEST_F(ExternalControllerTest, ResolvesPathsAgainstTheConfigFilesFolder) {
 // ---------------------------------------------------------------------------------------------
 // Protocol pieces
 
-TEST(FlatJson, ReadsAFlatObjectStrictly) {
-  const json::FlatObject o = json::parseFlatObject(R"( {"v": -1.5e-3, "w": 0, "s": "a\"\u00e9", "b": true, "n": null} )");
-  ASSERT_EQ(o.size(), 5u);
-  EXPECT_EQ(std::get<double>(o[0].second), -1.5e-3);
-  EXPECT_EQ(std::get<double>(o[1].second), 0.0);
-  EXPECT_EQ(std::get<std::string>(o[2].second), "a\"\xc3\xa9");
-  EXPECT_TRUE(std::get<bool>(o[3].second));
-  EXPECT_TRUE(std::holds_alternative<std::nullptr_t>(o[4].second));
-  for (const char* bad : {"", "{", "{\"v\": 1,}", "{\"v\": 01}", "{\"v\": +1}", "{\"v\": .5}", "{\"v\": NaN}",
-                          "{\"v\": Infinity}", "{\"v\": 1e999}", "{\"v\": 1} x", "{\"v\": [1]}", "{\"v\": 1, \"v\": 2}",
-                          "{'v': 1}", "{\"v\": 1 \"w\": 2}"})
-    EXPECT_THROW(json::parseFlatObject(bad), json::ParseError) << bad;
+TEST(ExternalProtocol, NumbersReadBackAsTheSameDoubles) {
+  // Every double barn sends must parse back to itself bit for bit (shortest round-trip form);
+  // beams without a return go out as null.
+  core::LaserScan scan;
+  const double tricky[] = {0.1, 1.0, -0.0, 1e300, 5e-324, 2.0 / 3.0, 0.1 + 0.2, std::numeric_limits<double>::max()};
+  scan.ranges.assign(std::begin(tricky), std::end(tricky));
+  scan.ranges.push_back(std::numeric_limits<double>::infinity());
+  Observation obs;
+  obs.scan = &scan;
+  external::CostmapsSent sent;
+  const std::string message = external::observationMessage(obs, sent);
+  const std::size_t open = message.find("\"scan\":[") + 8, close = message.find(']', open);
+  std::vector<std::string> tokens;
+  for (std::size_t at = open; at < close;) {
+    const std::size_t comma = std::min(message.find(',', at), close);
+    tokens.push_back(message.substr(at, comma - at));
+    at = comma + 1;
+  }
+  ASSERT_EQ(tokens.size(), std::size(tricky) + 1);
+  for (std::size_t i = 0; i < std::size(tricky); ++i) {
+    const double back = std::strtod(tokens[i].c_str(), nullptr);
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(back), std::bit_cast<std::uint64_t>(tricky[i])) << tokens[i];
+  }
+  EXPECT_EQ(tokens.back(), "null");
 }
 
-TEST(FlatJson, WritesShortestRoundTripNumbers) {
-  std::string out;
-  for (const double v : {0.1, 1.0, -0.0, 1e300, 5e-324, std::numeric_limits<double>::infinity()}) {
-    json::appendNumber(out, v);
-    out += ' ';
-  }
-  EXPECT_EQ(out, "0.1 1 -0.0 1e+300 5e-324 null ");
+TEST(ExternalProtocol, CommandsMaySetParameters) {
+  const external::CommandAnswer a =
+      external::readCommandAnswer(R"({"v": 0.5, "w": 0, "params": {"global_costmap.inflation_radius": 0.55, "planner.rate": 10}})");
+  ASSERT_EQ(a.params.size(), 2u);
+  EXPECT_EQ(a.params[0].first, "global_costmap.inflation_radius");
+  EXPECT_EQ(a.params[0].second, 0.55);
+  EXPECT_EQ(a.params[1].second, 10.0);
+  for (const char* bad : {R"({"v": 0, "w": 0, "params": {"a": "x"}})", R"({"v": 0, "w": 0, "params": {"a": 1, "a": 2}})",
+                          R"({"v": 0, "w": 0, "params": 3})", R"({"v": 0, "w": 0, "params": {"a": {"b": 1}}})",
+                          R"({"v": 0, "w": 0, "params": {}, "params": {}})"})
+    EXPECT_THROW(external::readCommandAnswer(bad), external::ProtocolError) << bad;
+  std::string many = R"({"v": 0, "w": 0, "params": {)";
+  for (int i = 0; i < 65; ++i) many += (i ? ", " : "") + std::string("\"k") + std::to_string(i) + "\": 1";
+  EXPECT_THAT([&] { external::readCommandAnswer(many + "}}"); },
+              ::testing::ThrowsMessage<external::ProtocolError>(HasSubstr("more than 64 parameters")));
+}
+
+TEST(ExternalProtocol, AnswersAreParsedAsStrictJson) {
+  for (const char* bad : {"", "{", "{\"v\": 1,}", "{\"v\": 01, \"w\": 0}", "{\"v\": +1, \"w\": 0}", "{\"v\": .5, \"w\": 0}",
+                          "{\"v\": NaN, \"w\": 0}", "{\"v\": Infinity, \"w\": 0}", "{\"v\": 1e999, \"w\": 0}",
+                          "{\"v\": 1, \"w\": 0} x", "{\"v\": [1], \"w\": 0}", "{\"v\": 1, \"v\": 2, \"w\": 0}",
+                          "{'v': 1, 'w': 0}", "{\"v\": 1 \"w\": 2}", "[1, 2]", "1"})
+    EXPECT_THROW(external::readCommandAnswer(bad), external::ProtocolError) << bad;
+  // More members than any answer has is refused at once, however many follow.
+  std::string wide = "{\"v\": 0, \"w\": 0";
+  for (int i = 0; i < 90000; ++i) wide += ", \"k" + std::to_string(i) + "\": 0";
+  EXPECT_THAT([&] { external::readCommandAnswer(wide + "}"); },
+              ::testing::ThrowsMessage<external::ProtocolError>(HasSubstr("too many members")));
 }
 
 TEST(ExternalProtocol, AnswersAreCheckedStrictly) {
@@ -339,12 +371,32 @@ TEST(ExternalProtocol, ObservationsWriteNullForBeamsWithoutReturn) {
   obs.scan_odom_pose = {0.75, 2.0, 0.25};
   obs.odom_twist = {0.25, -0.125};
   obs.goal = {0.0, 10.0};
-  EXPECT_EQ(external::observationMessage(obs),
-            R"({"type": "observation", "time": 0.05, "scan": [1.5, null], "pose": [1, 2, 0.5], )"
-            R"("scan_pose": [0.75, 2, 0.25], "twist": [0.25, -0.125], "goal": [0, 10]})");
-  EXPECT_THAT(external::resetMessage(EpisodeInfo{}, 0.05), AllOf(HasSubstr(R"({"type": "reset", "protocol": 1, )"),
-                                                                  HasSubstr(R"("period": 0.05)"),
+  external::CostmapsSent sent;
+  EXPECT_EQ(external::observationMessage(obs, sent),
+            R"({"type":"observation","time":0.05,"scan":[1.5,null],"pose":[1.0,2.0,0.5],)"
+            R"("scan_pose":[0.75,2.0,0.25],"twist":[0.25,-0.125],"goal":[0.0,10.0]})");
+  EXPECT_THAT(external::resetMessage(EpisodeInfo{}, 0.05), AllOf(HasSubstr(R"({"type":"reset","protocol":1,)"),
+                                                                  HasSubstr(R"("period":0.05)"),
                                                                   Not(HasSubstr("reference_path"))));
+}
+
+TEST(ExternalProtocol, CostmapsGoOutOnlyWhenTheyChanged) {
+  core::LaserScan scan;
+  const std::uint8_t costs[6] = {0, 1, 2, 253, 254, 255};
+  CostGrid grid{{-1.0, 2.0}, 0.5, 3, 2, costs, 7};
+  GlobalPlan plan{{{0.0, 0.0, 0.0}, {0.5, 0.25, 1.5}}, 0.25};
+  Observation obs;
+  obs.scan = &scan;
+  obs.global_plan = &plan;
+  obs.local_costmap = &grid;
+  external::CostmapsSent sent;
+  // Bytes 00 01 02 | FD FE FF in base64: AAEC and /f7/.
+  EXPECT_THAT(external::observationMessage(obs, sent),
+              AllOf(HasSubstr(R"("global_plan":{"stamp":0.25,"poses":[[0.0,0.0,0.0],[0.5,0.25,1.5]]})"),
+                    HasSubstr(R"("local_costmap":{"origin":[-1.0,2.0],"resolution":0.5,"width":3,"height":2,"costs":"AAEC/f7/"})")));
+  EXPECT_THAT(external::observationMessage(obs, sent), Not(HasSubstr("local_costmap")));
+  grid.version = 8;
+  EXPECT_THAT(external::observationMessage(obs, sent), HasSubstr("local_costmap"));
 }
 
 }  // namespace

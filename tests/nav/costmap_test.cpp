@@ -208,6 +208,36 @@ TEST(Costmap, AWideRadiusCostsWhatItsTableSaysAtEveryCellOutToTheRadius) {
     for (int x = 0; x < map.widthCells(); ++x) ASSERT_EQ(map.cost(x, y), kFreeCost);
 }
 
+TEST(Costmap, NewInflationSettingsCostWhatAFreshMapWithThemCosts) {
+  // dynamic_reconfigure of the inflation: after setInflation every cell costs what a map made
+  // with those settings from the start costs, wider and narrower than before.
+  CostmapConfig c = smallMap();
+  for (const auto& [radius, scaling] : {std::pair{0.6, 3.0}, std::pair{0.1, 10.0}, std::pair{0.35, 5.0}}) {
+    Costmap changed(c);
+    changed.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
+    changed.costAt({0.0, 0.0});  // inflated with the old settings first
+    changed.setInflation(radius, scaling);
+    CostmapConfig fresh_config = c;
+    fresh_config.inflation_radius = radius;
+    fresh_config.cost_scaling_factor = scaling;
+    Costmap fresh(fresh_config);
+    fresh.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
+    for (int y = 0; y < fresh.heightCells(); ++y)
+      for (int x = 0; x < fresh.widthCells(); ++x)
+        ASSERT_EQ(changed.cost(x, y), fresh.cost(x, y)) << "radius " << radius << ", cell (" << x << ", " << y << ")";
+  }
+  // A radius below the inscribed one (0.1 < 0.265) inflates only out to itself, as costmap_2d's
+  // does: 2 cells of 253, then free.
+  CostmapConfig narrow = c;
+  narrow.inflation_radius = 0.1;
+  Costmap map(narrow);
+  map.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
+  CellIndex hit;
+  ASSERT_TRUE(map.toCell({1.0, 0.0}, hit));
+  EXPECT_EQ(map.cost(hit.x, hit.y + 2), kInscribedCost);
+  EXPECT_EQ(map.cost(hit.x, hit.y + 3), kFreeCost);
+}
+
 TEST(Costmap, ClearingAnObstacleRemovesItsInflation) {
   Costmap map(smallMap());
   map.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});

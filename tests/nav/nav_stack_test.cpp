@@ -3,6 +3,8 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <stdexcept>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -145,6 +147,67 @@ TEST(NavStack, RejectsAnUnknownLocalCostmapView) {
   validate(config, errors, "nav");
   ASSERT_EQ(errors.messages().size(), 1u);
   EXPECT_NE(errors.messages()[0].find("nav.local_costmap_view"), std::string::npos) << errors.messages()[0];
+}
+
+TEST(NavStack, AnInflationRadiusSetWhileRunningTakesEffectAtTheMapsNextUpdate) {
+  // The wall is 1 m ahead; the robot's cell is 1 m from it. The default global inflation
+  // (0.3 m) leaves that cell free; 1.2 m at cost scaling 1 reaches it (252 exp(-(1 - 0.265))
+  // = 120), but only once the global costmap (10 Hz) next takes a scan, as costmap_2d applies
+  // a reconfigure in its update loop.
+  const core::LaserScan wall = wallScan(-0.45, 0.45, 1.0);
+  const core::Pose2 robot{0.0, 0.0, std::numbers::pi / 2};
+  NavStack nav({});
+  nav.reset({0.0, 5.0});
+  nav.update(0.0, wall, robot, robot);
+  const auto robotCost = [&] { return nav.globalCostmap().costAt({0.0, 0.0}); };
+  EXPECT_EQ(robotCost(), kFreeCost);
+  nav.setParameter("global_costmap.inflation_radius", 1.2);
+  nav.setParameter("global_costmap.cost_scaling_factor", 1.0);
+  EXPECT_EQ(robotCost(), kFreeCost);  // not before the next update
+  core::LaserScan next = wall;
+  next.stamp = 0.05;
+  nav.update(0.05, next, robot, robot);  // 0.05 s: the 10 Hz map does not update yet
+  EXPECT_EQ(robotCost(), kFreeCost);
+  next.stamp = 0.1;
+  nav.update(0.1, next, robot, robot);
+  EXPECT_GT(robotCost(), kFreeCost);
+  // The next episode starts with the configured radius again.
+  nav.reset({0.0, 5.0});
+  nav.update(0.0, wall, robot, robot);
+  EXPECT_EQ(robotCost(), kFreeCost);
+}
+
+TEST(NavStack, APlannerRateSetWhileRunningSpacesThePlans) {
+  const core::LaserScan scan = wallScan(1.0, 1.0, 1.0);
+  const core::Pose2 robot{0.0, 0.0, std::numbers::pi / 2};
+  NavStack nav({});
+  nav.reset({0.0, 5.0});
+  nav.setParameter("planner.rate", 2.0);
+  // 0.05 s ticks for 1 s at 2 Hz: plans at 0 and 0.5 s only.
+  for (int tick = 0; tick < 20; ++tick) nav.update(0.05 * tick, scan, robot, robot);
+  EXPECT_EQ(nav.plansMade(), 2);
+}
+
+TEST(NavStack, SettingAnUnknownKeyOrABadValueNamesTheKey) {
+  NavStack nav({});
+  nav.reset({0.0, 5.0});
+  const auto message = [&](const char* key, double value) {
+    try {
+      nav.setParameter(key, value);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(message("global_costmap.inflation_radius_", 0.5).find("global_costmap.inflation_radius_: not a settable parameter (settable: global_costmap.inflation_radius,"),
+            std::string::npos);
+  EXPECT_NE(message("global_costmap.inflation_radius", -1.0).find("global_costmap.inflation_radius: must be >= 0"),
+            std::string::npos);
+  EXPECT_NE(message("planner.rate", 0.0).find("planner.rate: must be > 0"), std::string::npos);
+  EXPECT_NE(message("local_update_rate", std::nan("")).find("local_update_rate"), std::string::npos);
+  EXPECT_EQ(message("local_costmap.raytrace_range", 4.0), "");
+  // Every listed key is settable.
+  for (const std::string& key : NavStack::settableParameters()) EXPECT_EQ(message(key.c_str(), 1.0), "") << key;
 }
 
 }  // namespace

@@ -105,6 +105,7 @@ struct TrajectorySample {
   core::Pose2 pose;     // world frame
   core::Twist command;  // what the controller returned
   std::string state;    // controller state label
+  std::string parameters;  // stack parameters the controller set at this tick (`key=value;...`)
 };
 
 struct EpisodeResult {

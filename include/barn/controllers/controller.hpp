@@ -30,6 +30,33 @@ struct EpisodeInfo {
   core::RobotConfig robot;              // speed limits and the planning footprint
 };
 
+/// A costmap as costmap_2d publishes it: costs 0 free, 1-252 inflated, 253 inscribed, 254
+/// lethal, 255 unknown, one byte per cell, rows from the lower edge up (x fastest), as
+/// nav_msgs/OccupancyGrid orders its data.
+struct CostGrid {
+  Eigen::Vector2d origin = Eigen::Vector2d::Zero();  // [m] odom frame: the lower-left corner of cell (0, 0)
+  double resolution = 0.0;                           // [m] cell size
+  int width = 0;                                     // [cells] along x
+  int height = 0;                                    // [cells] along y
+  const std::uint8_t* costs = nullptr;               // width x height, valid until the next tick
+  std::uint64_t version = 0;                         // changes whenever a cost or the origin changed
+};
+
+/// The global plan as move_base publishes it: poses from the robot to the goal, made at `stamp`.
+struct GlobalPlan {
+  std::vector<core::Pose2> poses;  // odom frame, robot -> goal; empty until the first plan is found
+  double stamp = -1.0;             // [s] simulated time the plan was made (-1: none yet)
+};
+
+/// Stack parameters a controller may change while it runs, as dynamic_reconfigure sets them
+/// on a ROS move_base (docs/controllers.md lists the keys). set() throws
+/// std::invalid_argument, naming the key, for a key that is not settable or a bad value.
+class StackParameters {
+ public:
+  virtual ~StackParameters() = default;
+  virtual void set(std::string_view key, double value) = 0;
+};
+
 /// One control tick's input.
 struct Observation {
   double time = 0.0;                 // [s] simulated time since the episode began
@@ -41,6 +68,12 @@ struct Observation {
   core::Pose2 scan_odom_pose;
   core::Twist odom_twist;            // robot frame: forward speed, yaw rate
   Eigen::Vector2d goal = Eigen::Vector2d::Zero();  // [m] odom frame
+  // With a `global_plan` block in the controller's config (docs/controllers.md, "Bring your
+  // own local planner"), move_base's plan and, on request, its costmaps; null otherwise.
+  const GlobalPlan* global_plan = nullptr;
+  const CostGrid* local_costmap = nullptr;
+  const CostGrid* global_costmap = nullptr;
+  StackParameters* stack_parameters = nullptr;  // settable while acting; null without the block
 };
 
 class Controller {
@@ -61,6 +94,9 @@ class Controller {
   /// learning::plantHash of the plant the controller's learned policy was trained on; 0 if it
   /// has none or the policy does not say. A run warns when it is not the run's plant.
   virtual std::uint64_t trainedPlant() const { return 0; }
+  /// The stack parameters the last act() changed, as `key=value` pairs separated by ';'
+  /// ("" if none), for the trajectory record.
+  virtual std::string_view parameterChanges() const { return {}; }
 };
 
 /// A test fixture that is handed the world's A* path (odom frame) before each reset, by the

@@ -14,6 +14,7 @@
 
 #include "barn/controllers/child_process_pool.hpp"
 #include "barn/controllers/controller.hpp"
+#include "barn/controllers/external_protocol.hpp"
 #include "barn/core/errors.hpp"
 
 namespace barn::controllers {
@@ -70,6 +71,7 @@ class ExternalController : public Controller {
   std::shared_ptr<ChildProcessPool> pool_;
   std::unique_ptr<ChildProcess> process_;  // null between a failure and the next reset
   std::string state_;
+  external::CostmapsSent costmaps_sent_;  // this episode's
 };
 
 }  // namespace barn::controllers

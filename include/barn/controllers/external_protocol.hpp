@@ -6,9 +6,13 @@
 /// reads back as the same double, so a program sees exactly the doubles a built-in controller
 /// would. Pure functions: the process handling is in child_process.hpp.
 
+#include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 #include "barn/controllers/controller.hpp"
 #include "barn/core/types.hpp"
@@ -27,21 +31,31 @@ class ProtocolError : public std::runtime_error {
 /// LiDAR geometry and robot limits. The reference path is not sent (it is for test fixtures).
 std::string resetMessage(const EpisodeInfo& info, double period);
 
+/// The costmap versions a program was last sent in an episode (none at its start).
+struct CostmapsSent {
+  std::optional<std::uint64_t> local;
+  std::optional<std::uint64_t> global;
+};
+
 /// The "observation" message of one control tick: time, scan (null for no return), odometry
-/// pose and twist, goal.
-std::string observationMessage(const Observation& observation);
+/// pose and twist, goal; the global plan when the observation has one, and each costmap it
+/// has that changed since `sent` (which is updated).
+std::string observationMessage(const Observation& observation, CostmapsSent& sent);
 
 /// Checks the answer to a reset: {"ok": true}. {"ok": false, "error": "why"} becomes a
 /// ProtocolError carrying the program's reason.
 void readResetAnswer(std::string_view line);
 
-/// A command answer: {"v": number, "w": number} plus an optional "state": string.
+/// A command answer: {"v": number, "w": number} plus an optional "state": string and an
+/// optional "params": {key: number} of stack parameters to set.
 struct CommandAnswer {
   core::Twist command;  // [m/s], [rad/s] robot frame
   std::string state;    // the program's state label ("" if none)
+  std::vector<std::pair<std::string, double>> params;  // in the order given
 };
 
-/// Parses a command answer strictly: both numbers present and finite, no other keys.
+/// Parses a command answer strictly: both numbers present and finite, no other keys, no
+/// duplicates, at most 64 parameters.
 CommandAnswer readCommandAnswer(std::string_view line);
 
 }  // namespace barn::controllers::external

@@ -94,6 +94,13 @@ class Costmap {
   /// also how tests draw maps).
   void markObstacle(const Eigen::Vector2d& p);
 
+  /// New inflation settings, as costmap_2d's InflationLayer takes them from dynamic_reconfigure:
+  /// every cost is recomputed at the next read. A radius below the inscribed radius is allowed
+  /// (costmap_2d's too: cells beyond it stay free).
+  void setInflation(double inflation_radius, double cost_scaling_factor);
+  /// New obstacle and raytrace ranges [m], used from the next scan on.
+  void setRanges(double obstacle_range, double raytrace_range);
+
   /// Forgets everything: every cell back to unseen (free, or unknown when unknown space is
   /// tracked), as costmap_2d's resetLayers leaves the map until its next update.
   void reset();

@@ -7,6 +7,8 @@
 
 #include <optional>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "barn/nav/costmap.hpp"
 #include "barn/nav/global_planner.hpp"
@@ -68,6 +70,17 @@ class NavStack {
   /// The same in the odom frame, the robot at `robot_pose`.
   std::vector<Eigen::Vector2d> footprintAt(const core::Pose2& robot_pose) const;
 
+  /// Changes a parameter while running, as dynamic_reconfigure does on a ROS move_base. The
+  /// settable keys (settableParameters()) are the costmaps' inflation_radius,
+  /// cost_scaling_factor, obstacle_range and raytrace_range (`global_costmap.` or
+  /// `local_costmap.`; they take effect at that costmap's next update, as costmap_2d applies a
+  /// reconfigure in its update loop), the update rates, and the planner's rate, cost_factor and
+  /// neutral_cost (`planner.`; from the next plan). Throws std::invalid_argument naming the key
+  /// for any other key or a value out of range.
+  void setParameter(std::string_view key, double value);
+  /// The keys setParameter() takes.
+  static const std::vector<std::string>& settableParameters();
+
   /// Forces a replan now (e.g. after a recovery cleared the costmaps).
   void replan(const core::Pose2& robot_pose);
 
@@ -94,7 +107,22 @@ class NavStack {
  private:
   /// One update of the local costmap: a scan (folded in, then the footprint cleared) or only
   /// a re-centring on the robot.
+  /// Costmap parameters set while running, waiting for the map's next update.
+  struct CostmapParameters {
+    double inflation_radius = 0.0;     // [m]
+    double cost_scaling_factor = 0.0;  // [1/m]
+    double obstacle_range = 0.0;       // [m]
+    double raytrace_range = 0.0;       // [m]
+    static CostmapParameters of(const CostmapConfig& c) {
+      return {c.inflation_radius, c.cost_scaling_factor, c.obstacle_range, c.raytrace_range};
+    }
+    void applyTo(Costmap& map) const {
+      map.setInflation(inflation_radius, cost_scaling_factor);
+      map.setRanges(obstacle_range, raytrace_range);
+    }
+  };
   struct LocalUpdate {
+    std::optional<CostmapParameters> parameters;  // set before this update, if any
     bool has_scan = false;
     core::LaserScan scan;
     core::Pose2 sensor_pose;
@@ -118,6 +146,14 @@ class NavStack {
   mutable std::size_t published_updates_ = 0;
   Eigen::Vector2d queued_window_origin_ = Eigen::Vector2d::Zero();
   bool published_once_ = false;
+  // Parameters set while running (setParameter); reset() goes back to config_'s. The costmaps'
+  // wait for each map's next update.
+  CostmapParameters global_parameters_, local_parameters_;
+  bool global_parameters_pending_ = false;
+  bool local_parameters_pending_ = false;
+  double global_update_rate_ = 0.0;  // [Hz]
+  double local_update_rate_ = 0.0;   // [Hz]
+  PlannerConfig planner_config_;
   GlobalPlanner planner_;
   Eigen::Vector2d goal_ = Eigen::Vector2d::Zero();
   Path path_;
