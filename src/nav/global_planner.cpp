@@ -6,30 +6,45 @@
 
 namespace barn::nav {
 
+std::span<const std::string_view> enumNames(PlannerAlgorithm) {
+  static constexpr std::string_view kNames[] = {"navfn", "dijkstra", "global_planner"};
+  return kNames;
+}
+
 void validate(const PlannerConfig& c, core::Errors& errors, const std::string& prefix) {
   errors.check(c.rate > 0.0, prefix + ".rate", "must be > 0");
   errors.check(c.neutral_cost > 0.0 && c.neutral_cost <= 1000.0, prefix + ".neutral_cost", "must be in (0, 1000]");
   errors.check(c.cost_factor >= 0.0 && c.cost_factor <= 100.0, prefix + ".cost_factor", "must be in [0, 100]");
   errors.check(c.smoothing_window >= 0, prefix + ".smoothing_window", "must be >= 0");
-  errors.check(c.algorithm == "navfn" || c.algorithm == "dijkstra", prefix + ".algorithm", "must be navfn or dijkstra");
+  validate(c.global_planner, errors, prefix + ".global_planner");
 }
 
 GlobalPlanner::GlobalPlanner(const PlannerConfig& config)
-    : config_(config), use_navfn_(config.algorithm == "navfn"), navfn_(config.allow_unknown, config.neutral_cost, config.cost_factor),
-      field_(config.neutral_cost, config.cost_factor, config.allow_unknown) {}
+    : config_(config), navfn_(config.allow_unknown, config.neutral_cost, config.cost_factor),
+      field_(config.neutral_cost, config.cost_factor, config.allow_unknown), ros_planner_(config.global_planner) {}
 
-Plan GlobalPlanner::planNavFn(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal) {
+std::size_t GlobalPlanner::lastExpanded() const {
+  switch (config_.algorithm) {
+    case PlannerAlgorithm::NavFn: return last_expanded_;
+    case PlannerAlgorithm::Dijkstra: return field_.lastExpanded();
+    case PlannerAlgorithm::GlobalPlanner: return ros_planner_.lastExpanded();
+  }
+  return 0;
+}
+
+Plan GlobalPlanner::planNavFn(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal, double goal_yaw) {
   Plan result;
   CellIndex s, g;
   if (!costmap.toCell(start, s) || !costmap.toCell(goal, g)) return result;  // off the map (tolerance 0)
-  const NavFnInputs inputs{&costmap, costmap.version(), s, g, goal};
+  const NavFnInputs inputs{&costmap, costmap.version(), s, g, goal, goal_yaw};
   if (inputs == last_navfn_inputs_) return last_navfn_plan_;
   last_navfn_inputs_ = inputs;
-  last_navfn_plan_ = computeNavFnPlan(costmap, s, g, goal);
+  last_navfn_plan_ = computeNavFnPlan(costmap, s, g, goal, goal_yaw);
   return last_navfn_plan_;
 }
 
-Plan GlobalPlanner::computeNavFnPlan(const Costmap& costmap, CellIndex s, CellIndex g, const Eigen::Vector2d& goal) {
+Plan GlobalPlanner::computeNavFnPlan(const Costmap& costmap, CellIndex s, CellIndex g, const Eigen::Vector2d& goal,
+                                     double goal_yaw) {
   Plan result;
   navfn_.setCostmap(costmap);
   const bool reached = navfn_.propagate(s, g);
@@ -52,12 +67,19 @@ Plan GlobalPlanner::computeNavFnPlan(const Costmap& costmap, CellIndex s, CellIn
   const double res = costmap.resolution();
   for (auto it = navfn_points_.rbegin(); it != navfn_points_.rend(); ++it)
     result.path.push_back(origin + res * it->cast<double>());
-  result.path.push_back(goal);  // makePlan appends the requested goal pose
+  // NavfnROS gives every pose of the descent the identity orientation, then makePlan appends
+  // the requested goal pose, with its own.
+  result.yaw.assign(result.path.size(), 0.0);
+  result.path.push_back(goal);
+  result.yaw.push_back(goal_yaw);
   return result;
 }
 
-Plan GlobalPlanner::plan(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal) {
-  if (use_navfn_) return planNavFn(costmap, start, goal);
+Plan GlobalPlanner::plan(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal, double start_yaw,
+                         double goal_yaw) {
+  if (config_.algorithm == PlannerAlgorithm::NavFn) return planNavFn(costmap, start, goal, goal_yaw);
+  if (config_.algorithm == PlannerAlgorithm::GlobalPlanner)
+    return ros_planner_.plan(costmap, core::Pose2{start.x(), start.y(), start_yaw}, goal, goal_yaw);
   Plan result;
   CellIndex s, g;
   if (!costmap.toCell(start, s) || !costmap.toCell(goal, g)) return result;
@@ -77,6 +99,7 @@ Plan GlobalPlanner::plan(const Costmap& costmap, const Eigen::Vector2d& start, c
       result.path[static_cast<std::size_t>(i)] = sum / count;
     }
   }
+  result.yaw.assign(result.path.size(), 0.0);  // no orientation
   return result;
 }
 

@@ -31,7 +31,7 @@ CostmapConfig NavStackConfig::defaultLocalCostmap() {
 
 NavStackConfig NavStackConfig::moveBaseWithNavFn() {
   NavStackConfig c;
-  c.planner.algorithm = "navfn";
+  c.planner.algorithm = PlannerAlgorithm::NavFn;
   return c;
 }
 
@@ -77,6 +77,7 @@ void NavStack::reset(const Eigen::Vector2d& goal) {
   planner_ = GlobalPlanner(planner_config_);
   goal_ = goal;
   path_.clear();
+  path_yaw_.clear();
   last_global_update_ = last_local_update_ = last_plan_ = last_scan_stamp_ = -1e9;
   plans_ = failed_plans_ = 0;
   last_plan_found_ = false;
@@ -231,12 +232,16 @@ void NavStack::setParameter(std::string_view key, double value) {
 }
 
 void NavStack::replan(const core::Pose2& robot_pose) {
-  Plan plan = planner_.plan(global_, robot_pose.position(), goal_);
+  // The goal pose's orientation is the identity (yaw 0): our choice, BARN sends a position.
+  Plan plan = planner_.plan(global_, robot_pose.position(), goal_, robot_pose.yaw, 0.0);
   ++plans_;
   last_plan_found_ = plan.found;
   // While the robot is moving, move_base keeps following the last path when the planner
   // fails; a controller that is waiting for a plan (DWA) asks lastPlanFound().
-  if (plan.found) path_ = std::move(plan.path);
+  if (plan.found) {
+    path_ = std::move(plan.path);
+    path_yaw_ = std::move(plan.yaw);
+  }
   else ++failed_plans_;
 }
 

@@ -203,7 +203,7 @@ TEST(GlobalPlanner, NavFnReusesAPlanOnlyWhenItWouldComputeTheSame) {
   // appearing and disappearing must plan what a new planner plans from scratch each time.
   core::Rng rng(31);
   PlannerConfig config;
-  config.algorithm = "navfn";
+  config.algorithm = PlannerAlgorithm::NavFn;
   // NavFn stops after max(cells / 20, width + height) cycles, so a small map must be mostly
   // free for it to reach the goal: a narrow inflation, a few obstacles.
   CostmapConfig c;

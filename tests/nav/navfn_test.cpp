@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "barn/core/config.hpp"
 #include "barn/nav/global_planner.hpp"
 
 #include "picture_map.hpp"
@@ -26,7 +27,7 @@ Costmap emptyMap(int width, int height, double resolution = 1.0, bool track_unkn
 
 PlannerConfig navfnConfig(bool allow_unknown = false) {
   PlannerConfig c;
-  c.algorithm = "navfn";
+  c.algorithm = PlannerAlgorithm::NavFn;
   c.allow_unknown = allow_unknown;
   return c;
 }
@@ -266,16 +267,21 @@ TEST(NavFnPlan, SameAnswerOnRepeatedPlans) {
   EXPECT_EQ(first.path, second.path);
 }
 
-TEST(PlannerConfig, AlgorithmMustBeKnown) {
+TEST(PlannerConfig, AlgorithmIsReadByItsName) {
   PlannerConfig c;
-  EXPECT_EQ(c.algorithm, "dijkstra");
+  EXPECT_EQ(c.algorithm, PlannerAlgorithm::Dijkstra);
   core::Errors ok;
   validate(c, ok, "planner");
   EXPECT_TRUE(ok.empty());
-  c.algorithm = "astar";
-  core::Errors bad;
-  validate(c, bad, "planner");
-  EXPECT_FALSE(bad.empty());
+  // The YAML spellings of the enum, as configs and recorded manifests have them.
+  PlannerAlgorithm a = PlannerAlgorithm::Dijkstra;
+  EXPECT_TRUE(core::enumFromName("navfn", a));
+  EXPECT_EQ(a, PlannerAlgorithm::NavFn);
+  EXPECT_TRUE(core::enumFromName("global_planner", a));
+  EXPECT_EQ(a, PlannerAlgorithm::GlobalPlanner);
+  EXPECT_TRUE(core::enumFromName("dijkstra", a));
+  EXPECT_EQ(a, PlannerAlgorithm::Dijkstra);
+  EXPECT_FALSE(core::enumFromName("astar", a));
 }
 
 }  // namespace

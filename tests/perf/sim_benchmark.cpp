@@ -144,7 +144,7 @@ nav::Costmap worldCostmap(int world_id, bool lflh_inflation) {
 void BM_GlobalPlan(benchmark::State& state) {
   const nav::Costmap costmap = worldCostmap(static_cast<int>(state.range(0)), state.range(1) > 0);
   nav::PlannerConfig planner_config;
-  if (state.range(2) > 0) planner_config.algorithm = "navfn";  // a full propagation every plan
+  if (state.range(2) > 0) planner_config.algorithm = nav::PlannerAlgorithm::NavFn;  // a full propagation every plan
   nav::GlobalPlanner planner(planner_config);
   std::size_t plans = 0;
   std::size_t found = 0;
@@ -163,6 +163,40 @@ void BM_GlobalPlan(benchmark::State& state) {
 BENCHMARK(BM_GlobalPlan)
     ->Args({299, 0, 0})->Args({299, 1, 0})->Args({150, 1, 0})
     ->Args({299, 0, 1})->Args({299, 1, 1})->Args({150, 1, 1})
+    ->Unit(benchmark::kMicrosecond);
+
+// One ROS global_planner/GlobalPlanner plan (algorithm global_planner, its ROS defaults: a
+// full expansion every plan, as ROS does) on the same costmaps and goals as BM_GlobalPlan, to
+// compare with its navfn rows. "reached": the expansion reached the goal; "found": a path was
+// also traced (GradientPath on A*'s sparse potentials often runs out of steps instead).
+// Args: world id, LfLH inflation, use_dijkstra (0 = A*), use_grid_path.
+void BM_RosGlobalPlan(benchmark::State& state) {
+  const nav::Costmap costmap = worldCostmap(static_cast<int>(state.range(0)), state.range(1) > 0);
+  nav::PlannerConfig planner_config;
+  planner_config.algorithm = nav::PlannerAlgorithm::GlobalPlanner;
+  planner_config.global_planner.use_dijkstra = state.range(2) > 0;
+  planner_config.global_planner.use_grid_path = state.range(3) > 0;
+  nav::RosGlobalPlanner planner(planner_config.global_planner);
+  std::size_t plans = 0;
+  std::size_t found = 0;
+  std::size_t reached = 0;
+  for (auto _ : state) {
+    const Eigen::Vector2d goal(plans % 2 ? 0.12 : 0.02, 10.0);
+    auto plan = planner.plan(costmap, core::Pose2{0.0, 0.0, 1.57}, goal, 0.0);
+    benchmark::DoNotOptimize(plan.path.data());
+    found += plan.found ? 1 : 0;
+    reached += planner.lastReached() ? 1 : 0;
+    ++plans;
+  }
+  const double n = plans > 0 ? static_cast<double>(plans) : 1.0;
+  state.counters["expanded_cells"] = static_cast<double>(planner.lastExpanded());
+  state.counters["found"] = static_cast<double>(found) / n;
+  state.counters["reached"] = static_cast<double>(reached) / n;
+}
+BENCHMARK(BM_RosGlobalPlan)
+    ->Args({299, 0, 1, 0})->Args({299, 1, 1, 0})->Args({150, 1, 1, 0})
+    ->Args({299, 0, 0, 0})->Args({299, 1, 0, 0})->Args({150, 1, 0, 0})
+    ->Args({299, 1, 0, 1})->Args({150, 1, 0, 1})
     ->Unit(benchmark::kMicrosecond);
 
 // One replan after a costmap update that marks (then, next time, clears) an obstacle, as a new

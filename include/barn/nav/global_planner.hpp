@@ -1,19 +1,24 @@
 #pragma once
-/// The global planner, one of two algorithms (planner.algorithm):
+/// The global planner, one of three algorithms (planner.algorithm):
 ///  - navfn: ROS NavFn as move_base runs it (navfn.hpp): a potential field grown from the
 ///    robot with NavFn's interpolated 4-neighbour update, and a path by gradient descent, so
 ///    paths are not quantised to 45 degrees. Recomputed in full at every plan.
 ///  - dijkstra (default): the 8-connected cell search below. Its paths follow cells
 ///    (45-degree steps) and, at a fork around an obstacle cluster, can flip between two
 ///    near-equal routes from one plan to the next.
-/// neutral_cost and cost_factor are NavFn's COST_NEUTRAL and COST_FACTOR for both;
-/// smoothing_window applies to dijkstra only.
+///  - global_planner: ROS global_planner/GlobalPlanner (ros_global_planner.hpp), with its own
+///    parameters under their ROS names in the nested block planner.global_planner.
+/// allow_unknown, neutral_cost and cost_factor are NavFn's (COST_NEUTRAL, COST_FACTOR) for
+/// navfn and dijkstra; smoothing_window applies to dijkstra only. docs/global_planners.md
+/// describes all three.
 ///
 /// dijkstra: the 8-connected cell search of nav::GoalField (goal_field.hpp): a cost-to-goal
 /// field kept up to date incrementally and its steepest descent from the start.
 
 #include <cstdint>
+#include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
@@ -22,55 +27,57 @@
 #include "barn/nav/costmap.hpp"
 #include "barn/nav/goal_field.hpp"
 #include "barn/nav/navfn.hpp"
+#include "barn/nav/plan.hpp"
+#include "barn/nav/ros_global_planner.hpp"
 
 namespace barn::nav {
 
+enum class PlannerAlgorithm {
+  NavFn,          // "navfn": ROS NavFn
+  Dijkstra,       // "dijkstra": barnbench's 8-connected cell search
+  GlobalPlanner,  // "global_planner": ROS global_planner/GlobalPlanner
+};
+std::span<const std::string_view> enumNames(PlannerAlgorithm);
+
 struct PlannerConfig {
   double rate = 20.0;          // [Hz] replanning rate (BARN's move_base configs: 20)
-  bool allow_unknown = false;  // NavFn allow_unknown
-  double neutral_cost = 50.0;  // cost of entering a free cell
-  double cost_factor = 0.8;    // weight of the costmap cost
+  bool allow_unknown = false;  // NavFn allow_unknown (navfn, dijkstra)
+  double neutral_cost = 50.0;  // cost of entering a free cell (navfn, dijkstra)
+  double cost_factor = 0.8;    // weight of the costmap cost (navfn, dijkstra)
   int smoothing_window = 0;    // cells of moving-average smoothing (0 = raw cell path; dijkstra only)
-  std::string algorithm = "dijkstra";  // navfn | dijkstra (see the header comment)
+  PlannerAlgorithm algorithm = PlannerAlgorithm::Dijkstra;  // our choice (see the header comment)
+  RosGlobalPlannerConfig global_planner;  // algorithm global_planner only, ROS names and defaults
 
   template <class V> void visit(V& v) {
     v("algorithm", algorithm); v("rate", rate); v("allow_unknown", allow_unknown); v("neutral_cost", neutral_cost);
-    v("cost_factor", cost_factor); v("smoothing_window", smoothing_window);
+    v("cost_factor", cost_factor); v("smoothing_window", smoothing_window); v("global_planner", global_planner);
   }
 };
 
 void validate(const PlannerConfig& config, core::Errors& errors, const std::string& prefix);
 
-struct Plan {
-  bool found = false;
-  // [m] odom frame. dijkstra: start cell centre ... goal cell centre. navfn: as NavfnROS, the
-  // robot cell's corner (origin + index res, no half cell), the descent's points likewise,
-  // then the requested goal itself.
-  std::vector<Eigen::Vector2d> path;
-  // dijkstra: total edge cost of the cell path (integer units). navfn: the goal's potential,
-  // rounded.
-  std::int64_t cost = 0;
-};
-
 class GlobalPlanner {
  public:
   explicit GlobalPlanner(const PlannerConfig& config);
-  Plan plan(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal);
+  /// A plan from the robot at `start` (heading `start_yaw`) to the goal pose (odom frame).
+  /// The yaws matter only for global_planner's orientation filter and the goal pose's yaw.
+  Plan plan(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal, double start_yaw = 0.0,
+            double goal_yaw = 0.0);
 
   /// Integer cost of stepping into a cell of costmap cost `c` (straight or diagonal step);
   /// negative if the cell cannot be entered (dijkstra).
   int stepCost(std::uint8_t c, bool diagonal) const { return field_.stepCost(c, diagonal); }
 
-  /// Cells expanded by the last field update (dijkstra), or cell updates of the last
-  /// propagation (navfn; a reused plan propagates nothing and leaves it) (for reports).
-  std::size_t lastExpanded() const { return use_navfn_ ? last_expanded_ : field_.lastExpanded(); }
+  /// Cells expanded by the last field update (dijkstra), cell updates of the last
+  /// propagation (navfn; a reused plan propagates nothing and leaves it), or global_planner's
+  /// RosGlobalPlanner::lastExpanded (for reports).
+  std::size_t lastExpanded() const;
 
  private:
-  Plan planNavFn(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal);
-  Plan computeNavFnPlan(const Costmap& costmap, CellIndex s, CellIndex g, const Eigen::Vector2d& goal);
+  Plan planNavFn(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal, double goal_yaw);
+  Plan computeNavFnPlan(const Costmap& costmap, CellIndex s, CellIndex g, const Eigen::Vector2d& goal, double goal_yaw);
 
   PlannerConfig config_;
-  bool use_navfn_ = false;
   NavFn navfn_;
   std::vector<Eigen::Vector2f> navfn_points_;  // scratch: the descent's points
   // NavFn's plan depends on the costmap's costs, the robot's and the goal's cells and the goal
@@ -81,11 +88,13 @@ class GlobalPlanner {
     std::uint64_t version = 0;
     CellIndex robot, goal_cell;
     Eigen::Vector2d goal = Eigen::Vector2d::Zero();
+    double goal_yaw = 0.0;
     bool operator==(const NavFnInputs&) const = default;
   };
   NavFnInputs last_navfn_inputs_;
   Plan last_navfn_plan_;
   GoalField field_;
+  RosGlobalPlanner ros_planner_;
   std::size_t last_expanded_ = 0;
 };
 

@@ -86,6 +86,8 @@ class NavStack {
 
   bool hasPath() const { return !path_.empty(); }
   const Path& path() const { return path_; }  // odom frame, robot -> goal; empty if none
+  /// [rad] the yaw of each pose of path(), as the planner publishes it (see nav::Plan::yaw).
+  const std::vector<double>& pathYaw() const { return path_yaw_; }
   const Costmap& globalCostmap() const { return global_; }
   /// The local costmap as the config's local_costmap_view sees it: up to date, or as of the
   /// last update that moved the window (see local_updates_).
@@ -157,6 +159,7 @@ class NavStack {
   GlobalPlanner planner_;
   Eigen::Vector2d goal_ = Eigen::Vector2d::Zero();
   Path path_;
+  std::vector<double> path_yaw_;
   double last_global_update_ = -1e9;
   double last_local_update_ = -1e9;
   double last_plan_ = -1e9;
