@@ -43,7 +43,8 @@ void GlobalPlanFeed::update(Observation& obs) {
     plans_seen_ = stack_.plansMade();
     if (stack_.lastPlanFound()) {
       plan_.poses.clear();
-      for (const Eigen::Vector2d& p : stack_.path()) plan_.poses.push_back({p.x(), p.y(), 0.0});
+      const nav::Path& path = stack_.path();
+      for (std::size_t i = 0; i < path.size(); ++i) plan_.poses.push_back({path[i].x(), path[i].y(), stack_.pathYaw()[i]});
       plan_.stamp = obs.time;
     }
   }

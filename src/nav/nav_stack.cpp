@@ -171,11 +171,16 @@ const std::vector<std::string>& NavStack::settableParameters() {
       "global_costmap.raytrace_range",   "local_costmap.inflation_radius",     "local_costmap.cost_scaling_factor",
       "local_costmap.obstacle_range",    "local_costmap.raytrace_range",       "global_update_rate",
       "local_update_rate",               "planner.rate",                       "planner.cost_factor",
-      "planner.neutral_cost"};
+      "planner.neutral_cost",            "planner.global_planner.cost_factor", "planner.global_planner.neutral_cost"};
   return kKeys;
 }
 
 void NavStack::setParameter(std::string_view key, double value) {
+  const auto unknownKey = [&] {
+    std::string known;
+    for (const std::string& k : settableParameters()) known += (known.empty() ? "" : ", ") + k;
+    throw std::invalid_argument(std::string(key) + ": not a settable parameter (settable: " + known + ")");
+  };
   // Each value is checked by the validate() of its config, on a copy with the new value.
   const auto checked = [&](const auto& candidate, auto validator) {
     core::Errors errors;
@@ -217,19 +222,26 @@ void NavStack::setParameter(std::string_view key, double value) {
     (key == "global_update_rate" ? global_update_rate_ : local_update_rate_) = value;
     return;
   }
-  if (const auto name = after("planner."); name && (*name == "rate" || *name == "cost_factor" || *name == "neutral_cost")) {
+  if (const auto name = after("planner.")) {
     PlannerConfig candidate = planner_config_;
-    (*name == "rate" ? candidate.rate : *name == "cost_factor" ? candidate.cost_factor : candidate.neutral_cost) = value;
+    RosGlobalPlannerConfig& ros = candidate.global_planner;
+    const bool whole = value == std::floor(value);
+    if (*name == "rate") candidate.rate = value;
+    else if (*name == "cost_factor") candidate.cost_factor = value;
+    else if (*name == "neutral_cost") candidate.neutral_cost = value;
+    else if (*name == "global_planner.cost_factor") ros.cost_factor = value;
+    else if (*name == "global_planner.neutral_cost" && whole && std::abs(value) < 1e6) ros.neutral_cost = static_cast<int>(value);
+    else if (*name == "global_planner.neutral_cost") throw std::invalid_argument(std::string(key) + ": must be a whole number");
+    else return unknownKey();
     checked(candidate, [](const PlannerConfig& c, core::Errors& e) { validate(c, e, "planner"); });
     // New costs need a new planner (its caches hold the old ones); the rate alone does not.
     if (*name != "rate") planner_ = GlobalPlanner(candidate);
     planner_config_ = candidate;
     return;
   }
-  std::string known;
-  for (const std::string& k : settableParameters()) known += (known.empty() ? "" : ", ") + k;
-  throw std::invalid_argument(std::string(key) + ": not a settable parameter (settable: " + known + ")");
+  unknownKey();
 }
+
 
 void NavStack::replan(const core::Pose2& robot_pose) {
   // The goal pose's orientation is the identity (yaw 0): our choice, BARN sends a position.
