@@ -3,9 +3,7 @@
 
 #include <chrono>
 #include <cstdio>
-#include <iostream>
 #include <memory>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -160,35 +158,6 @@ void runTrain(const LflhOptions& options) {
   std::printf("wrote %s, %s, %s\n", out.string().c_str(), csv.string().c_str(), png.string().c_str());
 }
 
-// One command per scan read from stdin: a line of the policy's beams ranges [m] in ROS order,
-// separated by spaces or commas ("inf" for no return), gives the line "v w".
-void runAct(const LflhOptions& options) {
-  const learning::Policy policy = learning::Policy::load(options.policy);
-  const Eigen::Vector2d goal(options.goal.at(0), options.goal.at(1));
-  if (!(goal.norm() > 0.0)) throw core::InputError("--goal: must not be (0, 0)");
-  std::string line;
-  int number = 0;
-  while (std::getline(std::cin, line)) {
-    ++number;
-    for (char& c : line)
-      if (c == ',' || c == '\t' || c == '\r') c = ' ';
-    core::LaserScan scan;
-    std::istringstream fields(line);
-    std::string field;
-    while (fields >> field) {
-      double r = 0.0;
-      if (!core::parseDouble(field, r)) throw core::InputError("stdin line " + std::to_string(number) + ": '" + field + "' is not a number");
-      scan.ranges.push_back(r);
-    }
-    if (scan.ranges.empty()) continue;
-    if (scan.ranges.size() != static_cast<std::size_t>(policy.info().beams))
-      throw core::InputError("stdin line " + std::to_string(number) + ": " + std::to_string(scan.ranges.size()) +
-                             " ranges, the policy takes " + std::to_string(policy.info().beams));
-    const core::Twist command = policy.act(scan, goal);
-    std::printf("%.9g %.9g\n", command.linear, command.angular);
-  }
-}
-
 }  // namespace
 
 void addLflhCommand(CLI::App& app, CommandContext&) {
@@ -214,12 +183,13 @@ void addLflhCommand(CLI::App& app, CommandContext&) {
   train->callback([options] { runTrain(*options); });
 
   CLI::App* act = cmd->add_subcommand(
-      "act", "Run a policy file on scans from stdin (one line of ranges each, ROS beam order) and print \"v w\" per scan");
+      "act", "Run a policy file on scans from stdin (one line of ranges each, ROS beam order) and print \"v w\" per scan "
+             "(the same as `barn policy act`)");
   act->add_option("--policy", options->policy, "Policy file, e.g. configs/policies/lflh_1ms.policy")->required();
   act->add_option("--goal", options->goal, "Local goal direction in the robot frame, x forward, y left (default 1,0)")
       ->expected(2)
       ->delimiter(',');
-  act->callback([options] { runAct(*options); });
+  act->callback([options] { runPolicyAct(options->policy, options->goal); });
 }
 
 }  // namespace barn::cli

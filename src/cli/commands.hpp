@@ -47,6 +47,10 @@ void addMergeCommand(CLI::App& app, CommandContext& context);
 void addShowCommand(CLI::App& app, CommandContext& context);
 void addReportCommand(CLI::App& app, CommandContext& context);
 void addLflhCommand(CLI::App& app, CommandContext& context);
+void addPolicyCommand(CLI::App& app, CommandContext& context);
+/// `barn policy act` (and `barn lflh act`): runs the policy file on scans from stdin, one
+/// printed command per line; InputError for a bad file, goal or scan line.
+void runPolicyAct(const std::string& policy_path, const std::vector<double>& goal_xy);
 
 void addRegressCommand(CLI::App& app, CommandContext& context);
 void addSweepCommand(CLI::App& app, CommandContext& context);

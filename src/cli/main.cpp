@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
   barn::cli::addHarnessOutCommands(app, context);
   barn::cli::addCompareCommand(app, context);
   barn::cli::addLflhCommand(app, context);
+  barn::cli::addPolicyCommand(app, context);
   barn::cli::addExportWorldsCommand(app, context);
   barn::cli::addConfigCommand(app, context);
   try {

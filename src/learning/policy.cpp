@@ -1,16 +1,15 @@
 #include "barn/learning/policy.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <charconv>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <map>
 #include <vector>
 
 #include "barn/core/errors.hpp"
 #include "barn/core/text_io.hpp"
+#include "policy_header.hpp"
 
 namespace barn::learning {
 
@@ -18,12 +17,11 @@ namespace {
 
 constexpr const char* kFormat = "barnbench-lflh-policy";
 constexpr int kVersion = 3;  // written; versions 1 to 3 are read
-constexpr const char* kEndHeader = "end_header";
 // Fixed descriptions: part of the contract, so a file written for another input or output
 // convention fails to load instead of driving the robot backwards.
 constexpr const char* kRelu = "relu";              // version 1: the only activation
 constexpr const char* kLeakyRelu = "leaky_relu";   // version 2: "leaky_relu <slope>"
-constexpr const char* kUnknown = "unknown";        // a loss not known (an imported policy)
+constexpr const char* kUnknown = "unknown";        // a plant not known (versions 1 and 2)
 constexpr const char* kInput = "ranges[beams] clipped to [0, range_clip] (+inf -> range_clip), goal_x, goal_y";
 constexpr const char* kGoal = "unit vector to the local goal in the robot frame, x forward, y left";
 constexpr const char* kOutput = "v [m/s], w [rad/s]";
@@ -34,44 +32,18 @@ std::string activationText(const PolicyInfo& info) {
   return std::string(kLeakyRelu) + " " + core::formatDouble(info.slope);
 }
 
-// ---------------------------------------------------------------------------------------------
-// The header: "key: value" lines, every key required, listed once in PolicyHeader::visit.
+using header::FixedText;
+using header::FormatVersion;
+using header::HexNumber;
+using header::IntRange;
+using header::Loss;
+using header::PlantHash;
 
-// The range a header integer must lie in.
-struct IntRange {
-  long long lo, hi;
-};
-
-// The format version: read and checked before anything else depends on it.
-struct FormatVersion {
-  int value = kVersion;
-};
-
-// A text fixed by the format (the input and output conventions): part of the contract, so a
-// file written for another convention fails to load instead of driving the robot backwards.
-struct FixedText {
-  const char* text;
-};
-
-struct HexNumber {
-  std::uint64_t value = 0;
-};
-
-// A plant hash; 0 (written "unknown") when the plant is not known (an imported policy, or one
-// written before version 3).
-struct PlantHash {
-  std::uint64_t value = 0;
-};
-
-// A loss; NaN (written "unknown") for an imported policy.
-struct Loss {
-  double value = 0.0;
-};
-
-// The header's values as written; Policy::parse checks the ones that depend on each other.
+// The header's values as written, every key required, listed once here; Policy::parse checks
+// the ones that depend on each other.
 struct PolicyHeader {
   std::string format = kFormat;
-  FormatVersion version;
+  FormatVersion version{kVersion, kVersion};
   std::string architecture;  // inputs-hidden-hidden-outputs
   std::string activation;    // relu | leaky_relu <slope>
   int beams = 0;
@@ -97,115 +69,9 @@ struct PolicyHeader {
   }
 };
 
-class HeaderWriter {
- public:
-  void operator()(const char* key, const std::string& value) { line(key, value); }
-  void operator()(const char* key, FormatVersion version) { line(key, std::to_string(version.value)); }
-  void operator()(const char* key, FixedText fixed) { line(key, fixed.text); }
-  void operator()(const char* key, double value) { line(key, core::formatDouble(value)); }
-  void operator()(const char* key, HexNumber number) { line(key, core::formatHex(number.value)); }
-  void operator()(const char* key, Loss loss) {
-    line(key, std::isnan(loss.value) ? std::string(kUnknown) : core::formatDouble(loss.value));
-  }
-  void operator()(const char* key, PlantHash plant) {
-    if (plant.value == 0) line(key, kUnknown);
-    else (*this)(key, HexNumber{plant.value});
-  }
-  template <class Int>
-  void operator()(const char* key, Int value, IntRange) {
-    line(key, std::to_string(value));
-  }
-
-  const std::string& text() const { return text_; }
-
- private:
-  void line(const char* key, const std::string& value) { text_ += std::string(key) + ": " + value + "\n"; }
-  std::string text_;
-};
-
-// Converts the header's texts (checked against the key list already) into values; throws an
-// InputError naming the key and its text at the first that does not convert.
-class HeaderReader {
- public:
-  HeaderReader(std::map<std::string, std::string>& header, std::string where) : header_(header), where_(std::move(where)) {}
-
-  void operator()(const char* key, std::string& value) { value = header_[key]; }
-  void operator()(const char* key, FormatVersion& version) {
-    version.value = static_cast<int>(integer(key, IntRange{0, 1000000}));
-    if (version.value < 1 || version.value > kVersion)
-      fail("unsupported version " + header_[key] + " (this build reads versions 1 to " + std::to_string(kVersion) + ")");
-  }
-  void operator()(const char* key, FixedText fixed) {
-    if (header_[key] != fixed.text) fail("header: " + std::string(key) + " is '" + header_[key] + "', expected '" + fixed.text + "'");
-  }
-  void operator()(const char* key, double& value) { value = number(key); }
-  void operator()(const char* key, HexNumber& number) {
-    const std::string& text = header_[key];
-    if (!core::parseHex(text, number.value)) fail("header: " + std::string(key) + " '" + text + "': expected hexadecimal");
-  }
-  void operator()(const char* key, Loss& loss) {
-    loss.value = header_[key] == kUnknown ? std::numeric_limits<double>::quiet_NaN() : number(key);
-  }
-  void operator()(const char* key, PlantHash& plant) {
-    if (header_[key] == kUnknown) {
-      plant.value = 0;
-      return;
-    }
-    HexNumber number;
-    (*this)(key, number);
-    if (number.value == 0) fail("header: plant_hash 0x0: write 'unknown' for an unknown plant");
-    plant.value = number.value;
-  }
-  template <class Int>
-  void operator()(const char* key, Int& value, IntRange range) {
-    value = static_cast<Int>(integer(key, range));
-  }
-
- private:
-  [[noreturn]] void fail(const std::string& message) const { throw core::InputError(where_ + message); }
-
-  long long integer(const char* key, IntRange range) const {
-    const std::string& text = header_.at(key);
-    long long value = 0;
-    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (ec != std::errc() || end != text.data() + text.size() || value < range.lo || value > range.hi)
-      fail("header: " + std::string(key) + " '" + text + "': expected an integer in [" + std::to_string(range.lo) + ", " +
-           std::to_string(range.hi) + "]");
-    return value;
-  }
-
-  double number(const char* key) const {
-    const std::string& text = header_.at(key);
-    double value = 0.0;
-    if (!core::parseDouble(text, value) || !std::isfinite(value)) fail("header: " + std::string(key) + " '" + text + "': expected a number");
-    return value;
-  }
-
-  std::map<std::string, std::string>& header_;
-  std::string where_;
-};
-
-// The header's keys in file order.
-struct HeaderKeys {
-  std::vector<std::string> keys;
-  template <class T, class... Range>
-  void operator()(const char* key, const T&, Range...) {
-    keys.emplace_back(key);
-  }
-};
-
 const std::vector<std::string>& headerKeys() {
-  static const std::vector<std::string> keys = [] {
-    HeaderKeys list;
-    PolicyHeader().visit(list);
-    return list.keys;
-  }();
+  static const std::vector<std::string> keys = header::keysOf<PolicyHeader>();
   return keys;
-}
-
-std::uint32_t toLittle(std::uint32_t bits) {
-  if constexpr (std::endian::native == std::endian::little) return bits;
-  else return ((bits & 0xFFu) << 24) | ((bits & 0xFF00u) << 8) | ((bits >> 8) & 0xFF00u) | (bits >> 24);
 }
 
 }  // namespace
@@ -228,20 +94,12 @@ void writePolicyFile(const std::filesystem::path& path, const PolicyInfo& info, 
   fields.train_loss.value = info.train_loss;
   fields.validation_loss.value = info.validation_loss;
   fields.mean_predictor_loss.value = info.mean_predictor_loss;
-  HeaderWriter writer;
+  header::HeaderWriter writer;
   fields.visit(writer);
   std::string text = writer.text();
-  text += kEndHeader;
-  text += '\n';
-  const std::size_t header = text.size();
-  text.resize(header + payload);
-  char* out = text.data() + header;
+  text.reserve(text.size() + payload);
   const_cast<MlpParameters<float>&>(weights).forEachBlock([&](const char*, float* data, Eigen::Index size) {
-    for (Eigen::Index i = 0; i < size; ++i) {
-      const std::uint32_t bits = toLittle(std::bit_cast<std::uint32_t>(data[i]));
-      std::memcpy(out, &bits, 4);
-      out += 4;
-    }
+    header::appendFloats(text, data, static_cast<std::size_t>(size));
   });
   core::writeFileAtomic(path, text);
 }
@@ -265,42 +123,15 @@ Policy Policy::parse(const std::string& file, const std::string& source_name) {
   const auto fail = [&](const std::string& message) { throw core::InputError(where + message); };
 
   // Header: "key: value" lines up to end_header.
-  std::map<std::string, std::string> header;
-  std::vector<std::string> order;
-  std::size_t pos = 0;
-  bool ended = false;
-  while (pos < file.size()) {
-    const std::size_t eol = file.find('\n', pos);
-    if (eol == std::string::npos) break;
-    const std::string line = file.substr(pos, eol - pos);
-    pos = eol + 1;
-    if (order.empty() && line != std::string("format: ") + kFormat)
-      fail(std::string("wrong magic: the first line must be 'format: ") + kFormat + "' (not an LfLH policy file)");
-    if (line == kEndHeader) {
-      ended = true;
-      break;
-    }
-    const auto colon = line.find(": ");
-    if (colon == std::string::npos) fail("header line '" + line.substr(0, 60) + "': expected 'key: value'");
-    const std::string key = line.substr(0, colon);
-    if (header.count(key)) fail("header: duplicate key '" + key + "'");
-    header[key] = line.substr(colon + 2);
-    order.push_back(key);
-  }
-  if (order.empty()) fail(std::string("wrong magic: the first line must be 'format: ") + kFormat + "' (not an LfLH policy file)");
-  if (!ended) fail(std::string("truncated header: no '") + kEndHeader + "' line");
-  for (const std::string& key : order) {
-    if (std::find(headerKeys().begin(), headerKeys().end(), key) == headerKeys().end()) fail("header: unknown key '" + key + "'");
-  }
+  header::HeaderLines lines = header::splitHeader(file, kFormat, "an LfLH policy file", where);
+  std::map<std::string, std::string>& header = lines.values;
   // Versions 1 and 2 predate plant_hash: their plant is unknown.
   const auto version = header.find("version");
   if (version != header.end() && (version->second == "1" || version->second == "2") && !header.count("plant_hash"))
     header["plant_hash"] = kUnknown;
-  for (const std::string& key : headerKeys()) {
-    if (!header.count(key)) fail("header: missing key '" + key + "'");
-  }
+  header::checkKeys(lines, headerKeys(), where);
   PolicyHeader fields;
-  HeaderReader reader(header, where);
+  header::HeaderReader reader(header, where);
   fields.visit(reader);
 
   PolicyInfo info;
@@ -362,22 +193,17 @@ Policy Policy::parse(const std::string& file, const std::string& source_name) {
   if (static_cast<std::size_t>(fields.payload_bytes) != expected)
     fail("wrong shape: payload_bytes " + header["payload_bytes"] + " does not match architecture " +
          fields.architecture + " (" + std::to_string(expected) + " bytes)");
-  const std::size_t available = file.size() - pos;
+  const std::size_t available = file.size() - lines.payload_offset;
   if (available < expected)
     fail("truncated: expected " + std::to_string(expected) + " bytes of weights, found " + std::to_string(available));
   if (available > expected)
     fail(std::to_string(available - expected) + " bytes after the weights (expected exactly " + std::to_string(expected) + ")");
   MlpParameters<float> weights = MlpParameters<float>::zeros(sizes[0], sizes[1], sizes[3]);
-  const char* in = file.data() + pos;
+  const char* in = file.data() + lines.payload_offset;
   std::string bad_block;
   weights.forEachBlock([&](const char* name, float* data, Eigen::Index size) {
-    for (Eigen::Index i = 0; i < size; ++i) {
-      std::uint32_t bits;
-      std::memcpy(&bits, in, 4);
-      in += 4;
-      data[i] = std::bit_cast<float>(toLittle(bits));
-      if (!std::isfinite(data[i]) && bad_block.empty()) bad_block = name;
-    }
+    if (!header::readFloats(in, data, static_cast<std::size_t>(size)) && bad_block.empty()) bad_block = name;
+    in += 4 * size;
   });
   if (!bad_block.empty()) fail("weights: block " + bad_block + " holds a non-finite value");
   return Policy(std::move(info), std::move(weights));
@@ -414,12 +240,16 @@ core::Twist Policy::act(const core::LaserScan& scan, const Eigen::Vector2d& goal
   return {static_cast<double>(y[0]), static_cast<double>(y[1])};
 }
 
-void encodeInput(const std::vector<double>& ranges, const Eigen::Vector2d& goal, double range_clip, float* column) {
+void clipRanges(const std::vector<double>& ranges, double range_clip, float* out) {
   for (std::size_t i = 0; i < ranges.size(); ++i) {
     const double r = ranges[i];
     // +inf (no return) and NaN read as "free up to the clip"; noise cannot make a range negative.
-    column[i] = static_cast<float>(std::isnan(r) ? range_clip : std::clamp(r, 0.0, range_clip));
+    out[i] = static_cast<float>(std::isnan(r) ? range_clip : std::clamp(r, 0.0, range_clip));
   }
+}
+
+void encodeInput(const std::vector<double>& ranges, const Eigen::Vector2d& goal, double range_clip, float* column) {
+  clipRanges(ranges, range_clip, column);
   const double norm = goal.norm();
   const Eigen::Vector2d unit = norm > 0.0 ? Eigen::Vector2d(goal / norm) : Eigen::Vector2d::UnitX();
   column[ranges.size()] = static_cast<float>(unit.x());

@@ -88,9 +88,13 @@ class Policy {
   Eigen::VectorXf beam_column_sum_;
 };
 
+/// Writes `ranges` clipped to [0, range_clip] in double and then rounded to float into `out`
+/// (ranges.size() floats): +inf and NaN read as range_clip (no return: free up to the clip).
+void clipRanges(const std::vector<double>& ranges, double range_clip, float* out);
+
 /// Writes the policy's input for one scan and goal direction (normalised here; x forward, y
-/// left) into `column` (ranges.size() + 2 floats): ranges clipped to [0, range_clip] in double
-/// and then rounded to float, +inf and NaN read as range_clip. Training and acting both use it.
+/// left) into `column` (ranges.size() + 2 floats): the ranges as clipRanges writes them, then
+/// the unit goal. Training and acting both use it.
 void encodeInput(const std::vector<double>& ranges, const Eigen::Vector2d& goal, double range_clip, float* column);
 
 /// InputError unless `policy` reads scans of `lidar`'s beam count (it would fail every call).
