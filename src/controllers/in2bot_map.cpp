@@ -123,21 +123,19 @@ std::optional<std::pair<int, int>> containmentWalls(const std::vector<std::int8_
 
 namespace {
 
-// The 1-D squared distance transform (lower envelope of parabolas) over n values, in place.
-void distanceTransform1D(std::vector<double>& f, std::size_t offset, std::size_t stride, int n,
-                         std::vector<double>& scratch_f, std::vector<int>& v, std::vector<double>& z) {
+// The 1-D squared distance transform (lower envelope of parabolas) of `f` (n values, +inf
+// where nothing is), written to `out`.
+void distanceTransform1D(const double* f, double* out, int n, std::vector<int>& v, std::vector<double>& z) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  scratch_f.resize(static_cast<std::size_t>(n));
   v.resize(static_cast<std::size_t>(n));
   z.resize(static_cast<std::size_t>(n) + 1);
-  for (int q = 0; q < n; ++q) scratch_f[q] = f[offset + static_cast<std::size_t>(q) * stride];
   int k = -1;
   for (int q = 0; q < n; ++q) {
-    if (scratch_f[q] == kInf) continue;
+    if (f[q] == kInf) continue;
     double s = -kInf;
     while (k >= 0) {
       const int p = v[k];
-      s = ((scratch_f[q] + double(q) * q) - (scratch_f[p] + double(p) * p)) / (2.0 * (q - p));
+      s = ((f[q] + double(q) * q) - (f[p] + double(p) * p)) / (2.0 * (q - p));
       if (s > z[k]) break;
       --k;
     }
@@ -146,12 +144,15 @@ void distanceTransform1D(std::vector<double>& f, std::size_t offset, std::size_t
     z[k] = k == 0 ? -kInf : s;
     z[k + 1] = kInf;
   }
-  if (k < 0) return;  // nothing finite on this line
+  if (k < 0) {  // nothing on this line
+    std::fill(out, out + n, kInf);
+    return;
+  }
   int j = 0;
   for (int q = 0; q < n; ++q) {
     while (z[j + 1] < q) ++j;
     const double dq = q - v[j];
-    f[offset + static_cast<std::size_t>(q) * stride] = dq * dq + scratch_f[v[j]];
+    out[q] = dq * dq + f[v[j]];
   }
 }
 
@@ -159,43 +160,65 @@ void distanceTransform1D(std::vector<double>& f, std::size_t offset, std::size_t
 
 std::vector<std::int8_t> esdfCosts(const std::vector<std::int8_t>& occupancy, int width, int height,
                                    double resolution, const In2botEsdfConfig& config) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
   const std::size_t cells = static_cast<std::size_t>(width) * height;
   std::optional<std::pair<int, int>> walls;
   if (config.wall_rule) walls = containmentWalls(occupancy, width, height, config);
-  std::vector<bool> obstacle(cells, false);
+  const auto obstacle = [&](int x, int y) {
+    return occupancy[static_cast<std::size_t>(y) * width + x] == kOccupiedCell ||
+           (walls && (x < walls->first || x > walls->second));
+  };
+
+  // Squared distances in cells, exact integers: along x per row, then the lower envelope along
+  // y per column (on a transposed copy, so the pass reads contiguous memory).
+  std::vector<double> along_x(cells);  // transposed: [x * height + y]
+  std::vector<int> v;
+  std::vector<double> z;
+  // Along a row the squared distance is that to the nearest obstacle of the row: two sweeps.
+  std::vector<int> nearest(static_cast<std::size_t>(width));
+  for (int y = 0; y < height; ++y) {
+    int last = -1;
+    for (int x = 0; x < width; ++x) {
+      if (obstacle(x, y)) last = x;
+      nearest[static_cast<std::size_t>(x)] = last < 0 ? -1 : x - last;
+    }
+    last = -1;
+    for (int x = width - 1; x >= 0; --x) {
+      if (obstacle(x, y)) last = x;
+      int& d = nearest[static_cast<std::size_t>(x)];
+      if (last >= 0 && (d < 0 || last - x < d)) d = last - x;
+      along_x[static_cast<std::size_t>(x) * height + y] = d < 0 ? kInf : static_cast<double>(d) * d;
+    }
+  }
+  std::vector<double> d2(cells);  // transposed too
+  for (int x = 0; x < width; ++x)
+    distanceTransform1D(&along_x[static_cast<std::size_t>(x) * height], &d2[static_cast<std::size_t>(x) * height],
+                        height, v, z);
+
+  // The team's arithmetic is float (the grid's float resolution, a float D_MAX):
+  // (1 - min(sqrt(d2) res, D_MAX) / D_MAX) * 100, truncated. Tabulated by the integer d2 up
+  // to past D_MAX, beyond which it is 0.
+  const float res = static_cast<float>(resolution);
+  const float d_max = static_cast<float>(config.max_distance);
+  const auto reach = static_cast<std::size_t>(std::ceil(config.max_distance / resolution)) + 2;
+  std::vector<std::int8_t> by_d2(reach * reach);
+  for (std::size_t i = 0; i < by_d2.size(); ++i) {
+    const float d = std::min(std::sqrt(static_cast<float>(i)) * res, d_max);
+    by_d2[i] = static_cast<std::int8_t>((1 - d / d_max) * 100);
+  }
+  std::vector<std::int8_t> costs(cells);
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) {
       const std::size_t k = static_cast<std::size_t>(y) * width + x;
-      obstacle[k] = occupancy[k] == kOccupiedCell || (walls && (x < walls->first || x > walls->second));
+      const double dd = d2[static_cast<std::size_t>(x) * height + y];
+      std::int8_t value = 100;
+      if (dd != 0.0) value = dd < static_cast<double>(by_d2.size()) ? by_d2[static_cast<std::size_t>(dd)] : 0;
+      if (occupancy[k] == kUnknownCell) {
+        const double decayed = std::clamp(static_cast<double>(value) * config.unknown_decay, 0.0, 100.0);
+        value = static_cast<std::int8_t>(decayed);
+      }
+      costs[k] = value;
     }
-
-  // Squared distances in cells: exact integers, so the order of the passes does not matter.
-  std::vector<double> d2(cells);
-  for (std::size_t k = 0; k < cells; ++k) d2[k] = obstacle[k] ? 0.0 : std::numeric_limits<double>::infinity();
-  std::vector<double> scratch;
-  std::vector<int> v;
-  std::vector<double> z;
-  for (int y = 0; y < height; ++y) distanceTransform1D(d2, static_cast<std::size_t>(y) * width, 1, width, scratch, v, z);
-  for (int x = 0; x < width; ++x)
-    distanceTransform1D(d2, static_cast<std::size_t>(x), static_cast<std::size_t>(width), height, scratch, v, z);
-
-  // The team's arithmetic is float (the grid's float resolution, a float D_MAX).
-  const float res = static_cast<float>(resolution);
-  const float d_max = static_cast<float>(config.max_distance);
-  std::vector<std::int8_t> costs(cells);
-  for (std::size_t k = 0; k < cells; ++k) {
-    std::int8_t value = 100;
-    if (!obstacle[k]) {
-      const float dist = std::isinf(d2[k]) ? d_max : std::sqrt(static_cast<float>(d2[k])) * res;
-      const float d = std::min(dist, d_max);
-      value = static_cast<std::int8_t>((1 - d / d_max) * 100);
-    }
-    if (occupancy[k] == kUnknownCell) {
-      const double decayed = std::clamp(static_cast<double>(value) * config.unknown_decay, 0.0, 100.0);
-      value = static_cast<std::int8_t>(decayed);
-    }
-    costs[k] = value;
-  }
   return costs;
 }
 

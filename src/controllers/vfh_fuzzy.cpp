@@ -67,6 +67,25 @@ void appendCrossings(std::span<const double> xs, std::span<const double> mf, dou
   }
 }
 
+// interpolate() at every point of the sorted `queries`, walking the universe once.
+void interpolateSorted(std::span<const double> xs, std::span<const double> ys, std::span<const double> queries,
+                       std::vector<double>& out) {
+  std::size_t j = 0;
+  for (std::size_t i = 0; i < queries.size(); ++i) {
+    const double x = queries[i];
+    if (xs.empty() || x < xs.front() || x > xs.back()) {
+      out[i] = 0.0;
+      continue;
+    }
+    if (x == xs.back()) {
+      out[i] = ys.back();
+      continue;
+    }
+    while (xs[j + 1] <= x) ++j;  // xs[j] <= x < xs[j + 1]
+    out[i] = xs[j] == x ? ys[j] : (ys[j + 1] - ys[j]) / (xs[j + 1] - xs[j]) * (x - xs[j]) + ys[j];
+  }
+}
+
 void validateSet(const std::vector<double>& points, core::Errors& errors, const std::string& where) {
   errors.check(points.size() == 3 || points.size() == 4, where, "needs 3 points (triangle) or 4 (trapezoid)");
   errors.check(std::is_sorted(points.begin(), points.end()), where, "points must not decrease");
@@ -171,15 +190,18 @@ std::optional<double> MamdaniSystem::compute(double input) const {
   for (std::size_t r = 0; r < input_sets_.size(); ++r) firing[r] = interpolate(input_universe_, input_sets_[r], x);
 
   // The output universe upsampled with the points where each set crosses its cut.
-  std::vector<double> xs = output_universe_;
-  for (std::size_t r = 0; r < output_sets_.size(); ++r) appendCrossings(output_universe_, output_sets_[r], firing[r], xs);
-  std::sort(xs.begin(), xs.end());
+  std::vector<double> cuts;
+  for (std::size_t r = 0; r < output_sets_.size(); ++r) appendCrossings(output_universe_, output_sets_[r], firing[r], cuts);
+  std::sort(cuts.begin(), cuts.end());
+  std::vector<double> xs(output_universe_.size() + cuts.size());
+  std::merge(output_universe_.begin(), output_universe_.end(), cuts.begin(), cuts.end(), xs.begin());
   xs.erase(std::unique(xs.begin(), xs.end()), xs.end());
 
-  std::vector<double> aggregate(xs.size(), 0.0);
-  for (std::size_t r = 0; r < output_sets_.size(); ++r)
-    for (std::size_t i = 0; i < xs.size(); ++i)
-      aggregate[i] = std::max(aggregate[i], std::min(firing[r], interpolate(output_universe_, output_sets_[r], xs[i])));
+  std::vector<double> aggregate(xs.size(), 0.0), sampled(xs.size());
+  for (std::size_t r = 0; r < output_sets_.size(); ++r) {
+    interpolateSorted(output_universe_, output_sets_[r], xs, sampled);
+    for (std::size_t i = 0; i < xs.size(); ++i) aggregate[i] = std::max(aggregate[i], std::min(firing[r], sampled[i]));
+  }
   return centroid(xs, aggregate);
 }
 
