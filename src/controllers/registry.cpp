@@ -4,9 +4,11 @@
 #include "barn/controllers/eband.hpp"
 #include "barn/controllers/external.hpp"
 #include "barn/controllers/global_plan_feed.hpp"
+#include "barn/controllers/in2bot.hpp"
 #include "barn/controllers/inventec.hpp"
 #include "barn/controllers/lflh.hpp"
 #include "barn/controllers/pure_pursuit.hpp"
+#include "barn/controllers/rrsl_vfh.hpp"
 #include "barn/controllers/straight.hpp"
 
 namespace barn::controllers {
@@ -77,6 +79,8 @@ const std::vector<Entry>& entries() {
       entry<EbandConfig, EbandController>("eband"),
       policyEntry<LflhConfig, LflhController>("lflh"),
       policyEntry<InventecConfig, InventecController>("inventec"),
+      entry<RrslVfhConfig, RrslVfhController>("rrsl_vfh"),
+      entry<In2botConfig, In2botController>("in2bot"),
       externalEntry(),
   };
   return kEntries;
