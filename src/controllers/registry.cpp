@@ -4,6 +4,7 @@
 #include "barn/controllers/eband.hpp"
 #include "barn/controllers/external.hpp"
 #include "barn/controllers/inventec.hpp"
+#include "barn/controllers/kulfm.hpp"
 #include "barn/controllers/lflh.hpp"
 #include "barn/controllers/pure_pursuit.hpp"
 #include "barn/controllers/straight.hpp"
@@ -76,6 +77,7 @@ const std::vector<Entry>& entries() {
       entry<EbandConfig, EbandController>("eband"),
       policyEntry<LflhConfig, LflhController>("lflh"),
       policyEntry<InventecConfig, InventecController>("inventec"),
+      entry<KulfmConfig, KulfmController>("kulfm"),
       externalEntry(),
   };
   return kEntries;
