@@ -5,6 +5,6 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 rm -rf results/baseline
-for controller in pure_pursuit dwa lflh inventec_fi; do
+for controller in pure_pursuit dwa lflh inventec_fi kulfm; do
   build/barn run --controller "$controller" --worlds test50 --trials 2 --out "results/baseline/$controller"
 done

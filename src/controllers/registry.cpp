@@ -6,6 +6,7 @@
 #include "barn/controllers/global_plan_feed.hpp"
 #include "barn/controllers/in2bot.hpp"
 #include "barn/controllers/inventec.hpp"
+#include "barn/controllers/kulfm.hpp"
 #include "barn/controllers/lflh.hpp"
 #include "barn/controllers/pure_pursuit.hpp"
 #include "barn/controllers/rrsl_vfh.hpp"
@@ -81,6 +82,7 @@ const std::vector<Entry>& entries() {
       policyEntry<InventecConfig, InventecController>("inventec"),
       entry<RrslVfhConfig, RrslVfhController>("rrsl_vfh"),
       entry<In2botConfig, In2botController>("in2bot"),
+      entry<KulfmConfig, KulfmController>("kulfm"),
       externalEntry(),
   };
   return kEntries;

@@ -304,12 +304,14 @@ void Costmap::integrateScan(const core::LaserScan& scan, const core::Pose2& sens
     returns_.push_back({origin + range * direction, range < config_.obstacle_range});
   }
   // Clearing first, then marking (costmap_2d's order), so a return inside another beam's
-  // cleared ray stays an obstacle. Nothing is traced if the sensor is off the map.
+  // cleared ray stays an obstacle. Nothing is traced if the sensor is off the map, or if the
+  // observation source does not clear (`clearing: false`: marks then stay until the footprint
+  // covers them or the window scrolls past).
   // The traced line depends on its two end cells alone and freeing is idempotent, so a beam
   // ending in the cell the last traced beam ended in (neighbouring beams mostly do: they are
   // under 2 cm apart at 3 m) frees nothing new and is skipped.
   CellIndex sensor_cell;
-  if (toCell(origin, sensor_cell)) {
+  if (config_.clearing && toCell(origin, sensor_cell)) {
     const double max_cells = std::ceil(config_.raytrace_range / config_.resolution);
     CellIndex last_stop{-1, -1};
     for (const Return& r : returns_) {

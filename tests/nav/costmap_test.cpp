@@ -66,6 +66,18 @@ TEST(Costmap, RayTraceClearingRemovesAnObstacleThatMoved) {
   EXPECT_EQ(map.costAt({2.0, 0.0}), kLethalCost);
 }
 
+TEST(Costmap, ASourceThatDoesNotClearKeepsAnObstacleThatMoved) {
+  // `clearing: false` (KUL+FM's scan source): the ray of the 2.0 m return passes 1.0 m without
+  // freeing it; only marking happens.
+  CostmapConfig c = smallMap();
+  c.clearing = false;
+  Costmap map(c);
+  map.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
+  map.integrateScan(scanAhead(2.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
+  EXPECT_EQ(map.costAt({1.0, 0.0}), kLethalCost);
+  EXPECT_EQ(map.costAt({2.0, 0.0}), kLethalCost);
+}
+
 TEST(Costmap, ABeamWithoutAReturnNeitherMarksNorClears) {
   // laser_geometry drops +inf (and range_max) beams, so nothing is traced along them.
   Costmap map(smallMap());

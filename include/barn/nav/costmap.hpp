@@ -41,6 +41,7 @@ struct CostmapConfig {
   bool rolling = false;             // the window follows the robot (local costmap)
   double obstacle_range = 2.5;      // [m] returns closer than this mark obstacles
   double raytrace_range = 3.0;      // [m] free space is cleared up to here along each ray
+  bool clearing = true;             // the scan clears along its rays (costmap_2d observation source `clearing`)
   bool inf_is_valid = false;        // a beam without a return clears (it never does in BARN)
   bool track_unknown = false;       // unseen cells are unknown (255) rather than free
   double inscribed_radius = 0.265;  // [m] 0.42 x 0.33 footprint + 0.1 padding: 0.165 + 0.1
@@ -50,7 +51,7 @@ struct CostmapConfig {
   template <class V> void visit(V& v) {
     v("resolution", resolution); v("width", width); v("height", height); v("origin_x", origin_x);
     v("origin_y", origin_y); v("rolling", rolling); v("obstacle_range", obstacle_range);
-    v("raytrace_range", raytrace_range); v("inf_is_valid", inf_is_valid); v("track_unknown", track_unknown); v("inscribed_radius", inscribed_radius);
+    v("raytrace_range", raytrace_range); v("clearing", clearing); v("inf_is_valid", inf_is_valid); v("track_unknown", track_unknown); v("inscribed_radius", inscribed_radius);
     v("inflation_radius", inflation_radius); v("cost_scaling_factor", cost_scaling_factor);
   }
 };
