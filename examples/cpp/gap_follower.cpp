@@ -4,33 +4,22 @@
 //
 // A controller for barn is a Controller subclass (include/barn/controllers/controller.hpp). To
 // make one available to `barn run`, register it in src/controllers/registry.cpp with a config
-// struct; this example instead runs itself, the way a researcher can try a controller before
-// wiring it in:
+// struct; this example instead runs itself (example_runner.hpp), the way a researcher can try a
+// controller before wiring it in:
 //
 //   build/examples/gap_follower WORLDS OUT [SEED]     e.g.  build/examples/gap_follower 0:300:30 /tmp/gap
-//
-// writes OUT/episodes.csv in barn run's format (1 trial per world, barn run's episode seeds).
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <exception>
-#include <filesystem>
-#include <fstream>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include "barn/bench/batch.hpp"
-#include "barn/bench/episode.hpp"
-#include "barn/bench/results_io.hpp"
-#include "barn/bench/world_selection.hpp"
 #include "barn/controllers/controller.hpp"
-#include "barn/core/config.hpp"
-#include "barn/core/errors.hpp"
-#include "barn/sim/obstacle_field.hpp"
+#include "example_runner.hpp"
 
 namespace {
 
@@ -158,32 +147,5 @@ class GapFollower : public controllers::Controller {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 3 || argc > 4) {
-    std::fprintf(stderr, "usage: %s WORLDS OUT [SEED]\n", argv[0]);
-    return 2;
-  }
-  try {
-    const std::filesystem::path out = argv[2];
-    const std::uint64_t seed = argc == 4 ? std::stoull(argv[3]) : 0;
-    const bench::LoadedWorlds loaded = bench::loadWorlds(argv[1], std::filesystem::path(BARN_SOURCE_DIR) / "worlds");
-    const bench::EpisodeConfig config = bench::validatedEpisodeConfig(
-        core::ConfigNode::parseFile(std::filesystem::path(BARN_SOURCE_DIR) / "configs" / "sim" / "barn.yaml"), "barn.yaml");
-    std::vector<bench::EpisodeResult> results;
-    for (const core::WorldSpec& world : loaded.worlds) {
-      const sim::ObstacleField field = sim::ObstacleField::fromWorld(world);
-      GapFollower controller({});
-      results.push_back(bench::runEpisode(world, field, controller, config, bench::episodeSeed(seed, world.id, 0)));
-      results.back().trial = 0;
-    }
-    std::filesystem::create_directories(out);
-    std::ofstream(out / "episodes.csv") << bench::episodesCsv(results);
-    double score = 0.0;
-    for (const auto& r : results) score += r.score;
-    std::printf("%zu episodes, mean score %.4f -> %s\n", results.size(), score / static_cast<double>(results.size()),
-                (out / "episodes.csv").c_str());
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 2;
-  }
-  return 0;
+  return barn::examples::runExample(argc, argv, [] { return std::make_unique<GapFollower>(GapFollowerConfig{}); });
 }

@@ -152,4 +152,42 @@ std::string trajectoryCsv(const EpisodeResult& result) {
   return out.str();
 }
 
+std::vector<TrajectorySample> readTrajectoryCsv(const std::filesystem::path& path) {
+  const std::string text = core::readTextFile(path);
+  constexpr std::string_view kHeader = "time_s,x,y,yaw,cmd_linear,cmd_angular,state";
+  std::vector<TrajectorySample> samples;
+  std::size_t start = 0;
+  int line_number = 0;
+  bool has_params = false;
+  while (start < text.size()) {
+    const std::size_t end = text.find('\n', start);
+    if (end == std::string::npos) break;  // a line cut short
+    const std::string line = text.substr(start, end - start);
+    start = end + 1;
+    const std::string where = path.string() + ":" + std::to_string(++line_number);
+    if (line_number == 1) {
+      has_params = line == std::string(kHeader) + ",params";
+      if (!has_params && line != kHeader) throw core::InputError(path.string() + ": not a trajectory file (unexpected header)");
+      continue;
+    }
+    std::vector<std::string> f;
+    for (std::size_t at = 0;;) {
+      const std::size_t comma = line.find(',', at);
+      f.push_back(line.substr(at, comma == std::string::npos ? std::string::npos : comma - at));
+      if (comma == std::string::npos) break;
+      at = comma + 1;
+    }
+    if (f.size() != (has_params ? 8u : 7u)) throw core::InputError(where + ": expected " + (has_params ? "8" : "7") + " fields");
+    double v[6];
+    for (int i = 0; i < 6; ++i)
+      if (!core::parseDouble(f[static_cast<std::size_t>(i)], v[i])) throw core::InputError(where + ": field " + std::to_string(i + 1) + " is not a number");
+    samples.push_back({v[0], {v[1], v[2], v[3]}, {v[4], v[5]}, f[6], has_params ? f[7] : std::string()});
+  }
+  return samples;
+}
+
+std::string trajectoryFileName(int world_id, int trial) {
+  return "world_" + std::to_string(world_id) + "_trial_" + std::to_string(trial) + ".csv";
+}
+
 }  // namespace barn::bench

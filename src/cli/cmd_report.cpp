@@ -111,12 +111,16 @@ HtmlReport runReport(const fs::path& dir, const fs::path& figures, int max_failu
     failures.paragraphs.push_back(std::to_string(failed) + " episodes failed; this record was imported (" + m.source +
                                   "), so they cannot be re-simulated.");
   } else {
-    failures.figures = failureFigures(dir, figures, static_cast<std::size_t>(max_failures));
-    failures.paragraphs.push_back(std::to_string(failed) + " episodes failed" +
-                                  (failed > failures.figures.size()
-                                       ? "; the first " + std::to_string(failures.figures.size()) + " are drawn"
-                                       : "") +
-                                  " (re-simulated from the record: the same seed gives the same episode).");
+    FailureFigures drawn_figures = failureFigures(dir, figures, static_cast<std::size_t>(max_failures));
+    failures.figures = std::move(drawn_figures.figures);
+    const std::size_t drawn = drawn_figures.episodes;
+    failures.paragraphs.push_back(
+        std::to_string(failed) + " episodes failed" +
+        (drawn == 0 ? "; none can be drawn: a Python class's episodes are drawn from their recorded trajectories "
+                      "(barnbench.run(..., trajectories=True))"
+         : failed > drawn ? "; " + std::to_string(drawn) + " of them are drawn" : "") +
+        (drawn > 0 ? " (from recorded trajectories where the record has them, else re-simulated: the same seed gives the "
+                     "same episode)." : "."));
   }
   report.sections.push_back(failures);
   return report;

@@ -103,8 +103,44 @@ RecordReplay::RecordReplay(const fs::path& record)
     throw core::InputError(record.string() + ": imported from " + manifest_.source +
                            " (barn import-out); its episodes cannot be re-simulated");
   worlds_ = bench::loadManifestWorlds(manifest_);
-  make_controller_ = controllers::makeControllerFactory(core::ConfigNode::parseString(manifest_.controller_config, "manifest"));
   episode_ = bench::validatedEpisodeConfig(core::ConfigNode::parseString(manifest_.episode_config, "manifest"), record.string());
+  std::string type;
+  core::ConfigNode::parseString(manifest_.controller_config, "manifest").child("type").read(type);
+  rerunnable_ = type != "python";
+}
+
+bool RecordReplay::canDraw(int world_id, int trial) const {
+  std::error_code ec;
+  return rerunnable_ || fs::exists(record_ / "trajectories" / bench::trajectoryFileName(world_id, trial), ec);
+}
+
+RecordReplay::Episode RecordReplay::episode(const core::WorldSpec& world, const sim::ObstacleField& field, int trial) const {
+  // A recorded trajectory (barn run --trajectories, or a Python run with trajectories=True) is
+  // what happened; the episode's outcome comes from the record's rows.
+  const fs::path recorded = record_ / "trajectories" / bench::trajectoryFileName(world.id, trial);
+  std::error_code ec;
+  if (fs::exists(recorded, ec)) {
+    if (rows_.empty()) {
+      rows_ = bench::readEpisodesCsv(record_ / bench::kEpisodesFile, true);
+      if (rows_.empty()) rows_ = bench::readEpisodesCsv(record_ / bench::kJournalFile, true);
+    }
+    for (const bench::EpisodeResult& row : rows_)
+      if (row.world_id == world.id && row.trial == trial) {
+        Episode e{row, true};
+        e.result.trajectory = bench::readTrajectoryCsv(recorded);
+        return e;
+      }
+  }
+  // Otherwise the same seed gives the same episode bit for bit: run it again.
+  if (!rerunnable_)
+    throw core::InputError(record_.string() + ": world " + std::to_string(world.id) + " trial " + std::to_string(trial) +
+                           " has no recorded trajectory, and a Python class cannot be re-run from the record; "
+                           "run it with barnbench.run(..., trajectories=True)");
+  if (!make_controller_)
+    make_controller_ = controllers::makeControllerFactory(core::ConfigNode::parseString(manifest_.controller_config, "manifest"));
+  auto controller = make_controller_();
+  return {bench::runEpisode(world, field, *controller, episode_, bench::episodeSeed(manifest_.seed, world.id, trial), true),
+          false};
 }
 
 void RecordReplay::renderWorld(int world_id, const std::vector<int>& trials, viz::TrajectoryColouring colouring,
@@ -119,9 +155,8 @@ void RecordReplay::renderWorld(int world_id, const std::vector<int>& trials, viz
   const sim::ObstacleField field = sim::ObstacleField::fromWorld(*it);
   std::vector<viz::TrajectoryOverlay> overlays;
   for (int t : trials) {
-    auto controller = make_controller_();
-    const bench::EpisodeResult r = bench::runEpisode(*it, field, *controller, episode_,
-                                                     bench::episodeSeed(manifest_.seed, id, t), true);
+    const Episode replayed = episode(*it, field, t);
+    const bench::EpisodeResult& r = replayed.result;
     viz::TrajectoryOverlay overlay;
     overlay.label = "trial " + std::to_string(t) + "  " + std::string(bench::toString(r.outcome));
     char detail[64];
@@ -129,14 +164,17 @@ void RecordReplay::renderWorld(int world_id, const std::vector<int>& trials, viz
     overlay.detail = detail;
     for (const auto& s : r.trajectory) overlay.points.push_back({s.pose.x, s.pose.y, s.state});
     if (r.collision) {
-      // The samples are control ticks; the contact comes after the last, so the line is
-      // carried on to the pose of contact, where the outline is drawn.
-      const std::string state = r.trajectory.empty() ? std::string() : r.trajectory.back().state;
-      overlay.points.push_back({r.collision->pose.x, r.collision->pose.y, state});
       overlay.collided = true;
       overlay.collision_x = r.collision->point.x();
       overlay.collision_y = r.collision->point.y();
-      overlay.collision_pose = r.collision->pose;
+      // The samples are control ticks; the contact comes after the last, so the line is
+      // carried on to the pose of contact, where the outline is drawn (known when the episode
+      // was re-simulated; a recorded row keeps only the contact point).
+      if (!replayed.recorded) {
+        const std::string state = r.trajectory.empty() ? std::string() : r.trajectory.back().state;
+        overlay.points.push_back({r.collision->pose.x, r.collision->pose.y, state});
+        overlay.collision_pose = r.collision->pose;
+      }
     }
     overlays.push_back(std::move(overlay));
   }

@@ -18,11 +18,22 @@ namespace barn::cli {
 /// .svg).
 void renderScoreBars(const std::filesystem::path& record, const std::string& by, const std::filesystem::path& output);
 
-/// A record's episodes, re-simulated: the same seed gives the same episode bit for bit.
+/// A record's episodes: their recorded trajectories where the record has them (trajectories/),
+/// else re-simulated (the same seed gives the same episode bit for bit).
 class RecordReplay {
  public:
   /// InputError for an imported record (nothing to re-simulate).
   explicit RecordReplay(const std::filesystem::path& record);
+  /// Trial `trial` of `world` (one of the record's), with its trajectory, and whether that was
+  /// recorded (else re-run). InputError if it was not recorded and cannot be re-run (a Python
+  /// class).
+  struct Episode {
+    bench::EpisodeResult result;
+    bool recorded = false;  // a recorded row keeps the contact point, not the pose at contact
+  };
+  Episode episode(const core::WorldSpec& world, const sim::ObstacleField& field, int trial) const;
+  /// Whether episode() can give trial `trial` of world `world_id`: recorded, or re-runnable.
+  bool canDraw(int world_id, int trial) const;
 
   /// Draws the `trials` of world `world_id` (InputError if either is not the record's) on the
   /// world: paths coloured by state or by trial, each trial's outcome, AT and score in the
@@ -36,7 +47,9 @@ class RecordReplay {
   std::filesystem::path record_;
   bench::RunManifest manifest_;
   std::vector<core::WorldSpec> worlds_;
-  controllers::ControllerFactory make_controller_;
+  bool rerunnable_ = true;                                    // false for a Python class's record
+  mutable controllers::ControllerFactory make_controller_;  // made at the first re-run
+  mutable std::vector<bench::EpisodeResult> rows_;         // read at the first recorded trajectory
   bench::EpisodeConfig episode_;
 };
 

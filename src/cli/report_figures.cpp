@@ -17,27 +17,27 @@ std::vector<HtmlFigure> scoreFigures(const fs::path& record, const fs::path& scr
   return {{"Mean score per world, easiest to hardest; whiskers: min to max over trials; strip: the trials' outcomes", file}};
 }
 
-std::vector<HtmlFigure> failureFigures(const fs::path& record, const fs::path& scratch, std::size_t max_episodes) {
+FailureFigures failureFigures(const fs::path& record, const fs::path& scratch, std::size_t max_episodes) {
   std::vector<int> world_order;
   std::map<int, std::vector<int>> failed;  // world -> failed trials
   std::size_t taken = 0;
+  const RecordReplay replay(record);
   for (const auto& r : bench::readEpisodesCsv(record / bench::kEpisodesFile)) {
-    if (r.outcome == bench::Outcome::Success || taken >= max_episodes) continue;
+    if (r.outcome == bench::Outcome::Success || taken >= max_episodes || !replay.canDraw(r.world_id, r.trial)) continue;
     if (!failed.count(r.world_id)) world_order.push_back(r.world_id);
     failed[r.world_id].push_back(r.trial);
     ++taken;
   }
-  std::vector<HtmlFigure> figures;
-  if (world_order.empty()) return figures;
-  const RecordReplay replay(record);
+  FailureFigures out;
+  out.episodes = taken;
   for (int world : world_order) {
     const fs::path file = scratch / ("failed_world_" + std::to_string(world) + ".png");
     replay.renderWorld(world, failed[world], viz::TrajectoryColouring::ByState, file);
     std::string trials;
     for (int t : failed[world]) trials += (trials.empty() ? "" : ", ") + std::to_string(t);
-    figures.push_back({"World " + std::to_string(world) + ", failed trial(s) " + trials, file});
+    out.figures.push_back({"World " + std::to_string(world) + ", failed trial(s) " + trials, file});
   }
-  return figures;
+  return out;
 }
 
 std::vector<HtmlFigure> sweepFigures(const SweepTable& sweep, const fs::path& scratch) {

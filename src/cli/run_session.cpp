@@ -16,12 +16,12 @@
 #include <set>
 #include <unistd.h>
 
+#include "barn/bench/progress.hpp"
 #include "barn/bench/record_session.hpp"
 #include "barn/bench/report.hpp"
 #include "barn/bench/results_io.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/core/text_io.hpp"
-#include "progress.hpp"
 
 namespace barn::cli {
 
@@ -190,7 +190,7 @@ PoolOutput runPool(const std::vector<Session*>& running, PreparedBatches& prepar
   std::signal(SIGINT, onInterrupt);
   std::signal(SIGTERM, onInterrupt);  // Slurm's time limit and preemption
   const bench::BatchExecution execution{options.jobs, &g_interrupted};
-  ProgressReporter progress(total, already, ::isatty(STDOUT_FILENO));
+  bench::ProgressReporter progress(total, already, ::isatty(STDOUT_FILENO));
   PoolOutput out;
   out.trajectories.resize(specs.size());
   const auto t0 = std::chrono::steady_clock::now();
@@ -202,7 +202,7 @@ PoolOutput runPool(const std::vector<Session*>& running, PreparedBatches& prepar
       g_interrupted.store(true);  // nothing more can be kept: start no new episode
     }
     if (options.trajectories)
-      out.trajectories[batch].push_back({"world_" + std::to_string(r.world_id) + "_trial_" + std::to_string(r.trial) + ".csv",
+      out.trajectories[batch].push_back({bench::trajectoryFileName(r.world_id, r.trial),
                                          bench::trajectoryCsv(r)});
     progress.update(r.outcome == bench::Outcome::Success, r.sim_time);
     if (options.stop_after > 0 && ++finished_here >= options.stop_after) g_interrupted.store(true);

@@ -8,21 +8,28 @@
 
 #include <filesystem>
 #include <memory>
+#include <optional>
+#include <algorithm>
+#include <cmath>
 #include <cerrno>
 #include <cstring>
 #include <string>
 #include <set>
 #include <tuple>
 #include <utility>
+#include <unistd.h>
 
 #include "barn/bench/batch.hpp"
+#include "barn/bench/progress.hpp"
 #include "barn/bench/episode.hpp"
 #include "barn/bench/record_session.hpp"
 #include "barn/bench/results_io.hpp"
 #include "barn/bench/run_record.hpp"
 #include "barn/bench/world_selection.hpp"
 #include "barn/controllers/external_protocol.hpp"
+#include "barn/controllers/global_plan_feed.hpp"
 #include "barn/core/errors.hpp"
+#include "barn/core/text_io.hpp"
 #include "barn/core/world_file.hpp"
 
 namespace py = pybind11;
@@ -40,9 +47,53 @@ core::WorldSpec loadWorld(const py::object& world, const std::string& world_dir)
 }
 
 bench::EpisodeConfig loadEpisodeConfig(const std::string& sim_config, const std::string& protocol) {
+  // A protocol given as an argument is the argument's fault, not the sim config file's.
+  if (!protocol.empty()) {
+    const auto names = enumNames(core::ProtocolName{});
+    if (std::find(names.begin(), names.end(), protocol) == names.end()) {
+      std::string known;
+      for (const std::string_view name : names) known += (known.empty() ? "" : ", ") + std::string(name);
+      throw core::InputError("protocol: '" + protocol + "' is not one of " + known);
+    }
+  }
   core::ConfigNode node = core::ConfigNode::parseFile(sim_config);
   if (!protocol.empty()) node.set("protocol", protocol);
   return bench::validatedEpisodeConfig(node, sim_config);
+}
+
+// A `global_plan` block given as YAML (or JSON) text, read and validated as a controller
+// config's block is; nullopt for "".
+std::optional<controllers::GlobalPlanConfig> parseGlobalPlan(const std::string& text) {
+  if (text.empty()) return std::nullopt;
+  const core::ConfigNode block = core::ConfigNode::parseString(text, "global_plan");
+  auto config = core::readConfig<controllers::GlobalPlanConfig>(block);
+  core::Errors errors;
+  controllers::validate(config, errors, block.where());
+  errors.throwIfAny();
+  return config;
+}
+
+// The effective text of a global_plan block (every field), as a manifest records it.
+std::string effectiveGlobalPlan(const std::string& text) {
+  const auto config = parseGlobalPlan(text);
+  if (!config) return "";
+  core::ConfigWriter writer(2);
+  auto copy = *config;
+  copy.visit(writer);
+  return "global_plan:\n" + writer.text();
+}
+
+// What a record of a Python class holds beyond the class name (its manifest's controller
+// config, as barnbench/__init__.py writes it): the constructor's keyword arguments as JSON
+// text and the global_plan block as YAML text ("" if none).
+py::dict recordedPythonConfig(const std::string& controller_config) {
+  const core::ConfigNode root = core::ConfigNode::parseString(controller_config, "record controller_config");
+  std::string params;
+  if (root.has("python") && root.child("python").has("params")) root.child("python").child("params").read(params);
+  py::dict d;
+  d["params"] = params;
+  d["global_plan"] = root.has("global_plan") ? root.child("global_plan").toYaml() : std::string();
+  return d;
 }
 
 // The episode config a record holds (its manifest's episode_config text).
@@ -55,17 +106,24 @@ bench::EpisodeConfig parseEpisodeConfig(const std::string& yaml) {
 class PyEpisode {
  public:
   PyEpisode(const py::object& world, const std::string& world_dir, const bench::EpisodeConfig& config,
-            std::uint64_t seed, double dt)
+            std::uint64_t seed, double dt, const std::string& global_plan, bool record_trajectory)
       : world_(loadWorld(world, world_dir)),
         field_(std::make_unique<sim::ObstacleField>(sim::ObstacleField::fromWorld(world_))),
         config_(config),
         episode_(std::make_unique<bench::Episode>(world_, *field_, config_, seed, dt)),
-        dt_(dt) {}
+        dt_(dt),
+        record_trajectory_(record_trajectory) {
+    if (const auto plan = parseGlobalPlan(global_plan)) {
+      feed_.emplace(*plan);
+      feed_->reset(episode_->info());
+    }
+    arriveAtTick();
+  }
 
   // The tick's observation; the scan as float32 (the Gymnasium convention) or, with
   // `full_precision`, as the doubles every other route gives a controller.
-  py::dict observation(bool full_precision) const {
-    const controllers::Observation& o = episode_->observation();
+  py::dict observation(bool full_precision) {
+    const controllers::Observation& o = fed_;
     const std::vector<double>& ranges = o.scan->ranges;
     py::dict d;
     if (full_precision) {
@@ -82,6 +140,20 @@ class PyEpisode {
     d["twist"] = py::array_t<double>(2, std::array<double, 2>{o.odom_twist.linear, o.odom_twist.angular}.data());
     d["goal"] = py::array_t<double>(2, std::array<double, 2>{o.goal.x(), o.goal.y()}.data());
     d["time"] = o.time;
+    if (o.global_plan) {
+      const std::vector<core::Pose2>& poses = o.global_plan->poses;
+      py::array_t<double> plan({static_cast<py::ssize_t>(poses.size()), py::ssize_t{3}});
+      double* out = plan.mutable_data();
+      for (const core::Pose2& p : poses) {
+        *out++ = p.x;
+        *out++ = p.y;
+        *out++ = p.yaw;
+      }
+      d["global_plan"] = plan;
+      d["global_plan_stamp"] = o.global_plan->stamp;
+    }
+    if (o.local_costmap) d["local_costmap"] = costmapDict(*o.local_costmap, local_costmap_);
+    if (o.global_costmap) d["global_costmap"] = costmapDict(*o.global_costmap, global_costmap_);
     return d;
   }
 
@@ -97,9 +169,29 @@ class PyEpisode {
     return d;
   }
 
-  void step(double v, double w, const std::string& state) {
-    py::gil_scoped_release release;  // other Python threads run while the physics steps
-    episode_->step({v, w}, state);
+  // Applies the command and any stack parameters (`params`: {key: value}; an unknown key or a
+  // bad value ends the episode as an error naming it, as in every other route).
+  void step(double v, double w, const std::string& state, const std::optional<py::dict>& params) {
+    if (params && !params->empty()) {
+      if (!feed_) {
+        episode_->fail("controller threw: params given, but the run has no global_plan block whose parameters they could set");
+        return;
+      }
+      try {
+        for (const auto& [key, value] : *params) feed_->set(py::str(key).cast<std::string>(), value.cast<double>());
+      } catch (const std::exception& e) {
+        episode_->fail(std::string("controller threw: ") + e.what());
+        return;
+      }
+    }
+    const core::Twist command{v, w};
+    if (record_trajectory_ && std::isfinite(v) && std::isfinite(w))
+      trajectory_.push_back({fed_.time, episode_->tickPose(), command, state, feed_ ? std::string(feed_->changes()) : ""});
+    {
+      py::gil_scoped_release release;  // other Python threads run while the physics steps
+      episode_->step(command, state);
+      arriveAtTick();
+    }
   }
   void fail(const std::string& message) { episode_->fail(message); }
   bool done() const { return episode_->done(); }
@@ -119,6 +211,13 @@ class PyEpisode {
     return d;
   }
 
+  // The trajectory file `barn run --trajectories` writes for this episode (recorded if asked).
+  std::string trajectoryCsv() const {
+    bench::EpisodeResult r;
+    r.trajectory = trajectory_;
+    return bench::trajectoryCsv(r);
+  }
+
   // The episodes.csv row `barn run` writes for this episode as trial `trial`.
   std::string csvRow(int trial) const {
     bench::EpisodeResult r = episode_->result();
@@ -127,11 +226,42 @@ class PyEpisode {
   }
 
  private:
+  // The tick's observation, fed the global plan when there is a feed (once per tick: the feed
+  // folds in the scan and may replan).
+  void arriveAtTick() {
+    fed_ = episode_->observation();
+    if (feed_ && !episode_->done()) feed_->update(fed_);
+  }
+
+  // A costmap as a dict of numpy values; the same dict object while its version is unchanged,
+  // so an unchanged map costs nothing.
+  struct CachedCostmap {
+    std::optional<std::uint64_t> version;
+    py::dict dict;
+  };
+  static py::dict costmapDict(const controllers::CostGrid& grid, CachedCostmap& cache) {
+    if (cache.version == grid.version) return cache.dict;
+    py::array_t<std::uint8_t> costs({static_cast<py::ssize_t>(grid.height), static_cast<py::ssize_t>(grid.width)});
+    std::copy_n(grid.costs, static_cast<std::size_t>(grid.width) * static_cast<std::size_t>(grid.height), costs.mutable_data());
+    py::dict d;
+    d["costs"] = costs;
+    d["origin"] = py::array_t<double>(2, std::array<double, 2>{grid.origin.x(), grid.origin.y()}.data());
+    d["resolution"] = grid.resolution;
+    d["version"] = grid.version;
+    cache = {grid.version, d};
+    return d;
+  }
+
   core::WorldSpec world_;
   std::unique_ptr<sim::ObstacleField> field_;
   bench::EpisodeConfig config_;
   std::unique_ptr<bench::Episode> episode_;
   double dt_;
+  bool record_trajectory_;
+  std::optional<controllers::GlobalPlanFeed> feed_;
+  controllers::Observation fed_;
+  CachedCostmap local_costmap_, global_costmap_;
+  std::vector<bench::TrajectorySample> trajectory_;
 };
 
 // A run record written from Python through bench's record life (record_session.hpp), so it
@@ -175,15 +305,21 @@ class PyRecord {
     return out;
   }
 
-  void begin(int threads) {
+  // Starts a session of `threads` workers; `progress` prints barn run's progress lines on
+  // stderr (a bar when it is a terminal).
+  void begin(int threads, bool progress) {
     pending_ = bench::pendingEpisodes(session_);
     journal_ = std::make_unique<bench::RecordJournal>(session_, pending_.size(), threads);
     finished_.clear();
+    trajectories_.clear();
     done_.clear();
+    if (progress)
+      progress_ = std::make_unique<bench::ProgressReporter>(session_.previous.size() + pending_.size(),
+                                                            session_.previous.size(), ::isatty(STDERR_FILENO), stderr);
   }
 
   // A finished episode's csv_row(), checked against the record before it is journaled.
-  void append(std::string row) {
+  void append(std::string row, const std::optional<std::string>& trajectory) {
     if (!journal_) throw core::InputError("record: begin() first");
     while (!row.empty() && (row.back() == '\n' || row.back() == '\r')) row.pop_back();
     bench::EpisodeResult r = bench::parseEpisodeRow(row, (session_.dir / bench::kJournalFile).string());
@@ -193,15 +329,23 @@ class PyRecord {
                              std::to_string(r.trial) + " given twice");
     if (!journal_->append(r))
       throw core::IoError((session_.dir / bench::kJournalFile).string() + ": write failed: " + std::strerror(errno));
+    if (progress_) progress_->update(r.outcome == bench::Outcome::Success, r.sim_time);
+    if (trajectory)
+      trajectories_.push_back({bench::trajectoryFileName(r.world_id, r.trial), *trajectory});
     finished_.push_back(std::move(r));
   }
 
   // True if the record is complete now; else it is left to resume.
   bool finish(double wall_time_s) {
     if (!journal_) throw core::InputError("record: begin() first");
-    const bool complete = journal_->finish(std::move(finished_), wall_time_s).has_value();
+    if (progress_) progress_->finish();
+    progress_.reset();
+    std::optional<std::vector<core::FileContent>> trajectories;
+    if (!trajectories_.empty()) trajectories = std::move(trajectories_);
+    const bool complete = journal_->finish(std::move(finished_), wall_time_s, trajectories).has_value();
     journal_.reset();
     finished_.clear();
+    trajectories_.clear();
     return complete;
   }
 
@@ -212,6 +356,8 @@ class PyRecord {
   bench::RecordSession session_;
   std::unique_ptr<bench::RecordJournal> journal_;
   std::vector<bench::EpisodeResult> finished_;
+  std::vector<core::FileContent> trajectories_;  // of this session's episodes, when recorded
+  std::unique_ptr<bench::ProgressReporter> progress_;
   std::vector<std::size_t> pending_;     // what begin() found left to run: only these may come
   std::set<std::pair<int, int>> done_;   // (world, trial) appended since begin()
 };
@@ -225,20 +371,26 @@ PYBIND11_MODULE(_core, m) {
 
   py::class_<PyEpisode>(m, "Episode")
       .def(py::init([](const py::object& world, const std::string& world_dir, const std::string& sim_config,
-                       const std::string& protocol, std::uint64_t seed, double dt) {
-             return std::make_unique<PyEpisode>(world, world_dir, loadEpisodeConfig(sim_config, protocol), seed, dt);
+                       const std::string& protocol, std::uint64_t seed, double dt, const std::string& global_plan,
+                       bool record_trajectory) {
+             return std::make_unique<PyEpisode>(world, world_dir, loadEpisodeConfig(sim_config, protocol), seed, dt,
+                                                global_plan, record_trajectory);
            }),
-           py::arg("world"), py::arg("world_dir"), py::arg("sim_config"), py::arg("protocol"), py::arg("seed"), py::arg("dt"))
+           py::arg("world"), py::arg("world_dir"), py::arg("sim_config"), py::arg("protocol"), py::arg("seed"), py::arg("dt"),
+           py::arg("global_plan") = "", py::arg("record_trajectory") = false)
       .def_static("from_record_config",
                   [](const py::object& world, const std::string& world_dir, const std::string& episode_config,
-                     std::uint64_t seed, double dt) {
-                    return std::make_unique<PyEpisode>(world, world_dir, parseEpisodeConfig(episode_config), seed, dt);
+                     std::uint64_t seed, double dt, const std::string& global_plan, bool record_trajectory) {
+                    return std::make_unique<PyEpisode>(world, world_dir, parseEpisodeConfig(episode_config), seed, dt,
+                                                       global_plan, record_trajectory);
                   },
                   py::arg("world"), py::arg("world_dir"), py::arg("episode_config"), py::arg("seed"), py::arg("dt"),
+                  py::arg("global_plan") = "", py::arg("record_trajectory") = false,
                   "The episode of a record: its worlds folder and episode_config text")
       .def("observation", &PyEpisode::observation, py::arg("full_precision") = false)
       .def("info", &PyEpisode::info)
-      .def("step", &PyEpisode::step, py::arg("v"), py::arg("w"), py::arg("state") = "")
+      .def("step", &PyEpisode::step, py::arg("v"), py::arg("w"), py::arg("state") = "", py::arg("params") = py::none())
+      .def("trajectory_csv", &PyEpisode::trajectoryCsv)
       .def("fail", &PyEpisode::fail)
       .def_property_readonly("done", &PyEpisode::done)
       .def_property_readonly("time", &PyEpisode::time)
@@ -254,6 +406,17 @@ PYBIND11_MODULE(_core, m) {
   m.def("episode_seed", &bench::episodeSeed, py::arg("run_seed"), py::arg("world_id"), py::arg("trial"),
         "The seed `barn run --seed run_seed` gives this episode");
   m.def("episodes_csv_header", &bench::episodesCsvHeader);
+  m.def("protocols", [] {
+        std::vector<std::string> names;
+        for (const std::string_view name : enumNames(core::ProtocolName{})) names.emplace_back(name);
+        return names;
+      }, "The protocol presets' names");
+  m.def("digest", [](const py::bytes& data) { return core::formatHex(core::fnv1a64(std::string(data))); },
+        py::arg("data"), "FNV-1a 64 of the bytes as 16 hex digits, as the manifest's digests");
+  m.def("recorded_python_config", &recordedPythonConfig, py::arg("controller_config"),
+        "params (JSON text) and global_plan (YAML text) of a Python class's record");
+  m.def("effective_global_plan", &effectiveGlobalPlan, py::arg("text"),
+        "A global_plan block (YAML or JSON text) checked, with every field, as a manifest records it");
   py::class_<PyRecord>(m, "Record")
       .def_static("create", &PyRecord::create, py::arg("out"), py::arg("controller"), py::arg("controller_config"),
                   py::arg("worlds_spec"), py::arg("world_dir"), py::arg("sim_config"), py::arg("protocol"),
@@ -261,14 +424,17 @@ PYBIND11_MODULE(_core, m) {
                   "A new run record in `out` (checked and locked; written by begin())")
       .def_static("open", &PyRecord::open, py::arg("dir"), "The run record in `dir`, to finish")
       .def("pending", &PyRecord::pending, "(world, trial, seed) of the episodes still to run")
-      .def("begin", &PyRecord::begin, py::arg("threads"), "Writes the manifest and the journal of earlier rows")
-      .def("append", &PyRecord::append, py::arg("row"), "Journals a finished episode's csv_row()")
+      .def("begin", &PyRecord::begin, py::arg("threads"), py::arg("progress") = true,
+           "Writes the manifest and the journal of earlier rows; progress lines on stderr")
+      .def("append", &PyRecord::append, py::arg("row"), py::arg("trajectory") = py::none(),
+           "Journals a finished episode's csv_row() (and keeps its trajectory_csv())")
       .def("finish", &PyRecord::finish, py::arg("wall_time_s"),
            "Completes the record (True) or leaves it to resume (False)")
       .def_property_readonly("dir", &PyRecord::dir)
       .def_property_readonly("controller", [](const PyRecord& r) { return r.manifest().controller; })
       .def_property_readonly("worlds_folder", [](const PyRecord& r) { return r.manifest().worlds_folder; })
       .def_property_readonly("episode_config", [](const PyRecord& r) { return r.manifest().episode_config; })
+      .def_property_readonly("controller_config", [](const PyRecord& r) { return r.manifest().controller_config; })
       .def_property_readonly("complete", [](const PyRecord& r) { return r.manifest().complete; });
   m.def("merge", [](const std::vector<std::string>& shards, const std::string& out) {
         bench::mergeShardRecords(std::vector<std::filesystem::path>(shards.begin(), shards.end()), out);

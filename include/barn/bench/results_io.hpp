@@ -23,7 +23,14 @@ EpisodeResult parseEpisodeRow(const std::string& line, const std::string& where)
 /// `allow_missing`. A truncated last line (an interrupted write) is ignored.
 std::vector<EpisodeResult> readEpisodesCsv(const std::filesystem::path& path, bool allow_missing = false);
 
-/// One episode's trajectory record: time, world pose, command and state per control tick.
+/// One episode's trajectory record: time, world pose, command, state and the stack parameters
+/// set, per control tick.
 std::string trajectoryCsv(const EpisodeResult& result);
+/// Reads a trajectory file back (files written before the params column read too);
+/// InputError naming the file and line on a malformed one.
+std::vector<TrajectorySample> readTrajectoryCsv(const std::filesystem::path& path);
+
+/// The name of a trajectory file in a record's trajectories/ folder.
+std::string trajectoryFileName(int world_id, int trial);
 
 }  // namespace barn::bench

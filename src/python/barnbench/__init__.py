@@ -14,16 +14,29 @@
     barnbench.merge(["shard_1", "shard_2"], out="merged")         # run(..., shard=(k, 2)) each
 
 Observations are dicts of numpy arrays in the odom frame (the start, facing the protocol's
-heading): "scan" (720 float32, inf for no return), "pose" (x, y, yaw), "scan_pose" (the pose
-when the scan was taken, up to one LiDAR period earlier: place the scan's returns with it),
-"twist" (v, w), "goal" (x, y), and "time" (simulated seconds). One step is one control period (Env.dt).
+heading): "scan" (the LiDAR's beams, inf for no return), "pose" (x, y, yaw), "scan_pose" (the
+pose when the scan was taken, up to one LiDAR period earlier: place the scan's returns with it),
+"twist" (v, w), "goal" (x, y), and "time" (simulated seconds). With a global_plan block (a dict:
+`Env(..., global_plan={...})`, `run(..., global_plan={...})`) they also carry move_base's plan,
+"global_plan" (n x 3: x, y, yaw from the robot to the goal) made at "global_plan_stamp", and on
+request "local_costmap" / "global_costmap" (dicts: "costs", a uint8 array indexed [y, x];
+"origin", "resolution", "version"; the same object while the map is unchanged). One step is one
+control period (Env.dt).
+
+The protocol (the score's scale) is `barnbench.default_protocol` unless a call names one:
+"barn2023" (k = 4, the 2022-23 editions) unless the environment variable BARN_PROTOCOL says
+otherwise; set it once per session with `barnbench.default_protocol = "barn2024"`.
 """
 
+import inspect
 import json
 import math
 import multiprocessing
+import multiprocessing.connection
 import os
+import signal
 import subprocess
+import sys
 import time
 
 import numpy as np
@@ -31,11 +44,16 @@ import numpy as np
 from . import _core
 from ._core import InputError, IoError
 
-__all__ = ["Env", "run", "merge", "default_reward", "InputError", "IoError"]
+__all__ = ["Env", "run", "merge", "default_reward", "default_protocol", "InputError", "IoError"]
 
 _SOURCE_DIR = _core.SOURCE_DIR
 _DEFAULT_SIM_CONFIG = os.path.join(_SOURCE_DIR, "configs", "sim", "barn.yaml")
 _DEFAULT_WORLD_DIR = os.path.join(_SOURCE_DIR, "worlds")
+
+default_protocol = os.environ.get("BARN_PROTOCOL", "barn2023")
+
+# A Python controller's episode may take this much wall time before it is failed as hung.
+DEFAULT_EPISODE_TIMEOUT = 300.0  # [s]
 
 try:  # Gymnasium is optional: its spaces are offered when it is installed.
     import gymnasium as _gym
@@ -53,53 +71,97 @@ def default_reward(previous_distance, distance, outcome):
     return reward
 
 
+def _protocol(protocol):
+    protocol = default_protocol if protocol is None else protocol
+    if protocol not in _core.protocols():
+        raise InputError(f"protocol: {protocol!r} is not one of {', '.join(_core.protocols())}")
+    return protocol
+
+
+def _global_plan_text(global_plan):
+    """A global_plan dict (or None) as the text _core reads; checked by C++."""
+    if global_plan is None:
+        return ""
+    if not isinstance(global_plan, dict):
+        raise InputError(f"global_plan: a dict of the block's keys (got {type(global_plan).__name__})")
+    return json.dumps(global_plan)
+
+
+def _seed(seed, name="seed"):
+    if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed < 2**64:
+        raise InputError(f"{name}: an integer in [0, 2^64 - 1] (got {seed!r})")
+    return seed
+
+
 class Env:
     """One BARN world as an environment. `world` is an id (in `world_dir`, default the
     repository's worlds/) or a world file; `sim_config` a sim config file (default
-    configs/sim/barn.yaml); `dt` the control period [s]; `reward` a function
-    (previous_distance, distance, outcome) -> float, default default_reward."""
+    configs/sim/barn.yaml); `protocol` barn2023 or barn2024 (default barnbench.default_protocol);
+    `dt` the control period [s]; `reward` a function (previous_distance, distance, outcome) ->
+    float, default default_reward; `global_plan` a dict of the global_plan block's keys
+    (docs/controllers.md, "Bring your own local planner") to run move_base's stack beside the
+    policy and observe its plan (and costmaps)."""
 
-    def __init__(self, world, world_dir=None, protocol="barn2023", sim_config=None, dt=0.05, reward=default_reward):
+    def __init__(self, world, world_dir=None, protocol=None, sim_config=None, dt=0.05, reward=default_reward,
+                 global_plan=None):
         if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0):
             raise InputError(f"dt: must be a positive number of seconds (got {dt!r})")
+        if isinstance(world, bool) or not isinstance(world, (int, str, os.PathLike)):
+            raise InputError(f"world: an id or a world file (got {world!r})")
+        if isinstance(world, int) and not 0 <= world < 2**31:
+            raise InputError(f"world: {world} is not a world id")
         self.world = world
         self.world_dir = world_dir or _DEFAULT_WORLD_DIR
-        self.protocol = protocol
+        self.protocol = _protocol(protocol)
         self.sim_config = sim_config or _DEFAULT_SIM_CONFIG
         self.dt = float(dt)
         self.reward = reward
+        self.global_plan = global_plan
+        self._plan_text = _global_plan_text(global_plan)
         self._episode = None
         self._distance = None
         if _gym is not None:
+            # The spaces follow the configured LiDAR and robot (an episode's reset facts).
+            facts = self._new_episode(0).info()
             inf = np.inf
-            self.observation_space = _gym.spaces.Dict({
-                "scan": _gym.spaces.Box(0.0, inf, shape=(720,), dtype=np.float32),
+            spaces = {
+                "scan": _gym.spaces.Box(0.0, inf, shape=(facts["lidar"]["beams"],), dtype=np.float32),
                 "pose": _gym.spaces.Box(-inf, inf, shape=(3,), dtype=np.float64),
                 "scan_pose": _gym.spaces.Box(-inf, inf, shape=(3,), dtype=np.float64),
                 "twist": _gym.spaces.Box(-inf, inf, shape=(2,), dtype=np.float64),
                 "goal": _gym.spaces.Box(-inf, inf, shape=(2,), dtype=np.float64),
                 "time": _gym.spaces.Box(0.0, inf, shape=(), dtype=np.float64),
-            })
-            self.action_space = _gym.spaces.Box(np.array([-2.0, -4.0]), np.array([2.0, 4.0]), dtype=np.float64)
+            }
+            self.observation_space = _gym.spaces.Dict(spaces)
+            robot = facts["robot"]
+            high = np.array([robot["max_linear_speed"], robot["max_angular_speed"]])
+            self.action_space = _gym.spaces.Box(-high, high, dtype=np.float64)
+
+    def _new_episode(self, seed):
+        return _core.Episode(self.world, self.world_dir, self.sim_config, self.protocol, _seed(seed), self.dt,
+                             self._plan_text)
 
     def reset(self, seed=None, options=None):
         """Starts a new episode; the same seed gives the same episode bit for bit."""
         del options
-        self._episode = _core.Episode(self.world, self.world_dir, self.sim_config, self.protocol,
-                                      int(seed or 0), self.dt)
+        self._episode = self._new_episode(0 if seed is None else seed)
         obs = self._episode.observation()
         self._distance = _goal_distance(obs)
         info = self._episode.info()
         info.update(self._episode.result())
         return obs, info
 
-    def step(self, action):
-        """Applies (v, w) for one control period. Returns obs, reward, terminated,
-        truncated, info; info["outcome"] is running, success, collision or timeout."""
+    def step(self, action, params=None):
+        """Applies (v, w) for one control period, and `params` ({key: value}, stack parameters
+        to set first, as dynamic_reconfigure; needs a global_plan block). Returns obs, reward,
+        terminated, truncated, info; info["outcome"] is running, success, collision, timeout or
+        error. Stepping an ended episode raises: call reset()."""
         if self._episode is None:
             raise RuntimeError("call reset() before step()")
+        if self._episode.done:
+            raise RuntimeError("the episode has ended; call reset() before step()")
         v, w = (float(a) for a in action)
-        self._episode.step(v, w)
+        self._episode.step(v, w, "", params)
         obs = self._episode.observation()
         info = self._episode.result()
         distance = _goal_distance(obs)
@@ -119,20 +181,28 @@ def _barn_binary():
     return os.path.join(here, os.pardir, os.pardir, "barn")
 
 
-def run(controller, worlds="test50", world_dir=None, trials=1, jobs=2, seed=0, protocol="barn2023", out=None,
-        sim_config=None, config=None, resume=False, shard=None):
+def run(controller, worlds="test50", world_dir=None, trials=1, jobs=2, seed=0, protocol=None, out=None,
+        sim_config=None, config=None, resume=False, shard=None, params=None, global_plan=None, trajectories=False,
+        episode_timeout=DEFAULT_EPISODE_TIMEOUT, progress=True):
     """Scores `controller` on `worlds` x `trials` and writes the experiment record to `out`.
 
     `controller` is a built-in name ("dwa", "inventec_fi", ...: run by `barn run`, the same
-    record) or a Python class with reset(info) and act(obs) -> (v, w) or (v, w, state label)
-    and an optional `period` [s] (default 0.05); one instance per worker process, reset every
-    episode. `info` holds what the external protocol's reset message holds
-    (docs/external_controller.md); `obs` is Env's observation with the scan as float64, the
-    exact doubles C++ and external controllers see.
-    `config` is a controller config file for a built-in run (barn run --config; e.g. an
-    `external` controller). Either way `out` holds barn run's record (manifest.yaml,
-    episodes.csv, summary.json; `barn compare` and `barn plot scores` read it) and its summary
-    is returned.
+    record) or a Python class with reset(info) and act(obs) -> (v, w), (v, w, state label) or a
+    dict {"v", "w", optional "state", optional "params": {key: value}} (stack parameters to set,
+    with a global_plan block), and an optional `period` [s] (default 0.05). One instance per
+    worker process, made as `controller(**params)`, reset every episode. `info` holds what the
+    external protocol's reset message holds (docs/external_controller.md); `obs` is Env's
+    observation with the scan as float64, the exact doubles C++ and external controllers see.
+    `global_plan`: a dict of the global_plan block's keys (docs/controllers.md): move_base's
+    plan (and costmaps) in every observation. `protocol`: barn2023 or barn2024, default
+    barnbench.default_protocol. `config` is a controller config file for a built-in run (barn
+    run --config; e.g. an `external` controller). `trajectories=True` also writes
+    trajectories/ as barn run --trajectories does. Either way `out` holds barn run's record
+    (manifest.yaml, episodes.csv, summary.json; every barn command reads it) and its summary is
+    returned. Progress lines go to stderr unless `progress=False`.
+    A Python controller that raises, crashes its worker process, or takes longer than
+    `episode_timeout` wall seconds for one episode fails that episode only (`error`, with the
+    reason); its worker is replaced and the run goes on, whatever `jobs`.
     The record is journaled as episodes finish, as barn run does: after an interruption
     (Ctrl-C, a killed job) `run(controller, out=DIR, resume=True)` runs only what is left (the
     experiment's settings come from the record). `shard=(k, n)` runs every n-th episode from
@@ -140,27 +210,24 @@ def run(controller, worlds="test50", world_dir=None, trials=1, jobs=2, seed=0, p
     if out is None:
         raise InputError("out: a folder for the record is required")
     shard_index, shard_count = _shard(shard)
+    if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 0:
+        raise InputError(f"jobs: a number of worker processes >= 1, or 0 for one per core (got {jobs!r})")
+    jobs = jobs or os.cpu_count() or 1
+    if isinstance(trials, bool) or not isinstance(trials, int) or trials < 1:
+        raise InputError(f"trials: an integer >= 1 (got {trials!r})")
+    _seed(seed)
     if isinstance(controller, str):
-        if resume:
-            command = [_barn_binary(), "run", "--resume", str(out), "--jobs", str(jobs)]
-        else:
-            command = [_barn_binary(), "run", "--controller", controller, "--worlds", str(worlds), "--trials",
-                       str(trials), "--jobs", str(jobs), "--seed", str(seed), "--protocol", protocol, "--out", str(out)]
-            if world_dir:
-                command += ["--world-dir", str(world_dir)]
-            if sim_config:
-                command += ["--sim-config", str(sim_config)]
-            if config:
-                command += ["--config", str(config)]
-            if shard_count:
-                command += ["--shard", f"{shard_index}/{shard_count}"]
-        done = subprocess.run(command, capture_output=True, text=True)
-        if done.returncode != 0:
-            raise InputError(done.stderr.strip() or done.stdout.strip())
-        with open(os.path.join(out, "summary.json")) as f:
-            return json.load(f)
-    return _run_python(controller, worlds, world_dir or _DEFAULT_WORLD_DIR, trials, jobs, seed, protocol, out,
-                       sim_config or _DEFAULT_SIM_CONFIG, resume, shard_index, shard_count)
+        return _run_builtin(controller, worlds, world_dir, trials, jobs, seed, protocol, out, sim_config, config, resume,
+                            shard_index, shard_count, trajectories)
+    if not isinstance(controller, type):
+        raise InputError("controller: a built-in name or a class with reset(info) and act(obs)")
+    if params is not None and not isinstance(params, dict):
+        raise InputError(f"params: a dict of keyword arguments for the controller (got {type(params).__name__})")
+    if not (isinstance(episode_timeout, (int, float)) and episode_timeout > 0):
+        raise InputError(f"episode_timeout: a positive number of seconds (got {episode_timeout!r})")
+    return _run_python(controller, params or {}, worlds, world_dir or _DEFAULT_WORLD_DIR, trials, jobs, seed,
+                       None if resume else _protocol(protocol), out, sim_config or _DEFAULT_SIM_CONFIG, resume,
+                       shard_index, shard_count, global_plan, trajectories, float(episode_timeout), progress)
 
 
 def merge(shards, out):
@@ -183,60 +250,248 @@ def _shard(shard):
     return index, count
 
 
-def _run_one(task):
-    controller_class, world, world_dir, episode_config, seed, trial = task
-    global _worker_controller
-    if _worker_controller is None or type(_worker_controller) is not controller_class:
-        _worker_controller = controller_class()
-    controller = _worker_controller
-    episode = _core.Episode.from_record_config(world, world_dir, episode_config, seed,
-                                               float(getattr(controller, "period", 0.05)))
+def _run_builtin(name, worlds, world_dir, trials, jobs, seed, protocol, out, sim_config, config, resume, shard_index,
+                 shard_count, trajectories):
+    if resume:
+        command = [_barn_binary(), "run", "--resume", str(out), "--jobs", str(jobs)]
+    else:
+        command = [_barn_binary(), "run", "--controller", name, "--worlds", str(worlds), "--trials", str(trials),
+                   "--jobs", str(jobs), "--seed", str(seed), "--protocol", _protocol(protocol), "--out", str(out)]
+        if world_dir:
+            command += ["--world-dir", str(world_dir)]
+        if sim_config:
+            command += ["--sim-config", str(sim_config)]
+        if config:
+            command += ["--config", str(config)]
+        if shard_count:
+            command += ["--shard", f"{shard_index}/{shard_count}"]
+        if trajectories:
+            command += ["--trajectories"]
+    done = subprocess.run(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    summary_file = os.path.join(out, "summary.json")
+    # Exit 1 with a complete record: some episodes ended in error (listed in episodes.csv).
+    if done.returncode == 1 and os.path.exists(summary_file):
+        print(f"barnbench.run: {name}: some episodes ended in error (see {out}/episodes.csv)", file=sys.stderr)
+    elif done.returncode != 0:
+        raise InputError(done.stderr.strip() or f"barn run exited with {done.returncode}")
+    with open(summary_file) as f:
+        return json.load(f)
+
+
+# ---------------------------------------------------------------------------------------------
+# Python controllers: worker processes, each running one episode at a time
+
+
+class _Spec:
+    """What every episode of a Python run needs besides (world, trial, seed)."""
+
+    def __init__(self, controller_class, params, world_dir, episode_config, global_plan_text, trajectories):
+        self.controller_class = controller_class
+        self.params = params
+        self.world_dir = world_dir
+        self.episode_config = episode_config
+        self.global_plan_text = global_plan_text
+        self.trajectories = trajectories
+        self.period = float(getattr(controller_class, "period", 0.05))
+
+    def episode(self, world, seed, period=None):
+        return _core.Episode.from_record_config(world, self.world_dir, self.episode_config, seed,
+                                                self.period if period is None else period, self.global_plan_text,
+                                                self.trajectories)
+
+    def failed_row(self, world, trial, seed, reason):
+        """The row of an episode its worker could not finish (crashed or hung)."""
+        episode = self.episode(world, seed)
+        episode.fail(reason)
+        return episode.csv_row(trial), (episode.trajectory_csv() if self.trajectories else None)
+
+
+def _command(answer):
+    if isinstance(answer, dict):
+        unknown = set(answer) - {"v", "w", "state", "params"}
+        if unknown:
+            raise ValueError(f"unknown keys in the command: {', '.join(sorted(unknown))}")
+        return float(answer["v"]), float(answer["w"]), str(answer.get("state", "")), answer.get("params")
+    return float(answer[0]), float(answer[1]), str(answer[2]) if len(answer) > 2 else "", None
+
+
+def _run_episode(controller, spec, world, trial, seed):
+    episode = spec.episode(world, seed, float(getattr(controller, "period", spec.period)))
     try:
         controller.reset(episode.info())
-    except Exception as e:  # a failing controller ends its own episode only
-        episode.fail(f"controller reset threw: {e}")
+    except BaseException as e:  # a failing controller ends its own episode only
+        episode.fail(f"controller reset threw: {_describe(e)}")
     while not episode.done:
         try:
-            answer = controller.act(episode.observation(full_precision=True))
-            v, w, state = float(answer[0]), float(answer[1]), str(answer[2]) if len(answer) > 2 else ""
-        except Exception as e:
-            episode.fail(f"controller threw: {e}")
+            v, w, state, params = _command(controller.act(episode.observation(full_precision=True)))
+        except BaseException as e:
+            episode.fail(f"controller threw: {_describe(e)}")
             break
-        episode.step(v, w, state)
-    return episode.csv_row(trial)
+        episode.step(v, w, state, params)
+    return episode.csv_row(trial), (episode.trajectory_csv() if spec.trajectories else None)
 
 
-_worker_controller = None
+def _describe(error):
+    text = str(error)
+    return f"{type(error).__name__}: {text}" if isinstance(error, (SystemExit, KeyboardInterrupt)) or not text else text
 
 
-def _run_python(controller_class, worlds, world_dir, trials, jobs, seed, protocol, out, sim_config, resume,
-                shard_index, shard_count):
-    if not isinstance(controller_class, type):
-        raise InputError("controller: a built-in name or a class with reset(info) and act(obs)")
+def _worker_main(conn, spec):
+    """A worker process: runs the episodes it is sent, one at a time, with one controller."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
+    controller = None
+    while True:
+        try:
+            task = conn.recv()
+        except EOFError:
+            return
+        if task is None:
+            return
+        world, trial, seed = task
+        if controller is None:
+            try:
+                controller = spec.controller_class(**spec.params)
+            except BaseException as e:
+                conn.send(spec.failed_row(world, trial, seed, f"controller construction threw: {_describe(e)}"))
+                continue
+        conn.send(_run_episode(controller, spec, world, trial, seed))
+
+
+class _Worker:
+    def __init__(self, context, spec):
+        self.conn, child = context.Pipe()
+        self.process = context.Process(target=_worker_main, args=(child, spec), daemon=True)
+        self.process.start()
+        child.close()
+        self.task = None
+        self.started = 0.0
+
+    def give(self, task):
+        self.task = task
+        self.started = time.monotonic()
+        self.conn.send(task)
+
+    def stop(self, kill=False):
+        if kill:
+            self.process.kill()
+        else:
+            try:
+                self.conn.send(None)
+            except OSError:
+                pass
+        self.process.join(timeout=5)
+        if self.process.is_alive():
+            self.process.kill()
+            self.process.join()
+        self.conn.close()
+
+
+def _ending(process):
+    code = process.exitcode
+    if code is None:
+        return "did not end"
+    if code < 0:
+        try:
+            return f"was killed by {signal.Signals(-code).name}"
+        except ValueError:
+            return f"was killed by signal {-code}"
+    return f"exited with status {code}"
+
+
+def _run_workers(spec, tasks, jobs, record, timeout):
+    """Runs `tasks` ((world, trial, seed)) on `jobs` watched worker processes and appends each
+    finished episode's row to `record`. A worker that dies or overruns `timeout` fails its
+    episode and is replaced."""
+    context = multiprocessing.get_context("fork")
+    pending = list(reversed(tasks))
+    workers = [_Worker(context, spec) for _ in range(min(jobs, len(tasks)))]
+    try:
+        for worker in workers:
+            if pending:
+                worker.give(pending.pop())
+        while any(w.task is not None for w in workers):
+            busy = [w for w in workers if w.task is not None]
+            now = time.monotonic()
+            wait = max(0.0, min(w.started + timeout - now for w in busy))
+            ready = multiprocessing.connection.wait([w.conn for w in busy] + [w.process.sentinel for w in busy],
+                                                    timeout=wait)
+            for i, worker in enumerate(workers):
+                if worker.task is None:
+                    continue
+                world, trial, seed = worker.task
+                result = None
+                failure = None
+                if worker.conn in ready:
+                    try:
+                        result = worker.conn.recv()
+                    except (EOFError, OSError):
+                        worker.process.join(timeout=5)
+                        failure = f"the controller's worker process {_ending(worker.process)}"
+                elif worker.process.sentinel in ready:
+                    worker.process.join(timeout=5)
+                    failure = f"the controller's worker process {_ending(worker.process)}"
+                elif time.monotonic() - worker.started >= timeout:
+                    failure = f"the episode took more than {timeout:g} s of wall time (episode_timeout)"
+                else:
+                    continue
+                if failure is not None:
+                    worker.stop(kill=True)
+                    result = spec.failed_row(world, trial, seed, failure)
+                    worker = workers[i] = _Worker(context, spec)
+                worker.task = None
+                record.append(*result)
+                if pending:
+                    worker.give(pending.pop())
+    finally:
+        for worker in workers:
+            worker.stop(kill=worker.task is not None)
+
+
+def _python_config(controller_class, params, global_plan_text):
+    """The controller config a record of a Python class holds: the class, its keyword
+    arguments, its source file and that file's digest, and the global_plan block."""
+    name = f"{controller_class.__module__}.{controller_class.__qualname__}"
+    try:
+        source = inspect.getsourcefile(controller_class) or ""
+    except TypeError:
+        source = ""
+    digest = ""
+    if source and os.path.isfile(source):
+        with open(source, "rb") as f:
+            digest = _core.digest(f.read())
+        source = os.path.abspath(source)
+    try:
+        params_text = json.dumps(params, sort_keys=True)
+    except TypeError as e:
+        raise InputError(f"params: keyword arguments a record can hold (numbers, strings, lists, dicts): {e}") from None
+    quoted = "'" + params_text.replace("'", "''") + "'"  # JSON text as a YAML scalar
+    text = (f"type: python\npython:\n  class: {name}\n  params: {quoted}\n  source: {json.dumps(source)}\n"
+            f"  source_digest: {json.dumps(digest)}\n")
+    return name, text + _core.effective_global_plan(global_plan_text)
+
+
+def _run_python(controller_class, params, worlds, world_dir, trials, jobs, seed, protocol, out, sim_config, resume,
+                shard_index, shard_count, global_plan, trajectories, timeout, progress):
     name = f"{controller_class.__module__}.{controller_class.__qualname__}"
     if resume:
         record = _core.Record.open(str(out))
         if record.controller != name:
             raise InputError(f"{out}: a record of {record.controller}, not of {name}")
+        recorded = _core.recorded_python_config(record.controller_config)
+        params, plan_text = json.loads(recorded["params"] or "{}"), recorded["global_plan"]
     else:
-        record = _core.Record.create(str(out), name, f"type: python\npython:\n  class: {name}\n", str(worlds),
-                                     str(world_dir), sim_config, protocol, trials, seed, shard_index, shard_count)
+        plan_text = _global_plan_text(global_plan)
+        name, config_text = _python_config(controller_class, params, plan_text)
+        record = _core.Record.create(str(out), name, config_text, str(worlds), str(world_dir), sim_config, protocol,
+                                     trials, seed, shard_index, shard_count)
     if not record.complete:
-        tasks = [(controller_class, w, record.worlds_folder, record.episode_config, s, t)
-                 for w, t, s in record.pending()]
-        record.begin(jobs)
+        spec = _Spec(controller_class, params, record.worlds_folder, record.episode_config, plan_text, trajectories)
+        tasks = record.pending()
+        record.begin(jobs, progress)
         started = time.monotonic()
         complete = False
         try:
-            if jobs == 1:
-                for task in tasks:
-                    record.append(_run_one(task))
-            else:
-                # Processes, so Python controllers run in parallel; each episode is deterministic
-                # given (world, seed), so the record does not depend on the number of jobs.
-                with multiprocessing.get_context("fork").Pool(jobs) as pool:
-                    for row in pool.imap_unordered(_run_one, tasks):
-                        record.append(row)
+            _run_workers(spec, tasks, jobs, record, timeout)
         finally:  # an interruption leaves a record to resume
             complete = record.finish(time.monotonic() - started)
         if not complete:

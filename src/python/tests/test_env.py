@@ -2,8 +2,10 @@
 
 import math
 import os
+import signal
 import subprocess
 import sys
+import time
 
 import numpy as np
 import pytest
@@ -144,14 +146,16 @@ def test_the_gap_follower_in_python_as_an_external_program_and_in_cpp_gives_one_
 
 
 class InterruptedTwin(StraightTwin):
-    """StraightTwin that raises KeyboardInterrupt (as Ctrl-C would) in its `stop_at`-th reset."""
+    """StraightTwin that presses Ctrl-C (SIGINT to the process running the batch) in its
+    `stop_at`-th reset, and waits for the batch to stop it."""
     stop_at = None
     resets = 0
 
     def reset(self, info):
         InterruptedTwin.resets += 1
         if InterruptedTwin.resets == InterruptedTwin.stop_at:
-            raise KeyboardInterrupt
+            os.kill(os.getppid(), signal.SIGINT)
+            time.sleep(30)
         super().reset(info)
 
 

@@ -1,9 +1,9 @@
-#include "progress.hpp"
+#include "barn/bench/progress.hpp"
 
 #include <algorithm>
 #include <cstdio>
 
-namespace barn::cli {
+namespace barn::bench {
 
 std::string formatDuration(double seconds) {
   const long s = static_cast<long>(seconds + 0.5);
@@ -13,8 +13,8 @@ std::string formatDuration(double seconds) {
   return text;
 }
 
-ProgressReporter::ProgressReporter(std::size_t total, std::size_t already_done, bool terminal)
-    : total_(total), done_(already_done), terminal_(terminal), next_line_at_(already_done + std::max<std::size_t>(1, total / 10)) {
+ProgressReporter::ProgressReporter(std::size_t total, std::size_t already_done, bool terminal, std::FILE* out)
+    : total_(total), done_(already_done), terminal_(terminal), out_(out), next_line_at_(already_done + std::max<std::size_t>(1, total / 10)) {
   heartbeat_ = std::thread([this] { heartbeat(); });
 }
 
@@ -54,8 +54,8 @@ void ProgressReporter::finish() {
   }
   wake_.notify_all();
   if (heartbeat_.joinable()) heartbeat_.join();
-  if (terminal_) std::printf("\n");
-  std::fflush(stdout);
+  if (terminal_) std::fprintf(out_, "\n");
+  std::fflush(out_);
 }
 
 void ProgressReporter::print() {
@@ -69,13 +69,13 @@ void ProgressReporter::print() {
     const int filled = static_cast<int>(kWidth * static_cast<double>(done_) / static_cast<double>(std::max<std::size_t>(1, total_)));
     std::string bar(static_cast<std::size_t>(filled), '#');
     bar.resize(kWidth, '.');
-    std::printf("\r[%s] %zu/%zu  success %5.1f%%  %6.0f sim-s/s  eta %s   ", bar.c_str(), done_, total_, success, rate,
+    std::fprintf(out_, "\r[%s] %zu/%zu  success %5.1f%%  %6.0f sim-s/s  eta %s   ", bar.c_str(), done_, total_, success, rate,
                 formatDuration(eta).c_str());
   } else {
-    std::printf("progress %zu/%zu episodes, success %.1f%%, %.0f sim-s/s, elapsed %s, eta %s\n", done_, total_, success,
+    std::fprintf(out_, "progress %zu/%zu episodes, success %.1f%%, %.0f sim-s/s, elapsed %s, eta %s\n", done_, total_, success,
                 rate, formatDuration(elapsed).c_str(), formatDuration(eta).c_str());
   }
-  std::fflush(stdout);
+  std::fflush(out_);
 }
 
-}  // namespace barn::cli
+}  // namespace barn::bench
