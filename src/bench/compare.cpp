@@ -88,9 +88,36 @@ BootstrapInterval bootstrapMean(const std::vector<double>& values, int resamples
   return interval;
 }
 
+BootstrapInterval bootstrapRatioOfMeans(const std::vector<double>& numerator, const std::vector<double>& denominator,
+                                        int resamples, std::uint64_t seed, double level) {
+  if (numerator.empty() || numerator.size() != denominator.size())
+    throw std::invalid_argument("bootstrapRatioOfMeans: needs pairs");
+  if (resamples < 1) throw std::invalid_argument("bootstrapRatioOfMeans: resamples must be >= 1");
+  core::Rng rng(seed);
+  const std::size_t n = numerator.size();
+  std::vector<double> ratios(static_cast<std::size_t>(resamples));
+  for (double& r : ratios) {
+    double top = 0.0, bottom = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t k = rng.below(n);
+      top += numerator[k];
+      bottom += denominator[k];
+    }
+    r = top / bottom;
+  }
+  std::sort(ratios.begin(), ratios.end());
+  BootstrapInterval interval;
+  interval.estimate = mean(numerator) / mean(denominator);
+  interval.low = quantile(ratios, 0.5 * (1.0 - level));
+  interval.high = quantile(ratios, 0.5 * (1.0 + level));
+  return interval;
+}
+
 Comparison compareResults(const std::vector<EpisodeResult>& a, const std::vector<EpisodeResult>& b, int resamples,
                           std::uint64_t seed) {
-  const std::vector<WorldStats> all_a = perWorldStats(a), all_b = perWorldStats(b);
+  // Only the worlds' means and rates are compared here, not their intervals.
+  constexpr double kUnbounded = std::numeric_limits<double>::infinity();
+  const std::vector<WorldStats> all_a = perWorldStats(a, kUnbounded), all_b = perWorldStats(b, kUnbounded);
   std::map<int, const WorldStats*> in_b;
   for (const auto& w : all_b) in_b.emplace(w.world_id, &w);
   Comparison c;
@@ -111,12 +138,22 @@ Comparison compareResults(const std::vector<EpisodeResult>& a, const std::vector
     if (!common.count(w.world_id)) c.only_b.push_back(w.world_id);
   if (c.a.empty()) throw core::InputError("compare: the records have no world in common");
 
-  std::vector<double> score_diff, success_diff, rate_a, rate_b, time_a, time_b;
+  std::vector<double> score_diff, success_diff, collision_diff, timeout_diff, rate_a, rate_b, time_a, time_b;
   for (std::size_t i = 0; i < c.a.size(); ++i) {
     const WorldStats& wa = c.a[i];
     const WorldStats& wb = c.b[i];
     score_diff.push_back(wb.mean_score - wa.mean_score);
     success_diff.push_back(wb.success_rate - wa.success_rate);
+    const double collisions_a = wa.collisions / static_cast<double>(wa.trials);
+    const double collisions_b = wb.collisions / static_cast<double>(wb.trials);
+    const double timeouts_a = wa.timeouts / static_cast<double>(wa.trials);
+    const double timeouts_b = wb.timeouts / static_cast<double>(wb.trials);
+    collision_diff.push_back(collisions_b - collisions_a);
+    timeout_diff.push_back(timeouts_b - timeouts_a);
+    c.collision_a += collisions_a;
+    c.collision_b += collisions_b;
+    c.timeout_a += timeouts_a;
+    c.timeout_b += timeouts_b;
     rate_a.push_back(wa.success_rate);
     rate_b.push_back(wb.success_rate);
     c.score_a += wa.mean_score;
@@ -136,9 +173,18 @@ Comparison compareResults(const std::vector<EpisodeResult>& a, const std::vector
   c.score_b /= n;
   c.success_a /= n;
   c.success_b /= n;
+  c.collision_a /= n;
+  c.collision_b /= n;
+  c.timeout_a /= n;
+  c.timeout_b /= n;
   // The same seed for both: the same resampled worlds for the two differences.
   c.score_difference = bootstrapMean(score_diff, resamples, seed);
   c.success_difference = bootstrapMean(success_diff, resamples, seed);
+  c.collision_difference = bootstrapMean(collision_diff, resamples, seed);
+  c.timeout_difference = bootstrapMean(timeout_diff, resamples, seed);
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  c.time_ratio = time_a.empty() ? BootstrapInterval{kNaN, kNaN, kNaN} : bootstrapRatioOfMeans(time_b, time_a, resamples, seed);
+  c.time_ratio_worlds = static_cast<int>(time_a.size());
   c.spearman_time = spearman(time_a, time_b);
   c.spearman_time_worlds = static_cast<int>(time_a.size());
   c.spearman_success = spearman(rate_a, rate_b);
@@ -180,10 +226,19 @@ std::string comparisonReport(const Comparison& c, const std::string& label_a, co
                 "aggregate over the common worlds      A        B     B - A   [%.0f %% bootstrap interval]\n"
                 "  score                          %7.4f  %7.4f  %+8.4f   [%+.4f, %+.4f]\n"
                 "  success rate                   %7.3f  %7.3f  %+8.3f   [%+.3f, %+.3f]\n"
-                "  (%d resamples of the worlds, seed %llu)\n\n",
+                "  collision rate                 %7.3f  %7.3f  %+8.3f   [%+.3f, %+.3f]\n"
+                "  timeout rate                   %7.3f  %7.3f  %+8.3f   [%+.3f, %+.3f]\n",
                 level, c.score_a, c.score_b, c.score_difference.estimate, c.score_difference.low,
                 c.score_difference.high, c.success_a, c.success_b, c.success_difference.estimate,
-                c.success_difference.low, c.success_difference.high, c.resamples,
+                c.success_difference.low, c.success_difference.high, c.collision_a, c.collision_b,
+                c.collision_difference.estimate, c.collision_difference.low, c.collision_difference.high, c.timeout_a,
+                c.timeout_b, c.timeout_difference.estimate, c.timeout_difference.low, c.timeout_difference.high);
+  out += line;
+  std::snprintf(line, sizeof line,
+                "  mean successful time, B / A   %s   [%s, %s]  (%d worlds where both succeed)\n"
+                "  (%d resamples of the worlds, seed %llu)\n\n",
+                fmt("%.3f", c.time_ratio.estimate).c_str(), fmt("%.3f", c.time_ratio.low).c_str(),
+                fmt("%.3f", c.time_ratio.high).c_str(), c.time_ratio_worlds, c.resamples,
                 static_cast<unsigned long long>(c.seed));
   out += line;
   std::snprintf(line, sizeof line,

@@ -153,7 +153,7 @@ std::string summaryJson(const std::string& world_set, const RunSummary& summary,
   return json.str() + "\n";
 }
 
-std::vector<WorldStats> perWorldStats(const std::vector<EpisodeResult>& results) {
+std::vector<WorldStats> perWorldStats(const std::vector<EpisodeResult>& results, double max_score) {
   std::map<int, WorldStats> worlds;
   std::map<int, std::vector<double>> scores;
   std::map<int, double> time_sum;
@@ -188,8 +188,9 @@ std::vector<WorldStats> perWorldStats(const std::vector<EpisodeResult>& results)
       for (double v : s) squares += (v - w.mean_score) * (v - w.mean_score);
       const int df = w.trials - 1;
       const double half = (df <= 30 ? kT975[df - 1] : 1.96) * std::sqrt(squares / df / n);
-      w.score_ci_low = w.mean_score - half;
-      w.score_ci_high = w.mean_score + half;
+      // A score lies in [0, max_score]: so does every bound of its mean worth stating.
+      w.score_ci_low = std::max(0.0, w.mean_score - half);
+      w.score_ci_high = std::min(max_score, w.mean_score + half);
     }
     out.push_back(w);
   }

@@ -348,7 +348,7 @@ std::vector<EpisodeResult> writeCompleteRecord(const std::filesystem::path& dir,
   manifest.episodes_done = results.size();
   manifest.sim_time_s = summary.sim_time;
   core::writeFilesAtomic(dir, {{kEpisodesFile, episodesCsv(results)},
-                               {kSummaryFile, summaryJson(worldSetName(worlds), summary, perWorldStats(results),
+                               {kSummaryFile, summaryJson(worldSetName(worlds), summary, perWorldStats(results, core::protocolPreset(recordProtocol(manifest, dir.string())).maxScore()),
                                                           difficultyBreakdown(results, worlds))},
                                {kManifestFile, formatManifest(manifest, dir)}});
   std::error_code ec;

@@ -109,6 +109,15 @@ void writeJson(const bench::Comparison& c, const Record& a, const Record& b, con
   interval(c.score_difference);
   j.key("success_rate_difference");
   interval(c.success_difference);
+  j.key("collision_rate_a").value(c.collision_a).key("collision_rate_b").value(c.collision_b);
+  j.key("collision_rate_difference");
+  interval(c.collision_difference);
+  j.key("timeout_rate_a").value(c.timeout_a).key("timeout_rate_b").value(c.timeout_b);
+  j.key("timeout_rate_difference");
+  interval(c.timeout_difference);
+  j.key("mean_success_time_ratio");
+  interval(c.time_ratio);
+  j.key("mean_success_time_ratio_worlds").value(c.time_ratio_worlds);
   j.key("bootstrap").beginObject().key("resamples").value(c.resamples).key("seed").value(c.seed).key("level").value(0.95)
       .endObject();
   j.key("agreement").beginObject().key("both_mostly_succeed").value(c.both_succeed).key("both_mostly_fail")

@@ -63,9 +63,10 @@ void importOut(const ImportOutOptions& o) {
   const bench::NavMetricCheck& check = imported.check;
   if (check.score_mismatches > 0) {
     std::fprintf(stderr,
-                 "warning: %s: nav_metric differs from the recomputed k = 4 score by more than 1e-3 on %d of %d lines "
-                 "(largest %.4f, line %d)\n",
-                 o.file.c_str(), check.score_mismatches, check.lines, check.max_score_difference, check.worst_line);
+                 "warning: %s: nav_metric differs from the recomputed %s score (k = %g) by more than 1e-3 on %d of %d "
+                 "lines (largest %.4f, line %d); is the file of the other protocol (--protocol)?\n",
+                 o.file.c_str(), std::string(core::toString(protocol.name)).c_str(), protocol.clip_low,
+                 check.score_mismatches, check.lines, check.max_score_difference, check.worst_line);
     if (check.ratio_matches > 0)
       std::fprintf(stderr,
                    "         %d of them hold success * AT / OT instead (within 0.1 %%): this harness version wrote the "

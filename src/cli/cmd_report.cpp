@@ -50,13 +50,14 @@ HtmlTable summaryRows(const std::vector<std::pair<std::string, bench::RunSummary
   return table;
 }
 
-HtmlTable perWorldTable(const std::vector<bench::EpisodeResult>& results, const std::vector<core::WorldSpec>& worlds) {
+HtmlTable perWorldTable(const std::vector<bench::EpisodeResult>& results, const std::vector<core::WorldSpec>& worlds,
+                        double max_score) {
   HtmlTable table;
   table.id = "per-world";
   table.header = {"world", "trials", "success", "collision", "timeout", "score", "95 % low", "95 % high", "time [s]",
                   "tortuosity"};
   table.numeric = std::vector<bool>(table.header.size(), true);
-  for (const bench::WorldStats& w : bench::perWorldStats(results)) {
+  for (const bench::WorldStats& w : bench::perWorldStats(results, max_score)) {
     double tortuosity = NAN;
     for (const auto& spec : worlds)
       if (spec.id == w.world_id) tortuosity = spec.metrics.tortuosity;
@@ -99,7 +100,7 @@ HtmlReport runReport(const fs::path& dir, const fs::path& figures, int max_failu
   overview.figures = scoreFigures(dir, figures);
   report.sections.push_back(overview);
   report.sections.push_back({"Per world", {"Click a column header to sort. The interval is Student's t over the trials."},
-                             {perWorldTable(results, worlds)}, {}});
+                             {perWorldTable(results, worlds, core::protocolPreset(bench::recordProtocol(m, "manifest")).maxScore())}, {}});
   report.sections.push_back({"By difficulty", {"Per generator setting and per quartile of each normalised metric."},
                              {difficultyTable(bench::difficultyBreakdown(results, worlds))}, {}});
   HtmlSection failures{"Failed episodes", {}, {}, {}};

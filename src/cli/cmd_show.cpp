@@ -22,9 +22,9 @@ struct ShowOptions {
   bool breakdown = false;
 };
 
-std::string worldTable(const std::vector<bench::EpisodeResult>& results) {
+std::string worldTable(const std::vector<bench::EpisodeResult>& results, double max_score) {
   std::string table = "  world  trials  success  collision  timeout   score  95 % interval      time [s]\n";
-  for (const bench::WorldStats& w : bench::perWorldStats(results)) {
+  for (const bench::WorldStats& w : bench::perWorldStats(results, max_score)) {
     char interval[48] = "            -";
     if (std::isfinite(w.score_ci_low))
       std::snprintf(interval, sizeof(interval), "[%+.4f, %+.4f]", w.score_ci_low, w.score_ci_high);
@@ -57,7 +57,7 @@ void addShowCommand(CLI::App& app, CommandContext& /*context*/) {
     const std::vector<core::WorldSpec> worlds = bench::loadManifestWorlds(m);
     const std::vector<bench::EpisodeResult> results = bench::readEpisodesCsv(dir / bench::kEpisodesFile);
     printRecordSummary(dir, m, worlds, results, bench::recordProtocol(m, "manifest"), options->breakdown);
-    std::printf("%s", worldTable(results).c_str());
+    std::printf("%s", worldTable(results, core::protocolPreset(bench::recordProtocol(m, "manifest")).maxScore()).c_str());
   });
 }
 

@@ -54,8 +54,9 @@ void renderScoreBars(const fs::path& record, const std::string& by, const fs::pa
   const bench::RunManifest manifest = bench::readManifest(fs::path(record) / bench::kManifestFile);
   const auto worlds = bench::loadManifestWorlds(manifest);
   const auto results = bench::readEpisodesCsv(fs::path(record) / bench::kEpisodesFile);
+  const core::Protocol preset = core::protocolPreset(bench::recordProtocol(manifest, "manifest"));
   std::map<int, bench::WorldStats> stats;
-  for (const bench::WorldStats& w : bench::perWorldStats(results)) stats[w.world_id] = w;
+  for (const bench::WorldStats& w : bench::perWorldStats(results, preset.maxScore())) stats[w.world_id] = w;
   std::map<int, std::pair<double, double>> range;  // world -> (worst, best) trial score
   for (const auto& r : results) {
     const auto [it, fresh] = range.try_emplace(r.world_id, r.score, r.score);
@@ -66,7 +67,6 @@ void renderScoreBars(const fs::path& record, const std::string& by, const fs::pa
     if (stats.count(w.id)) order.push_back(&w);
   std::stable_sort(order.begin(), order.end(),
                    [&](const auto* a, const auto* b) { return orderKey(*a, by) < orderKey(*b, by); });
-  const core::Protocol preset = core::protocolPreset(bench::recordProtocol(manifest, "manifest"));
   const std::string protocol(core::toString(preset.name));
 
   viz::WorldBars bars;

@@ -152,7 +152,7 @@ SweepTable readSweepTable(const std::filesystem::path& dir, const std::filesyste
     cell.values = bench::cellValues(grid, c);
     const auto episodes = bench::readEpisodesCsv(cell_dir / bench::kEpisodesFile);
     cell.summary = bench::summarise(episodes);
-    cell.worlds = bench::perWorldStats(episodes);
+    cell.worlds = bench::perWorldStats(episodes, core::protocolPreset(table.protocol).maxScore());
     table.cells.push_back(cell);
   }
   return table;

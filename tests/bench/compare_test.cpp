@@ -84,7 +84,7 @@ TEST(Compare, PerWorldStatsCountOutcomesAndMeanSuccessfulTime) {
                                               episode(4, 1, Outcome::Collision, 5.0, 0.0),
                                               episode(4, 2, Outcome::Success, 30.0, 0.1),
                                               episode(2, 0, Outcome::Timeout, 100.0, 0.0)};
-  const std::vector<WorldStats> stats = perWorldStats(results);
+  const std::vector<WorldStats> stats = perWorldStats(results, 0.25);
   ASSERT_EQ(stats.size(), 2u);
   EXPECT_EQ(stats[0].world_id, 2);
   EXPECT_TRUE(std::isnan(stats[0].mean_success_time));
@@ -139,6 +139,31 @@ TEST(Compare, DifferencesAgreementAndCommonWorlds) {
   EXPECT_EQ(c.disagree, (std::vector<int>{6, 12}));
   EXPECT_EQ(c.spearman_time_worlds, 1);  // only world 0 has successes on both sides
   EXPECT_TRUE(std::isnan(c.spearman_time));
+  // Collision rates A 0, 0, 0 and B 0, 1, 0: B - A = 1 / 3; timeouts A 0, 0, 1 and B 0, 0, 0.
+  EXPECT_NEAR(c.collision_a, 0.0, 1e-12);
+  EXPECT_NEAR(c.collision_b, 1.0 / 3.0, 1e-12);
+  EXPECT_NEAR(c.collision_difference.estimate, 1.0 / 3.0, 1e-12);
+  EXPECT_NEAR(c.timeout_a, 1.0 / 3.0, 1e-12);
+  EXPECT_NEAR(c.timeout_difference.estimate, -1.0 / 3.0, 1e-12);
+  // Mean successful times where both succeed: world 0 only, 20 / 30.
+  EXPECT_EQ(c.time_ratio_worlds, 1);
+  EXPECT_NEAR(c.time_ratio.estimate, 2.0 / 3.0, 1e-12);
+  EXPECT_NEAR(c.time_ratio.low, 2.0 / 3.0, 1e-12);  // one world: every resample is that world
+}
+
+TEST(Compare, BootstrapRatioOfMeansOfProportionalPairsIsTheirFactor) {
+  // B = 1.5 A world by world: every resample's ratio of means is 1.5.
+  const std::vector<double> a = {10.0, 20.0, 35.0, 12.5}, b = {15.0, 30.0, 52.5, 18.75};
+  const BootstrapInterval r = bootstrapRatioOfMeans(b, a, 500, 9);
+  EXPECT_NEAR(r.estimate, 1.5, 1e-12);
+  EXPECT_NEAR(r.low, 1.5, 1e-12);
+  EXPECT_NEAR(r.high, 1.5, 1e-12);
+  // Not proportional: the interval brackets the estimate (77.5 / 115 for these).
+  const BootstrapInterval s = bootstrapRatioOfMeans({10.0, 40.0, 20.0, 7.5}, {20.0, 30.0, 40.0, 25.0}, 2000, 9);
+  EXPECT_NEAR(s.estimate, 77.5 / 115.0, 1e-12);
+  EXPECT_LT(s.low, s.estimate);
+  EXPECT_GT(s.high, s.estimate);
+  EXPECT_THROW(bootstrapRatioOfMeans({1.0}, {1.0, 2.0}, 10, 1), std::invalid_argument);
 }
 
 TEST(Compare, NoCommonWorldIsAnInputError) {

@@ -96,8 +96,8 @@ TEST(HarnessOut, ScoreIsRecomputedFromTheWorldsOptimalTime) {
   EXPECT_DOUBLE_EQ(k2.results[0].optimal_time, 5.0);
   EXPECT_DOUBLE_EQ(k2.results[0].score, 5.0 / 15.0);
   EXPECT_DOUBLE_EQ(k2.results[1].score, 0.125);
-  // The check stays on the k = 4 scale of the column.
-  EXPECT_EQ(k2.check.score_mismatches, 0);
+  // The check is on the protocol's own scale: this file's first line holds the k = 4 score.
+  EXPECT_EQ(k2.check.score_mismatches, 1);
 }
 
 TEST(HarnessOut, TrialsAreNumberedPerWorldInFileOrderAndUnknownFieldsAreNaN) {
@@ -141,6 +141,14 @@ TEST(HarnessOut, NavMetricCheckRecognisesTheTimeRatio) {
   EXPECT_EQ(imported.check.ratio_matches, 1);
   EXPECT_EQ(imported.check.worst_line, 2);
   EXPECT_NEAR(imported.check.max_score_difference, 6.0 - 5.0 / 30.0, 1e-12);
+}
+
+TEST(HarnessOut, NavMetricIsCheckedOnTheProtocolsOwnScale) {
+  // OT = 5 s, AT = 15 s: k = 4 clips AT to 20 s -> 0.25; k = 2 to max(15, 10) -> 5 / 15 = 0.3333.
+  // A 2024 file (run.py on k = 2) checks clean as barn2024 and not as barn2023.
+  const auto lines = parseHarnessOut("3 1 0 0 15 0.3333\n3 0 1 0 4 0\n", "out_2024.txt");
+  EXPECT_EQ(importHarnessLines(lines, {straightWorld(3)}, core::protocolPreset("barn2024"), "f").check.score_mismatches, 0);
+  EXPECT_EQ(importHarnessLines(lines, {straightWorld(3)}, core::protocolPreset("barn2023"), "f").check.score_mismatches, 1);
 }
 
 TEST(HarnessOut, FormatRoundTripsTheColumns) {

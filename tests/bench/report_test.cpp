@@ -110,7 +110,7 @@ constexpr char kEpisodesHeader[] =
     "collision_x,collision_y,states,error\n";
 
 TEST(PerWorldStats, MeanScoreWithTheStudentTIntervalPerWorld) {
-  const std::vector<WorldStats> worlds = perWorldStats(unevenRun());
+  const std::vector<WorldStats> worlds = perWorldStats(unevenRun(), 1.0);
   ASSERT_EQ(worlds.size(), 3u);
   EXPECT_EQ(worlds[0].world_id, 1);
   EXPECT_EQ(worlds[1].world_id, 3);
@@ -119,9 +119,12 @@ TEST(PerWorldStats, MeanScoreWithTheStudentTIntervalPerWorld) {
   const WorldStats& w8 = worlds[2];
   EXPECT_EQ(w8.trials, 3);
   EXPECT_NEAR(w8.mean_score, 0.15, 1e-12);
+  // 0.15 +- 4.303 * 0.15 / sqrt(3) = 0.15 +- 0.3727: below 0, so the low bound is 0.
   const double half = 4.303 * 0.15 / std::sqrt(3.0);
-  EXPECT_NEAR(w8.score_ci_low, 0.15 - half, 1e-12);
+  EXPECT_EQ(w8.score_ci_low, 0.0);
   EXPECT_NEAR(w8.score_ci_high, 0.15 + half, 1e-12);
+  // At a maximum score of 0.5 (barn2024) the high bound 0.5227 is the maximum.
+  EXPECT_EQ(perWorldStats(unevenRun(), 0.5)[2].score_ci_high, 0.5);
   EXPECT_EQ(w8.collisions, 1);
   // One trial: no interval.
   EXPECT_TRUE(std::isnan(worlds[1].score_ci_low) && std::isnan(worlds[1].score_ci_high));
@@ -129,7 +132,7 @@ TEST(PerWorldStats, MeanScoreWithTheStudentTIntervalPerWorld) {
 
 TEST(SummaryJson, NamesTheWorldSetAndListsEveryWorld) {
   const std::vector<EpisodeResult> run = unevenRun();
-  const std::string json = summaryJson("barnbench-generated", summarise(run), perWorldStats(run), {});
+  const std::string json = summaryJson("barnbench-generated", summarise(run), perWorldStats(run, 0.5), {});
   EXPECT_THAT(json, HasSubstr("\"world_set\": \"barnbench-generated\""));
   EXPECT_THAT(json, HasSubstr("{\"world\": 3, \"trials\": 1, \"score\": 0.5, \"score_ci95\": [null, null]"));
   std::size_t entries = 0;

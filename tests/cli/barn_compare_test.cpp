@@ -136,7 +136,7 @@ TEST_F(BarnCompare, ImportWarnsWhenNavMetricIsNotTheScore) {
   // 5.0 is neither the score nor AT / OT: reported, not fatal.
   const RunResult r = importText("3 1 0 0 30.0000 5.0000\n", dir_ / "odd");
   EXPECT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_THAT(r.output, HasSubstr("nav_metric differs from the recomputed k = 4 score by more than 1e-3 on 1 of 1 lines"));
+  EXPECT_THAT(r.output, HasSubstr("nav_metric differs from the recomputed barn2023 score (k = 4) by more than 1e-3 on 1 of 1 lines"));
 }
 
 TEST_F(BarnCompare, CompareOfARecordWithItself) {

@@ -34,6 +34,12 @@ struct BootstrapInterval {
 BootstrapInterval bootstrapMean(const std::vector<double>& values, int resamples, std::uint64_t seed,
                                 double level = 0.95);
 
+/// The ratio of the means of `numerator` and `denominator` (paired values) and its percentile
+/// bootstrap interval: pairs resampled as bootstrapMean resamples values (the same draws for a
+/// seed and a length). Both must have the same non-zero length.
+BootstrapInterval bootstrapRatioOfMeans(const std::vector<double>& numerator, const std::vector<double>& denominator,
+                                        int resamples, std::uint64_t seed, double level = 0.95);
+
 /// A and B over their common worlds.
 struct Comparison {
   std::vector<WorldStats> a, b;  // same worlds, ascending id
@@ -41,8 +47,16 @@ struct Comparison {
   // Aggregates over the common worlds (report_test.py's means over worlds).
   double score_a = 0.0, score_b = 0.0;
   double success_a = 0.0, success_b = 0.0;
-  BootstrapInterval score_difference;    // B - A, paired per world
-  BootstrapInterval success_difference;  // B - A
+  double collision_a = 0.0, collision_b = 0.0;
+  double timeout_a = 0.0, timeout_b = 0.0;
+  BootstrapInterval score_difference;      // B - A, paired per world
+  BootstrapInterval success_difference;    // B - A
+  BootstrapInterval collision_difference;  // B - A
+  BootstrapInterval timeout_difference;    // B - A
+  // B's mean successful time over A's, over the worlds where both succeed at least once (each
+  // world's mean over its successful trials; the ratio of their means over those worlds).
+  BootstrapInterval time_ratio;
+  int time_ratio_worlds = 0;
   int resamples = 0;
   std::uint64_t seed = 0;
   // Majority outcomes.

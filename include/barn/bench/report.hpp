@@ -56,7 +56,9 @@ struct WorldStats {
 };
 
 /// Per-world statistics, ascending world id.
-std::vector<WorldStats> perWorldStats(const std::vector<EpisodeResult>& results);
+/// `max_score`: the protocol's maximum score, which bounds each world's interval (as 0 does
+/// from below).
+std::vector<WorldStats> perWorldStats(const std::vector<EpisodeResult>& results, double max_score);
 
 /// What the worlds are: "barnbench-generated", "official BARN (imported)" or "mixed".
 std::string worldSetName(const std::vector<core::WorldSpec>& worlds);
