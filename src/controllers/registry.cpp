@@ -7,6 +7,7 @@
 #include "barn/controllers/lflh.hpp"
 #include "barn/controllers/pure_pursuit.hpp"
 #include "barn/controllers/straight.hpp"
+#include "barn/controllers/ut_amrl.hpp"
 
 namespace barn::controllers {
 
@@ -74,6 +75,7 @@ const std::vector<Entry>& entries() {
       entry<PurePursuitConfig, PurePursuitController>("pure_pursuit"),
       entry<DwaConfig, DwaController>("dwa"),
       entry<EbandConfig, EbandController>("eband"),
+      entry<UtAmrlConfig, UtAmrlController>("ut_amrl"),
       policyEntry<LflhConfig, LflhController>("lflh"),
       policyEntry<InventecConfig, InventecController>("inventec"),
       externalEntry(),

@@ -57,7 +57,7 @@ TEST(ControllerRegistry, EveryShippedConfigBuildsAKnownTypeAndEveryTypeShipsOne)
 TEST(ControllerRegistry, TheShippedBaselineConfigsHoldTheCodesDefaults) {
   // These files say their values are the code's defaults (the BARN baselines as published):
   // their effective configs equal the bare type's.
-  for (const char* name : {"dwa", "eband", "pure_pursuit", "straight"}) {
+  for (const char* name : {"dwa", "eband", "pure_pursuit", "straight", "ut_amrl"}) {
     const std::string file = std::string(BARN_SOURCE_DIR) + "/configs/controllers/" + name + ".yaml";
     const core::ConfigNode shipped = core::ConfigNode::parseFile(file);
     std::string type;
