@@ -126,6 +126,7 @@ void UtAmrlController::predictPoints(const Observation& obs) {
   const double cs = std::cos(yaw), sn = std::sin(yaw);
   const core::LaserScan& scan = *obs.scan;
   points_.clear();
+  if (!n.see_obstacles) return;
   for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
     const double r = scan.ranges[i];
     if (!std::isfinite(r) || r < scan.range_min) continue;

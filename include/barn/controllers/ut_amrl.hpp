@@ -59,6 +59,11 @@ struct GraphNavConfig {
   double target_angle_tolerance = 0.05;  // [rad] team: then it turns to the goal's heading to within this
   double max_plan_deviation = 0.5;     // [m] graph_navigation's default: re-plan when farther from the plan
   double max_turn_speed = 0.1;         // [m/s] graph_navigation: TurnInPlace brakes above this speed
+  // Whether the arcs see the scan. The `data` tag's navigation.lua subscribes to
+  // "/velodyne_2dscan" (UT's own Jackal), which the BARN simulation does not publish (its scan
+  // is front/scan), and nothing in the team's launch files remaps it; false is graph_navigation
+  // as that configuration ran in BARN, blind (docs/systems/ut_amrl.md, "What ran in 2023").
+  bool see_obstacles = true;           // our choice: the configuration's evident intent
   ArcPlannerConfig arcs;
 
   template <class V> void visit(V& v) {
@@ -68,7 +73,8 @@ struct GraphNavConfig {
     v("max_angular_decel", max_angular_decel); v("carrot_dist", carrot_dist); v("local_fov_deg", local_fov_deg);
     v("laser_x", laser_x); v("target_dist_tolerance", target_dist_tolerance);
     v("target_vel_tolerance", target_vel_tolerance); v("target_angle_tolerance", target_angle_tolerance);
-    v("max_plan_deviation", max_plan_deviation); v("max_turn_speed", max_turn_speed); v("arcs", arcs);
+    v("max_plan_deviation", max_plan_deviation); v("max_turn_speed", max_turn_speed);
+    v("see_obstacles", see_obstacles); v("arcs", arcs);
   }
   MotionLimits linear() const { return {max_linear_speed, max_linear_accel, max_linear_decel}; }
   MotionLimits angular() const { return {max_angular_speed, max_angular_accel, max_angular_decel}; }
