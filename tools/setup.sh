@@ -5,7 +5,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(g++ cmake make pkg-config libbox2d-dev libeigen3-dev libyaml-cpp-dev libcli11-dev
-          libgtest-dev libgmock-dev libbenchmark-dev libcairo2-dev nlohmann-json3-dev python3 python3-dev pybind11-dev
+          libgtest-dev libgmock-dev libbenchmark-dev libcairo2-dev nlohmann-json3-dev libboost-dev python3 python3-dev pybind11-dev
           python3-numpy python3-pytest slurm-wlm munge chromium)
 missing=()
 for p in "${packages[@]}"; do

@@ -11,6 +11,7 @@
 #include "barn/controllers/pure_pursuit.hpp"
 #include "barn/controllers/rrsl_vfh.hpp"
 #include "barn/controllers/straight.hpp"
+#include "barn/controllers/ut_amrl.hpp"
 
 namespace barn::controllers {
 
@@ -78,6 +79,7 @@ const std::vector<Entry>& entries() {
       entry<PurePursuitConfig, PurePursuitController>("pure_pursuit"),
       entry<DwaConfig, DwaController>("dwa"),
       entry<EbandConfig, EbandController>("eband"),
+      entry<UtAmrlConfig, UtAmrlController>("ut_amrl"),
       policyEntry<LflhConfig, LflhController>("lflh"),
       policyEntry<InventecConfig, InventecController>("inventec"),
       entry<RrslVfhConfig, RrslVfhController>("rrsl_vfh"),
