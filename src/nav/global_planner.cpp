@@ -16,6 +16,7 @@ void validate(const PlannerConfig& c, core::Errors& errors, const std::string& p
   errors.check(c.neutral_cost > 0.0 && c.neutral_cost <= 1000.0, prefix + ".neutral_cost", "must be in (0, 1000]");
   errors.check(c.cost_factor >= 0.0 && c.cost_factor <= 100.0, prefix + ".cost_factor", "must be in [0, 100]");
   errors.check(c.smoothing_window >= 0, prefix + ".smoothing_window", "must be >= 0");
+  errors.check(c.tolerance >= 0.0 && c.tolerance <= 10.0, prefix + ".tolerance", "must be in [0, 10] [m]");
   validate(c.global_planner, errors, prefix + ".global_planner");
 }
 
@@ -47,9 +48,30 @@ Plan GlobalPlanner::computeNavFnPlan(const Costmap& costmap, CellIndex s, CellIn
                                      double goal_yaw) {
   Plan result;
   navfn_.setCostmap(costmap);
-  const bool reached = navfn_.propagate(s, g);
+  navfn_.propagate(s, g);
   last_expanded_ = navfn_.lastUpdates();
-  if (!reached) return result;
+  if (!navfn_.propagated()) return result;
+  // NavfnROS::makePlan: the point of a grid around the goal (one cell apart, out to the
+  // tolerance; the goal alone at tolerance 0) that has a potential and is nearest the goal.
+  Eigen::Vector2d end = goal;
+  CellIndex end_cell;
+  bool legal = false;
+  double best = std::numeric_limits<double>::max();
+  const double tolerance = config_.tolerance;
+  for (double y = goal.y() - tolerance; y <= goal.y() + tolerance; y += costmap.resolution())
+    for (double x = goal.x() - tolerance; x <= goal.x() + tolerance; x += costmap.resolution()) {
+      CellIndex cell;
+      if (!costmap.toCell(x, y, cell) || navfn_.potential(cell.x, cell.y) >= NavFn::kPotHigh) continue;
+      const double squared = (x - goal.x()) * (x - goal.x()) + (y - goal.y()) * (y - goal.y());
+      if (squared < best) {
+        best = squared;
+        end = {x, y};
+        end_cell = cell;
+        legal = true;
+      }
+    }
+  if (!legal) return result;
+  g = end_cell;
   // getPlanFromPotential: calcPath(4 nx). ROS's global costmap is square (800 x 800), ours is
   // a tall corridor (6 x 15 m = 120 x 300 cells) whose length is along y, so the longer side
   // stands for nx: 4 x 300 half-cell steps = 30 m of path.
@@ -70,7 +92,7 @@ Plan GlobalPlanner::computeNavFnPlan(const Costmap& costmap, CellIndex s, CellIn
   // NavfnROS gives every pose of the descent the identity orientation, then makePlan appends
   // the requested goal pose, with its own.
   result.yaw.assign(result.path.size(), 0.0);
-  result.path.push_back(goal);
+  result.path.push_back(end);
   result.yaw.push_back(goal_yaw);
   return result;
 }

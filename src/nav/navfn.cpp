@@ -61,8 +61,10 @@ void NavFn::setCostmap(const Costmap& costmap) {
 bool NavFn::propagate(CellIndex robot, CellIndex goal) {
   updates_ = 0;
   cycles_ = 0;
+  propagated_ = false;
   if (robot.x <= 0 || robot.y <= 0 || robot.x >= nx_ - 1 || robot.y >= ny_ - 1) return false;  // off map or on the border
   if (goal.x < 0 || goal.y < 0 || goal.x >= nx_ || goal.y >= ny_) return false;                  // off map
+  propagated_ = true;
   // clearRobotCell: the robot's cell is free (the border stays an obstacle, excluded above).
   if (cleared_cell_ >= 0) cells_[static_cast<std::size_t>(cleared_cell_)].cost = cleared_cost_;
   robot_ = static_cast<int>(index(robot.x, robot.y));

@@ -227,6 +227,32 @@ TEST(NavFnPlan, ImpassableOrWalledInGoalIsNotFound) {
   EXPECT_TRUE(planner.plan(map, {1.5, 3.5}, {9.5, 3.5}).found);    // around the box
 }
 
+TEST(NavFnPlan, ToleranceEndsThePlanAtTheNearestReachablePointAroundTheGoal) {
+  // NavfnROS default_tolerance. The box covers cells x 6-8, y 2-4, the walled-in goal (7.5, 3.5)
+  // its hole. At 1 m the grid of points 1 m apart (x and y 6.5 ... 8.5) is all box: no plan. At
+  // 2 m it reaches x 5.5 / 9.5 and y 1.5 / 5.5, outside the box; the nearest reachable points
+  // are 2 m away, and the first of them in NavFn's order (rows from y - 2 up, each from x - 2)
+  // is (7.5, 1.5).
+  const Costmap map = pictureMap({
+      "...........",
+      "...........",
+      "......###..",
+      "......#.#..",
+      "......###..",
+      "...........",
+      "...........",
+  });
+  PlannerConfig config = navfnConfig();
+  config.tolerance = 1.0;
+  EXPECT_FALSE(GlobalPlanner(config).plan(map, {1.5, 3.5}, {7.5, 3.5}).found);
+  config.tolerance = 2.0;
+  const Plan plan = GlobalPlanner(config).plan(map, {1.5, 3.5}, {7.5, 3.5});
+  ASSERT_TRUE(plan.found);
+  EXPECT_EQ(plan.path.back(), Eigen::Vector2d(7.5, 1.5));
+  // A reachable goal is the plan's end whatever the tolerance.
+  EXPECT_EQ(GlobalPlanner(config).plan(map, {1.5, 3.5}, {9.5, 3.5}).path.back(), Eigen::Vector2d(9.5, 3.5));
+}
+
 TEST(NavFnPlan, UnknownSpaceFollowsAllowUnknown) {
   // A never-seen map: every cell unknown (255) except the robot's, which NavfnROS clears.
   const Costmap map = emptyMap(20, 10, 1.0, true);

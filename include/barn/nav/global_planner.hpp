@@ -45,12 +45,17 @@ struct PlannerConfig {
   double neutral_cost = 50.0;  // cost of entering a free cell (navfn, dijkstra)
   double cost_factor = 0.8;    // weight of the costmap cost (navfn, dijkstra)
   int smoothing_window = 0;    // cells of moving-average smoothing (0 = raw cell path; dijkstra only)
+  // [m] NavfnROS default_tolerance (navfn only; ROS default, and BARN's, 0): when the goal
+  // cannot be reached, plan to the reachable point of a square grid of this half-width around
+  // it, one cell apart, that is nearest to the goal.
+  double tolerance = 0.0;
   PlannerAlgorithm algorithm = PlannerAlgorithm::Dijkstra;  // our choice (see the header comment)
   RosGlobalPlannerConfig global_planner;  // algorithm global_planner only, ROS names and defaults
 
   template <class V> void visit(V& v) {
     v("algorithm", algorithm); v("rate", rate); v("allow_unknown", allow_unknown); v("neutral_cost", neutral_cost);
-    v("cost_factor", cost_factor); v("smoothing_window", smoothing_window); v("global_planner", global_planner);
+    v("cost_factor", cost_factor); v("smoothing_window", smoothing_window); v("tolerance", tolerance);
+    v("global_planner", global_planner);
   }
 };
 

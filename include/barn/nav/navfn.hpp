@@ -58,6 +58,9 @@ class NavFn {
   /// False (and `points` partial) if the descent fails.
   bool extractPath(CellIndex goal, int max_steps, std::vector<Eigen::Vector2f>& points);
 
+  /// Whether the last propagate() propagated (false if it refused its robot or goal cell: the
+  /// potentials are then those of an earlier one).
+  bool propagated() const { return propagated_; }
   /// The potential of a cell after propagate() (kPotHigh if not reached).
   float potential(int x, int y) const { return cells_[index(x, y)].pot; }
   int width() const { return nx_; }
@@ -73,6 +76,7 @@ class NavFn {
   void gradCell(int n);
 
   bool allow_unknown_;
+  bool propagated_ = false;
   float neutral_;
   std::vector<int> cost_lut_;    // NavFn cost by costmap cost (256 entries)
   std::vector<float> edge_lut_;  // INVSQRT2 * NavFn cost, by NavFn cost (256 entries)
