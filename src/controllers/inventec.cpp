@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "inventec_safety.hpp"
+
 namespace barn::controllers {
 
 std::span<const std::string_view> enumNames(SafetyCheck) {
@@ -11,10 +13,32 @@ std::span<const std::string_view> enumNames(SafetyCheck) {
   return kNames;
 }
 
+std::span<const std::string_view> enumNames(InventecVariant) {
+  static constexpr std::string_view kNames[] = {"code", "paper"};
+  return kNames;
+}
+
 namespace {
 double degrees(double d) { return d * std::numbers::pi / 180.0; }
 constexpr std::uint64_t kWiggleStream = 0x57169;  // sub-stream of the episode seed for the Wiggle
+// The breadcrumb BackTrack reverses to lies behind the robot: the robot within this angle of
+// straight ahead of it, seen along the robot's heading (code and paper).
+constexpr double kBreadcrumbConeDeg = 60.0;
 }  // namespace
+
+InventecRules InventecRules::of(const InventecConfig& config) {
+  const bool code = config.variant == InventecVariant::Code;
+  InventecRules rules;
+  rules.start_in_lflh = code;
+  rules.wiggle_on_rear_block = code;
+  rules.forward_backs_off = code;
+  rules.check_raw_command = code;
+  rules.code_path_cues = code;
+  rules.code_turn_checks = code;
+  rules.heading_limit = degrees(config.heading_limit_deg);
+  rules.heading_tolerance = degrees(config.heading_tolerance_deg);
+  return rules;
+}
 
 std::string_view toString(InventecState state) {
   switch (state) {
@@ -29,7 +53,6 @@ std::string_view toString(InventecState state) {
 }
 
 void validate(const InventecConfig& c, core::Errors& errors, const std::string& prefix) {
-  errors.check(c.variant == "code" || c.variant == "paper", prefix + ".variant", "must be code or paper");
   errors.check(!c.policy.empty(), prefix + ".policy", "must name a policy file");
   errors.check(c.rate > 0.0, prefix + ".rate", "must be > 0");
   errors.check(c.max_speed > 0.0, prefix + ".max_speed", "must be > 0");
@@ -76,22 +99,22 @@ void validate(const InventecConfig& c, core::Errors& errors, const std::string& 
   nav::validate(c.nav, errors, prefix + ".nav");
 }
 
-InventecState nextInventecState(InventecState state, const InventecInputs& in, const InventecConfig& config) {
+InventecState nextInventecState(InventecState state, const InventecInputs& in, const InventecRules& rules) {
   switch (state) {
     case InventecState::Initial:
       if (!in.has_path) return InventecState::Initial;
       // The code starts in LfLH; the paper turns toward the path first.
-      return config.codeVariant() ? InventecState::Lflh : InventecState::HardTurn;
+      return rules.start_in_lflh ? InventecState::Lflh : InventecState::HardTurn;
     case InventecState::Lflh:
       if (in.command_unsafe) return InventecState::BackTrack;
-      if (std::abs(in.heading_error) > degrees(config.heading_limit_deg)) return InventecState::HardTurn;
+      if (std::abs(in.heading_error) > rules.heading_limit) return InventecState::HardTurn;
       return InventecState::Lflh;
     case InventecState::HardTurn:
       if (in.rotation_unsafe) return InventecState::BackTrack;
-      if (std::abs(in.heading_error) < degrees(config.heading_tolerance_deg)) return InventecState::Lflh;
+      if (std::abs(in.heading_error) < rules.heading_tolerance) return InventecState::Lflh;
       return InventecState::HardTurn;
     case InventecState::BackTrack:
-      if (in.rear_blocked) return config.codeVariant() ? InventecState::Wiggle : InventecState::Forward;
+      if (in.rear_blocked) return rules.wiggle_on_rear_block ? InventecState::Wiggle : InventecState::Forward;
       if (in.backtrack_done) return InventecState::HardTurn;
       return InventecState::BackTrack;
     case InventecState::Wiggle:
@@ -140,33 +163,15 @@ double wiggleTarget(double yaw, double path_direction, double min_angle, double 
 }
 
 InventecController::InventecController(const InventecConfig& config, std::shared_ptr<const learning::Policy> policy)
-    : config_(config), policy_(std::move(policy)), nav_(config.nav) {}
+    : config_(config), rules_(InventecRules::of(config)), policy_(std::move(policy)), nav_(config.nav) {}
+
+InventecController::~InventecController() = default;
 
 void InventecController::reset(const EpisodeInfo& info) {
   info_ = info;
   // The checks size the robot by its planning footprint (0.508 x 0.43, the paper's and the code's).
-  footprint_ = core::Rect::centred(info.robot.footprint_length, info.robot.footprint_width);
+  safety_ = makeInventecSafety(config_, rules_, info);
   roi_box_ = core::Rect::centred(config_.roi_length, config_.roi_width);
-  const InventecSafetyConfig& s = config_.safety;
-  front_.front_angle = degrees(s.front_angle_deg);
-  front_.half_width = info.robot.footprint_width / 2;
-  front_.half_length = info.robot.footprint_length / 2;
-  front_.pad_x = s.front_pad_x;
-  front_.pad_front = s.front_pad_y;
-  front_.speed_gain = s.front_speed_gain;
-  front_.rotate_gain = s.front_rotate_gain;
-  rotate_.body = footprint_;
-  rotate_.rotate_gain = s.front_rotate_gain;
-  rotate_.rear_centre = s.rear_strip_centre;
-  rotate_.rear_depth = s.rear_strip_depth;
-  rotate_.rear_width = s.rear_strip_width;
-  rotate_.rear_weight = config_.rear_weight;
-  // The code's final-pose rollout (`_bch_safety_check`), as it computed it: beams against the
-  // L1 length of 40 points on the 0.42 x 0.33 rectangle (safety_checks.hpp).
-  final_pose_.rectangle = core::Rect::centred(s.rollout_length, s.rollout_width);
-  final_pose_.tolerance = s.rollout_tolerance;
-  final_pose_.dt = s.rollout_dt;
-  final_pose_.steps = s.rollout_steps;
   nav_.reset(info.goal);
   rng_ = core::Rng(core::mixSeed(info.seed, kWiggleStream));
   state_ = InventecState::Initial;
@@ -180,61 +185,6 @@ core::Twist InventecController::turnToward(double error) const {
   double w = std::clamp(config_.heading_gain * error, -config_.max_turn_rate, config_.max_turn_rate);
   if (std::abs(w) < config_.min_turn_rate) w = std::copysign(config_.min_turn_rate, error);
   return {0.0, w};
-}
-
-bool InventecController::commandUnsafe(const std::vector<Eigen::Vector2d>& points, const core::LaserScan& scan,
-                                       const core::Twist& command) const {
-  const InventecSafetyConfig& s = config_.safety;
-  if (s.type == SafetyCheck::Front) {
-    return beamRolloutHit(scan, command, final_pose_) || frontCheckHit(scan, info_.lidar, beams_, command, front_);
-  }
-  if (s.type == SafetyCheck::Mpc) {
-    return rolloutHit(points, footprint_.grownBy(s.mpc_offset), command, s.mpc_dt, s.mpc_steps);
-  }
-  if (s.type == SafetyCheck::Fi) {
-    // The paper's static check: nothing inside the grown rectangle, all around.
-    return footprintInflationHit(points, footprint_.grownBy(s.fi_offset));
-  }
-  return false;
-}
-
-bool InventecController::frontUnsafe(const std::vector<Eigen::Vector2d>& points, const core::LaserScan& scan,
-                                     const core::Twist& command) const {
-  // The code's Forward looks at the front check only (simulation) or the rollout (real world).
-  if (config_.safety.type == SafetyCheck::Front) return frontCheckHit(scan, info_.lidar, beams_, command, front_);
-  return commandUnsafe(points, scan, command);
-}
-
-bool InventecController::rotationUnsafe(const std::vector<Eigen::Vector2d>& points, const core::LaserScan& scan,
-                                        const core::Pose2& pose, const core::Twist& turn) const {
-  const InventecSafetyConfig& s = config_.safety;
-  if (s.type == SafetyCheck::Front) return beamRolloutHit(scan, turn, final_pose_);
-  if (s.type == SafetyCheck::Mpc) {
-    const core::Rect body = footprint_.grownBy(s.mpc_offset);
-    if (!s.mpc_costmap_turns) return rolloutHit(points, body, turn, s.mpc_dt, s.mpc_steps);
-    // Only cells the rolled-out footprint can reach: its farthest corner, plus the drive.
-    const double reach = body.farthestCornerDistance() + std::abs(turn.linear) * s.mpc_dt * s.mpc_steps;
-    return rolloutHit(inscribedCellPoints(nav_.localCostmap(), pose, reach), body, turn, s.mpc_dt, s.mpc_steps);
-  }
-  if (s.type == SafetyCheck::Fi) {
-    return rolloutHit(points, footprint_, turn, s.rollout_dt, s.rollout_steps);
-  }
-  return false;
-}
-
-bool InventecController::rotateCheckFires(const std::vector<Eigen::Vector2d>& points, const core::Pose2& pose,
-                                          const core::Twist& turn) const {
-  return config_.codeVariant() && config_.safety.type == SafetyCheck::Front && config_.safety.rotate_check &&
-         rotateCheckHit(points, nav_.localCostmap(), pose, turn.angular, rotate_);
-}
-
-bool InventecController::alignmentAborted(const std::vector<Eigen::Vector2d>& points, const core::LaserScan& scan,
-                                          const core::Pose2& pose, const core::Twist& turn) const {
-  if (config_.safety.type == SafetyCheck::None) return false;
-  // The code's aligning turns (BackTrack, Wiggle) stop on the rotate check's flag alone.
-  if (config_.codeVariant() && config_.safety.type == SafetyCheck::Front && config_.safety.rotate_check)
-    return rotateCheckFires(points, pose, turn);
-  return rotationUnsafe(points, scan, pose, turn);
 }
 
 core::Twist InventecController::shape(const core::Twist& raw, const core::LaserScan& scan) const {
@@ -265,7 +215,7 @@ void InventecController::enter(InventecState state, const core::Pose2& pose, dou
     for (std::size_t k = breadcrumbs_.size(); k-- > 0;) {
       const Eigen::Vector2d away = pose.position() - breadcrumbs_[k];
       if (away.norm() < config_.backtrack_distance) continue;
-      if (away.normalized().dot(heading) < std::cos(degrees(60.0))) continue;
+      if (away.normalized().dot(heading) < std::cos(degrees(kBreadcrumbConeDeg))) continue;
       backtrack_target_ = breadcrumbs_[k];
       breadcrumbs_.resize(k);
       break;
@@ -283,7 +233,7 @@ PathCues InventecController::pathCues(const core::Pose2& pose) const {
   PathCues cues;
   if (!nav_.hasPath()) return cues;
   const nav::Path& path = nav_.path();
-  if (!config_.codeVariant()) {
+  if (!rules_.code_path_cues) {
     cues.path_direction = nav::headingError(path, pose, config_.path_direction_distance);
     cues.goal_direction = localGoalDirection(path, pose, config_.local_goal_distance);
     return cues;
@@ -295,40 +245,35 @@ PathCues InventecController::pathCues(const core::Pose2& pose) const {
   return codePathCues(nav::pathInRobotFrame(ahead, pose), config_.local_goal_distance, config_.path_direction_distance);
 }
 
-core::Twist InventecController::lflhCommand(const core::LaserScan& scan, const std::vector<Eigen::Vector2d>& points,
-                                            const Eigen::Vector2d& goal_direction, InventecInputs& in) const {
-  const core::Twist raw = policy_->act(scan, goal_direction);
-  if (config_.codeVariant()) {
+core::Twist InventecController::lflhCommand(const SafetyScene& scene, const Eigen::Vector2d& goal_direction,
+                                            InventecInputs& in) const {
+  const core::Twist raw = policy_->act(scene.scan, goal_direction);
+  if (rules_.check_raw_command) {
     // The code checks the network's command and shapes the speed when publishing.
-    in.command_unsafe = commandUnsafe(points, scan, raw);
-    return shape(raw, scan);
+    in.command_unsafe = safety_->commandUnsafe(scene, raw);
+    return shape(raw, scene.scan);
   }
   const core::Twist command{std::clamp(raw.linear, -config_.max_speed, config_.max_speed),
                             std::clamp(raw.angular, -config_.max_turn_rate, config_.max_turn_rate)};
-  in.command_unsafe = commandUnsafe(points, scan, command);
+  in.command_unsafe = safety_->commandUnsafe(scene, command);
   return command;
 }
 
-core::Twist InventecController::hardTurnCommand(const core::LaserScan& scan, const std::vector<Eigen::Vector2d>& points,
-                                                const core::Pose2& pose, InventecInputs& in) const {
+core::Twist InventecController::hardTurnCommand(const SafetyScene& scene, InventecInputs& in) const {
   const core::Twist command = turnToward(in.heading_error);
-  const InventecSafetyConfig& s = config_.safety;
-  in.rotation_unsafe = s.type != SafetyCheck::None &&
-                       (rotationUnsafe(points, scan, pose, command) ||
-                        (config_.codeVariant() && s.ring && ringHit(scan, s.ring_front, s.ring_edge)) ||
-                        rotateCheckFires(points, pose, command));
+  in.rotation_unsafe = safety_->turnUnsafe(scene, command);
   return command;
 }
 
-core::Twist InventecController::backTrackCommand(const core::LaserScan& scan, const std::vector<Eigen::Vector2d>& points,
-                                                 const core::Pose2& pose, InventecInputs& in) {
+core::Twist InventecController::backTrackCommand(const SafetyScene& scene, InventecInputs& in) {
+  const core::Pose2& pose = scene.pose;
   core::Twist command;
   if (!aligned_) {
     // Turn the rear toward the target; an unsafe turn ends the alignment early.
     const Eigen::Vector2d away = pose.position() - backtrack_target_;
     const double error = core::wrapAngle(std::atan2(away.y(), away.x()) - pose.yaw);
     command = turnToward(error);
-    if (std::abs(error) <= degrees(config_.align_tolerance_deg) || alignmentAborted(points, scan, pose, command)) {
+    if (std::abs(error) <= degrees(config_.align_tolerance_deg) || safety_->alignmentAborted(scene, command)) {
       aligned_ = true;
       reverse_start_ = pose.position();
       reversed_ = 0.0;
@@ -352,20 +297,18 @@ core::Twist InventecController::backTrackCommand(const core::LaserScan& scan, co
   return {-config_.backtrack_speed, 0.0};
 }
 
-core::Twist InventecController::wiggleCommand(const core::LaserScan& scan, const std::vector<Eigen::Vector2d>& points,
-                                              const core::Pose2& pose, InventecInputs& in) const {
-  const double error = core::wrapAngle(wiggle_target_ - pose.yaw);
+core::Twist InventecController::wiggleCommand(const SafetyScene& scene, InventecInputs& in) const {
+  const double error = core::wrapAngle(wiggle_target_ - scene.pose.yaw);
   const core::Twist command = turnToward(error);
-  in.wiggle_done = std::abs(error) <= degrees(config_.align_tolerance_deg) || alignmentAborted(points, scan, pose, command);
+  in.wiggle_done = std::abs(error) <= degrees(config_.align_tolerance_deg) || safety_->alignmentAborted(scene, command);
   return command;
 }
 
-core::Twist InventecController::forwardCommand(const core::LaserScan& scan, const std::vector<Eigen::Vector2d>& points,
-                                               double time, InventecInputs& in) const {
+core::Twist InventecController::forwardCommand(const SafetyScene& scene, double time, InventecInputs& in) const {
   const double turn_sign = in.heading_error >= 0.0 ? 1.0 : -1.0;
   core::Twist command{config_.forward_speed, turn_sign * config_.forward_turn_rate};
-  const bool unsafe = config_.safety.type != SafetyCheck::None && frontUnsafe(points, scan, command);
-  if (config_.codeVariant()) {
+  const bool unsafe = safety_->forwardUnsafe(scene, command);
+  if (rules_.forward_backs_off) {
     if (unsafe) command.linear = -config_.forward_speed;  // the code backs off with the same turn
   } else {
     in.forward_unsafe = unsafe;
@@ -379,6 +322,7 @@ core::Twist InventecController::act(const Observation& obs) {
   const core::LaserScan& scan = *obs.scan;
   nav_.update(obs.time, scan, info_.lidar.sensorPose(obs.scan_odom_pose), pose);
   const std::vector<Eigen::Vector2d> points = scanPoints(scan, info_.lidar, beams_);
+  const SafetyScene scene{scan, points, pose, nav_};
   const PathCues cues = pathCues(pose);
   InventecInputs in;
   in.has_path = nav_.hasPath();
@@ -388,13 +332,13 @@ core::Twist InventecController::act(const Observation& obs) {
   core::Twist command;
   switch (state_) {
     case InventecState::Initial: break;
-    case InventecState::Lflh: command = lflhCommand(scan, points, cues.goal_direction, in); break;
-    case InventecState::HardTurn: command = hardTurnCommand(scan, points, pose, in); break;
-    case InventecState::BackTrack: command = backTrackCommand(scan, points, pose, in); break;
-    case InventecState::Wiggle: command = wiggleCommand(scan, points, pose, in); break;
-    case InventecState::Forward: command = forwardCommand(scan, points, obs.time, in); break;
+    case InventecState::Lflh: command = lflhCommand(scene, cues.goal_direction, in); break;
+    case InventecState::HardTurn: command = hardTurnCommand(scene, in); break;
+    case InventecState::BackTrack: command = backTrackCommand(scene, in); break;
+    case InventecState::Wiggle: command = wiggleCommand(scene, in); break;
+    case InventecState::Forward: command = forwardCommand(scene, obs.time, in); break;
   }
-  const InventecState next = nextInventecState(state_, in, config_);
+  const InventecState next = nextInventecState(state_, in, rules_);
   if (next != state_) {
     enter(next, pose, obs.time, in.heading_error);
     return {};  // every transition stops the robot for one tick, as the original publishes (0, 0)

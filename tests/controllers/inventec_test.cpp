@@ -18,12 +18,12 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 InventecConfig codeConfig() { return InventecConfig{}; }
 InventecConfig paperConfig() {
   InventecConfig c;
-  c.variant = "paper";
+  c.variant = InventecVariant::Paper;
   c.heading_tolerance_deg = 30.0;
   return c;
 }
 InventecState next(InventecState s, InventecInputs in, const InventecConfig& c = codeConfig()) {
-  return nextInventecState(s, in, c);
+  return nextInventecState(s, in, InventecRules::of(c));
 }
 
 // ---- The code's state machine: every edge ----

@@ -49,6 +49,10 @@ namespace barn::controllers {
 enum class InventecState { Initial, Lflh, HardTurn, BackTrack, Wiggle, Forward };
 std::string_view toString(InventecState state);
 
+/// Which state machine runs (see the header comment).
+enum class InventecVariant { Code, Paper };
+std::span<const std::string_view> enumNames(InventecVariant);
+
 /// What the Inventec controller checks a command against. front: the simulation code's front
 /// check + final-pose rollout; mpc: the real-world code's rollout checking every pose; fi: the
 /// paper's static footprint inflation; none.
@@ -101,7 +105,7 @@ struct InventecSafetyConfig {
 };
 
 struct InventecConfig {
-  std::string variant = "code";        // code | paper (see the header comment)
+  InventecVariant variant = InventecVariant::Code;  // code | paper (see the header comment)
   std::string policy = "configs/policies/lflh_1ms.policy";  // paper and code: the 1 m/s LfLH model
   double rate = 25.0;                  // [Hz] code: recovery loops step 0.04 s (its main loop runs at 30 Hz)
   double max_speed = 0.7;              // [m/s] paper and code: clip 0.7 m/s
@@ -166,8 +170,6 @@ struct InventecConfig {
     return c;
   }
 
-  bool codeVariant() const { return variant == "code"; }
-
   template <class V> void visit(V& v) {
     v("variant", variant); v("policy", policy); v("rate", rate); v("max_speed", max_speed);
     v("max_turn_rate", max_turn_rate); v("boost", boost); v("boost_threshold", boost_threshold);
@@ -186,6 +188,20 @@ struct InventecConfig {
 };
 void validate(const InventecConfig& config, core::Errors& errors, const std::string& prefix);
 
+/// What the variant decides, resolved once: the state machine's edges and the rules of the
+/// states' commands that differ between the team's code and its paper.
+struct InventecRules {
+  bool start_in_lflh = true;         // code: Initial -> LfLH; paper: Initial -> HardTurn (Heading)
+  bool wiggle_on_rear_block = true;  // code: a blocked rear -> Wiggle; paper: -> Forward
+  bool forward_backs_off = true;     // code: an unsafe Forward nudge reverses; paper: -> BackTrack
+  bool check_raw_command = true;     // code: the policy's command is checked, then shaped; paper: clipped, then checked
+  bool code_path_cues = true;        // code: codePathCues on the path ahead; paper: a look-ahead point
+  bool code_turn_checks = true;      // code: the LiDAR ring and the rotate check also abort turns in place
+  double heading_limit = 0.0;        // [rad] LfLH -> HardTurn beyond this path direction
+  double heading_tolerance = 0.0;    // [rad] HardTurn -> LfLH within it
+  static InventecRules of(const InventecConfig& config);
+};
+
 /// What the transition function looks at; every flag is computed by the controller from the
 /// observation and the checks of the current state only.
 struct InventecInputs {
@@ -201,7 +217,7 @@ struct InventecInputs {
 };
 
 /// The state machine's transitions (see the header comment), as one pure function.
-InventecState nextInventecState(InventecState state, const InventecInputs& in, const InventecConfig& config);
+InventecState nextInventecState(InventecState state, const InventecInputs& in, const InventecRules& rules);
 
 /// The code's local goal and path direction, from the path in the robot frame (x forward):
 /// start = the first path point, or the robot if that point is within 0.05 m.
@@ -219,9 +235,13 @@ PathCues codePathCues(const nav::Path& local_path, double goal_distance, double 
 /// uniformly from 0..choices-1; side = +1 if path_direction >= 0, else -1.
 double wiggleTarget(double yaw, double path_direction, double min_angle, double span, int choices, core::Rng& rng);
 
+class InventecSafety;
+struct SafetyScene;
+
 class InventecController : public Controller {
  public:
   InventecController(const InventecConfig& config, std::shared_ptr<const learning::Policy> policy);
+  ~InventecController() override;
   void reset(const EpisodeInfo& info) override;
   core::Twist act(const Observation& observation) override;
   double period() const override { return 1.0 / config_.rate; }
@@ -231,46 +251,29 @@ class InventecController : public Controller {
   InventecState state() const { return state_; }
 
  private:
-  bool commandUnsafe(const std::vector<Eigen::Vector2d>& points, const core::LaserScan& scan,
-                     const core::Twist& command) const;
-  bool frontUnsafe(const std::vector<Eigen::Vector2d>& points, const core::LaserScan& scan,
-                   const core::Twist& command) const;
-  bool rotationUnsafe(const std::vector<Eigen::Vector2d>& points, const core::LaserScan& scan, const core::Pose2& pose,
-                      const core::Twist& turn) const;
-  bool rotateCheckFires(const std::vector<Eigen::Vector2d>& points, const core::Pose2& pose,
-                        const core::Twist& turn) const;
-  bool alignmentAborted(const std::vector<Eigen::Vector2d>& points, const core::LaserScan& scan, const core::Pose2& pose,
-                        const core::Twist& turn) const;
   core::Twist shape(const core::Twist& raw, const core::LaserScan& scan) const;
   /// The path direction and the local goal the state machine and the policy steer by.
   PathCues pathCues(const core::Pose2& pose) const;
   // Each state's command for this tick; each fills the inputs its transitions read.
-  core::Twist lflhCommand(const core::LaserScan& scan, const std::vector<Eigen::Vector2d>& points,
-                          const Eigen::Vector2d& goal_direction, InventecInputs& in) const;
-  core::Twist hardTurnCommand(const core::LaserScan& scan, const std::vector<Eigen::Vector2d>& points,
-                              const core::Pose2& pose, InventecInputs& in) const;
-  core::Twist backTrackCommand(const core::LaserScan& scan, const std::vector<Eigen::Vector2d>& points,
-                               const core::Pose2& pose, InventecInputs& in);
-  core::Twist wiggleCommand(const core::LaserScan& scan, const std::vector<Eigen::Vector2d>& points,
-                            const core::Pose2& pose, InventecInputs& in) const;
-  core::Twist forwardCommand(const core::LaserScan& scan, const std::vector<Eigen::Vector2d>& points, double time,
-                             InventecInputs& in) const;
+  core::Twist lflhCommand(const SafetyScene& scene, const Eigen::Vector2d& goal_direction, InventecInputs& in) const;
+  core::Twist hardTurnCommand(const SafetyScene& scene, InventecInputs& in) const;
+  core::Twist backTrackCommand(const SafetyScene& scene, InventecInputs& in);
+  core::Twist wiggleCommand(const SafetyScene& scene, InventecInputs& in) const;
+  core::Twist forwardCommand(const SafetyScene& scene, double time, InventecInputs& in) const;
   void enter(InventecState state, const core::Pose2& pose, double time, double path_direction);
   core::Twist turnToward(double error) const;
 
   InventecConfig config_;
+  InventecRules rules_;
   std::shared_ptr<const learning::Policy> policy_;
   nav::NavStack nav_;
   EpisodeInfo info_;
+  std::unique_ptr<InventecSafety> safety_;   // the check config_.safety.type names, made at reset()
   core::Rng rng_{0};                         // the Wiggle's draws, seeded from the episode seed
   InventecState state_ = InventecState::Initial;
-  core::Rect footprint_;                            // the planning footprint (info.robot: 0.508 x 0.43)
-  core::Rect roi_box_;                              // the box the BackTrack strip extends (roi_length x roi_width)
-  FrontCheck front_;
-  RotateCheck rotate_;
-  BeamRollout final_pose_;
+  core::Rect roi_box_;                       // the box the BackTrack strip extends (roi_length x roi_width)
   std::vector<Eigen::Vector2d> breadcrumbs_;  // odom positions driven in LfLH
-  mutable core::BeamDirections beams_;       // a cache of the scan's beam directions (scanPoints, front check)
+  core::BeamDirections beams_;               // a cache of the scan's beam directions (scanPoints)
   Eigen::Vector2d backtrack_target_ = Eigen::Vector2d::Zero();
   bool aligned_ = false;                     // BackTrack: rear faces the target, reversing
   Eigen::Vector2d reverse_start_ = Eigen::Vector2d::Zero();
