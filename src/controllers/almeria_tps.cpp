@@ -238,7 +238,36 @@ std::span<const std::string_view> enumNames(AlmeriaTpsState) {
   return kNames;
 }
 
+std::span<const std::string_view> enumNames(AlmeriaTarget) {
+  static constexpr std::string_view kNames[] = {"plan_waypoints", "goal"};
+  return kNames;
+}
+
+std::vector<Eigen::Vector2d> planWaypoints(const std::vector<Eigen::Vector2d>& plan, const Eigen::Vector2d& goal,
+                                           double spacing) {
+  std::vector<Eigen::Vector2d> waypoints;
+  double walked = 0.0, next = spacing;
+  for (std::size_t i = 1; i < plan.size(); ++i) {
+    walked += (plan[i] - plan[i - 1]).norm();
+    if (walked < next) continue;
+    waypoints.push_back(plan[i]);
+    while (next <= walked) next += spacing;
+  }
+  if (!waypoints.empty() && (waypoints.back() - goal).norm() < 0.5 * spacing) waypoints.pop_back();
+  waypoints.push_back(goal);
+  return waypoints;
+}
+
+nav::NavStackConfig AlmeriaTpsConfig::almeriaNav() {
+  nav::NavStackConfig c = nav::NavStackConfig::moveBaseWithNavFn();
+  c.planner.rate = 1.0;
+  return c;
+}
+
 void validate(const AlmeriaTpsConfig& c, core::Errors& errors, const std::string& prefix) {
+  errors.check(c.waypoint_spacing > 0.0, prefix + ".waypoint_spacing", "must be > 0");
+  errors.check(c.min_timesteps_confirm_skip_waypoints >= 0, prefix + ".min_timesteps_confirm_skip_waypoints",
+               "must be >= 0");
   errors.check(c.nav_period > 0.0, prefix + ".nav_period", "must be > 0");
   errors.check(c.target_allowed_distance >= 0.0, prefix + ".target_allowed_distance", "must be >= 0");
   errors.check(c.not_approaching_timeout > 0.0, prefix + ".not_approaching_timeout", "must be > 0");
@@ -250,10 +279,14 @@ void validate(const AlmeriaTpsConfig& c, core::Errors& errors, const std::string
   errors.check(c.speedfilter_tau >= 0.0, prefix + ".speedfilter_tau", "must be >= 0");
   validate(c.ptg, errors, prefix + ".ptg");
   validate(c.full_eval, errors, prefix + ".full_eval");
+  nav::validate(c.nav, errors, prefix + ".nav");
 }
 
 AlmeriaTpsController::AlmeriaTpsController(const AlmeriaTpsConfig& config, std::shared_ptr<const ArcPtg> ptg)
-    : config_(config), ptg_(ptg ? std::move(ptg) : std::make_shared<const ArcPtg>(config.ptg)), full_eval_(config.full_eval) {
+    : config_(config),
+      ptg_(ptg ? std::move(ptg) : std::make_shared<const ArcPtg>(config.ptg)),
+      full_eval_(config.full_eval),
+      nav_(config.nav) {
   unlooped_.resize(static_cast<std::size_t>(ptg_->pathCount()));
   for (int k = 0; k < ptg_->pathCount(); ++k)
     unlooped_[static_cast<std::size_t>(k)] = ptg_->pathLength(k) / ptg_->refDistance();
@@ -262,11 +295,18 @@ AlmeriaTpsController::AlmeriaTpsController(const AlmeriaTpsConfig& config, std::
 void AlmeriaTpsController::reset(const EpisodeInfo& info) {
   info_ = info;
   full_eval_.reset();
+  nav_.reset(info.goal);
   state_ = AlmeriaTpsState::Navigating;
   have_previous_ = false;
   previous_position_ = Eigen::Vector2d::Zero();
-  min_goal_distance_ = std::numeric_limits<double>::infinity();
-  min_goal_time_ = 0.0;
+  waypoints_.assign(1, info.goal);
+  sightings_.assign(1, 0);
+  reached_ = 0;
+  current_ = -1;
+  plans_taken_ = 0;
+  have_tp_ = false;
+  min_target_distance_ = std::numeric_limits<double>::infinity();
+  min_target_time_ = 0.0;
   last_command_ = {};
   choice_ = {};
   points_.clear();
@@ -279,29 +319,84 @@ core::Twist AlmeriaTpsController::stop(AlmeriaTpsState state) {
   return {};
 }
 
+bool AlmeriaTpsController::reachable(const Eigen::Vector2d& local) const {
+  if (!have_tp_) return false;
+  const TpPoint tp = ptg_->inverseMap(local);
+  return tp.exact && tp_obstacles_[static_cast<std::size_t>(tp.k)] > 1.01 * tp.distance / ptg_->refDistance();
+}
+
+bool AlmeriaTpsController::stepWaypoints(const Observation& obs) {
+  const Eigen::Vector2d position = obs.odom_pose.position();
+  const Eigen::Vector2d from = have_previous_ ? previous_position_ : position;
+  previous_position_ = position;
+  have_previous_ = true;
+  const int last = static_cast<int>(waypoints_.size()) - 1;
+  const int before = current_;
+  // Reached: the last move passed within the allowed distance.
+  if (current_ >= 0) {
+    const Eigen::Vector2d move = position - from;
+    const Eigen::Vector2d& wp = waypoints_[static_cast<std::size_t>(current_)];
+    const double s = move.squaredNorm() > 0.0 ? std::clamp((wp - from).dot(move) / move.squaredNorm(), 0.0, 1.0) : 0.0;
+    if ((from + s * move - wp).norm() < config_.target_allowed_distance) {
+      if (current_ == last) return false;
+      reached_ = ++current_;
+    }
+  }
+  // Skip ahead to the farthest waypoint seen reachable often enough (from the second tick of a
+  // sequence: on its first there is no current waypoint yet).
+  const core::PoseFrame robot(obs.odom_pose);
+  int most_advanced = current_;
+  for (int i = current_ < 0 ? last + 1 : reached_; i <= last; ++i) {
+    const Eigen::Vector2d local = robot.toLocal(waypoints_[static_cast<std::size_t>(i)]);
+    if (config_.max_distance_to_allow_skip_waypoint > 0.0 && local.norm() > config_.max_distance_to_allow_skip_waypoint)
+      continue;
+    if (reachable(local) && ++sightings_[static_cast<std::size_t>(i)] > config_.min_timesteps_confirm_skip_waypoints)
+      most_advanced = i;
+  }
+  if (most_advanced > current_) {
+    current_ = most_advanced;
+    reached_ = current_;
+  }
+  if (current_ < 0) current_ = 0;
+  if (current_ != before) {
+    // A new target: CAbstractNavigator restarts its not-approaching alarm.
+    min_target_distance_ = std::numeric_limits<double>::infinity();
+    min_target_time_ = obs.time;
+  }
+  return true;
+}
+
 core::Twist AlmeriaTpsController::act(const Observation& obs) {
   if (state_ == AlmeriaTpsState::Reached || state_ == AlmeriaTpsState::Aborted) return {};
   const core::Pose2& pose = obs.odom_pose;
+  const core::LaserScan& scan = *obs.scan;
 
-  // 1. Target reached (the last move passed near it) or not approached for too long.
-  const Eigen::Vector2d position = pose.position();
-  const Eigen::Vector2d from = have_previous_ ? previous_position_ : position;
-  const Eigen::Vector2d move = position - from;
-  const double s = move.squaredNorm() > 0.0 ? std::clamp((obs.goal - from).dot(move) / move.squaredNorm(), 0.0, 1.0) : 0.0;
-  const double goal_distance = (from + s * move - obs.goal).norm();
-  previous_position_ = position;
-  have_previous_ = true;
-  if (goal_distance < config_.target_allowed_distance) return stop(AlmeriaTpsState::Reached);
-  if (goal_distance < min_goal_distance_) {
-    min_goal_distance_ = goal_distance;
-    min_goal_time_ = obs.time;
-  } else if (obs.time - min_goal_time_ > config_.not_approaching_timeout) {
+  // 0. Waypoints: a new plan is a new sequence.
+  if (config_.target == AlmeriaTarget::PlanWaypoints) {
+    nav_.update(obs.time, scan, info_.lidar.sensorPose(obs.scan_odom_pose), pose);
+    if (nav_.plansMade() != plans_taken_ && nav_.lastPlanFound() && nav_.hasPath()) {
+      plans_taken_ = nav_.plansMade();
+      waypoints_ = planWaypoints(nav_.path(), info_.goal, config_.waypoint_spacing);
+      sightings_.assign(waypoints_.size(), 0);
+      reached_ = 0;
+      current_ = -1;
+    }
+  }
+  if (!stepWaypoints(obs)) return stop(AlmeriaTpsState::Reached);
+  const Eigen::Vector2d target_odom = waypoints_[static_cast<std::size_t>(current_)];
+  const bool final_target = current_ + 1 == static_cast<int>(waypoints_.size());
+
+  // 1. The not-approaching alarm.
+  const double target_distance = (target_odom - pose.position()).norm();
+  if (target_distance < min_target_distance_) {
+    min_target_distance_ = target_distance;
+    min_target_time_ = obs.time;
+  } else if (obs.time - min_target_time_ > config_.not_approaching_timeout) {
     return stop(AlmeriaTpsState::Aborted);
   }
 
   // 2. Obstacle points in the robot frame.
   points_.clear();
-  const core::LaserScan& scan = *obs.scan;
   const core::PoseFrame sensor(info_.lidar.sensorPose(obs.scan_odom_pose));
   const core::PoseFrame robot(pose);
   for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
@@ -311,8 +406,12 @@ core::Twist AlmeriaTpsController::act(const Observation& obs) {
     points_.push_back(robot.toLocal(sensor.toParent({r * std::cos(a), r * std::sin(a)})));
   }
 
+  // 4. TP-obstacles (kept for the next tick's waypoint sightings).
+  ptg_->tpObstacles(points_, tp_obstacles_);
+  have_tp_ = true;
+
   // 3. The target in TP-space.
-  const Eigen::Vector2d target = pose.inverseTransform(obs.goal);
+  const Eigen::Vector2d target = robot.toLocal(target_odom);
   const TpPoint tp = ptg_->inverseMap(target);
   if (!tp.exact) {
     choice_ = {};
@@ -321,21 +420,21 @@ core::Twist AlmeriaTpsController::act(const Observation& obs) {
   const double ref = ptg_->refDistance();
   const double target_alpha = ptg_->alpha(tp.k);
   TpSpaceInput input;
-  input.target = tp.distance / ref * Eigen::Vector2d(std::cos(target_alpha), std::sin(target_alpha));
-  input.ref_distance = ref;
-
-  // 4. TP-obstacles; 5. FullEval.
-  ptg_->tpObstacles(points_, tp_obstacles_);
   input.obstacles = tp_obstacles_;
   input.unlooped = unlooped_;
+  input.target = tp.distance / ref * Eigen::Vector2d(std::cos(target_alpha), std::sin(target_alpha));
+  input.ref_distance = ref;
+  input.slow_down_at_target = final_target;
+
+  // 5. FullEval.
   choice_ = full_eval_.navigate(input);
   if (choice_.direction < 0) return stop(AlmeriaTpsState::NoWay);
 
-  // 6. Speed: the secure-distance ramp, then the Euclidean target slow-down.
+  // 6. Speed: the secure-distance ramp, then the target slow-down (last waypoint only).
   const auto k = static_cast<std::size_t>(choice_.direction);
   double speed = choice_.speed * secureDistanceScale(tp_obstacles_[k], config_.secure_distance_start,
                                                       config_.secure_distance_end);
-  speed = std::min(speed, target.norm() / config_.full_eval.target_slow_approaching_distance);
+  if (final_target) speed = std::min(speed, target.norm() / config_.full_eval.target_slow_approaching_distance);
   if (speed <= 0.0) return stop(AlmeriaTpsState::NoWay);
 
   // 7. Path k's command, scaled; robot limits; low-pass filter (keeping the curvature).

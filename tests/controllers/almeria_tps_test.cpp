@@ -169,6 +169,13 @@ Tick openSpace(const core::LidarConfig& lidar, const Eigen::Vector2d& goal, doub
   return t;
 }
 
+// The BARN goal as the only target (`target: goal`).
+AlmeriaTpsConfig goalOnly() {
+  AlmeriaTpsConfig c;
+  c.target = AlmeriaTarget::Goal;
+  return c;
+}
+
 class AlmeriaController : public ::testing::Test {
  protected:
   static void SetUpTestSuite() { ptg_ = std::make_shared<const ArcPtg>(PtgConfig{}); }
@@ -178,7 +185,7 @@ class AlmeriaController : public ::testing::Test {
 std::shared_ptr<const ArcPtg> AlmeriaController::ptg_;
 
 TEST_F(AlmeriaController, DrivesTheStraightPathAtFullSpeedTowardANearGoalInOpenSpace) {
-  AlmeriaTpsController c(AlmeriaTpsConfig{}, ptg_);
+  AlmeriaTpsController c(goalOnly(), ptg_);
   info_.goal = {2.0, 0.0};
   c.reset(info_);
   Tick t = openSpace(info_.lidar, info_.goal);
@@ -192,7 +199,7 @@ TEST_F(AlmeriaController, DrivesTheStraightPathAtFullSpeedTowardANearGoalInOpenS
 }
 
 TEST_F(AlmeriaController, CommandsTheChosenArcScaledByTheSpeed) {
-  AlmeriaTpsController c(AlmeriaTpsConfig{}, ptg_);
+  AlmeriaTpsController c(goalOnly(), ptg_);
   info_.goal = {1.0, 1.0};
   c.reset(info_);
   Tick t = openSpace(info_.lidar, info_.goal);
@@ -206,8 +213,7 @@ TEST_F(AlmeriaController, CommandsTheChosenArcScaledByTheSpeed) {
 }
 
 TEST_F(AlmeriaController, StopsWhenEveryPathIsBlockedAndAbortsAfterTheTimeout) {
-  AlmeriaTpsConfig config;
-  AlmeriaTpsController c(config, ptg_);
+  AlmeriaTpsController c(goalOnly(), ptg_);
   info_.goal = {10.0, 0.0};
   c.reset(info_);
   // A ring of returns 0.42 m around the robot (the LiDAR at the centre): every path meets one
@@ -232,7 +238,7 @@ TEST_F(AlmeriaController, StopsWhenEveryPathIsBlockedAndAbortsAfterTheTimeout) {
 }
 
 TEST_F(AlmeriaController, EndsNavigationWhenItsLastMovePassesTheGoal) {
-  AlmeriaTpsController c(AlmeriaTpsConfig{}, ptg_);
+  AlmeriaTpsController c(goalOnly(), ptg_);
   info_.goal = {0.5, 0.3};
   c.reset(info_);
   Tick t = openSpace(info_.lidar, info_.goal);
@@ -243,6 +249,51 @@ TEST_F(AlmeriaController, EndsNavigationWhenItsLastMovePassesTheGoal) {
   t.obs.time = 0.1;
   EXPECT_DOUBLE_EQ(c.act(t.obs).linear, 0.0);
   EXPECT_EQ(c.state(), AlmeriaTpsState::Reached);
+}
+
+TEST_F(AlmeriaController, SkipsToTheFarthestPlanWaypointSeenReachableTwice) {
+  AlmeriaTpsController c(AlmeriaTpsConfig{}, ptg_);  // target: plan_waypoints
+  // BARN's odom frame: the robot at the origin facing +y, the goal 10 m ahead (the global
+  // costmap covers that corridor).
+  info_.goal = {0.0, 10.0};
+  c.reset(info_);
+  Tick t = openSpace(info_.lidar, info_.goal);
+  t.obs.odom_pose = t.obs.scan_odom_pose = {0.0, 0.0, kPi / 2};
+  // Tick 1: the first plan becomes the sequence (a waypoint every 0.5 m, the goal last); there
+  // is no current waypoint to skip from yet, so the first one becomes current.
+  c.act(t.obs);
+  ASSERT_GT(c.waypoints().size(), 15u);
+  EXPECT_EQ(c.currentWaypoint(), 0);
+  EXPECT_NEAR(c.waypoints()[0].norm(), 0.5, 0.1);
+  // Tick 2: the waypoints within the straight path's reach (free to 3 m: d < 3 / 1.01) are seen
+  // reachable once; skipping needs more than min_timesteps_confirm_skip_waypoints (1).
+  t.obs.time = t.scan.stamp = 0.1;
+  c.act(t.obs);
+  EXPECT_EQ(c.currentWaypoint(), 0);
+  // Tick 3: seen twice: the farthest of them, about 2.5 m ahead, becomes current.
+  t.obs.time = t.scan.stamp = 0.2;
+  c.act(t.obs);
+  const double ahead = c.waypoints()[static_cast<std::size_t>(c.currentWaypoint())].norm();
+  EXPECT_GT(ahead, 2.0);
+  EXPECT_LT(ahead, 3.0 / 1.01);
+}
+
+TEST(AlmeriaWaypoints, PlacesOneEverySpacingAlongThePlanAndEndsAtTheGoal) {
+  // A plan in 0.25 m steps to (2.25, 0): arc length reaches 0.5, 1.0, 1.5 and 2.0 at plan
+  // points; the goal comes last (2.0 is 0.25 from it, not nearer than spacing / 2).
+  std::vector<Eigen::Vector2d> plan;
+  for (int i = 0; i <= 9; ++i) plan.emplace_back(0.25 * i, 0.0);
+  const auto wps = planWaypoints(plan, {2.25, 0.0}, 0.5);
+  ASSERT_EQ(wps.size(), 5u);
+  EXPECT_DOUBLE_EQ(wps[0].x(), 0.5);
+  EXPECT_DOUBLE_EQ(wps[3].x(), 2.0);
+  EXPECT_DOUBLE_EQ(wps[4].x(), 2.25);
+  // Coarse steps: 1.2 passes 0.5 (next due 1.5), 2.4 passes 1.5; 2.4 is the goal itself, which
+  // replaces it.
+  const auto coarse = planWaypoints({{0.0, 0.0}, {1.2, 0.0}, {2.4, 0.0}}, {2.4, 0.0}, 0.5);
+  ASSERT_EQ(coarse.size(), 2u);
+  EXPECT_DOUBLE_EQ(coarse[0].x(), 1.2);
+  EXPECT_DOUBLE_EQ(coarse[1].x(), 2.4);
 }
 
 TEST(AlmeriaConfig, RejectsPhasesNamingNoFactor) {

@@ -28,6 +28,12 @@ PtgConfig roundPtg() {
   return c;
 }
 
+// The BARN Jackal PTG, built once for the whole file (its grid takes a while).
+const ArcPtg& jackalPtg() {
+  static const ArcPtg ptg{PtgConfig{}};
+  return ptg;
+}
+
 TEST(PtgIndex, MapsPathsToDirectionsAndBack) {
   // alpha_k = pi (-1 + (2k + 1) / n): n = 151, k = 75 is straight ahead, k = 150 is pi 150 / 151.
   EXPECT_DOUBLE_EQ(pathAlpha(75, 151), 0.0);
@@ -41,7 +47,7 @@ TEST(PtgIndex, MapsPathsToDirectionsAndBack) {
 }
 
 TEST(Ptg, DrivesTheJackalFilesSpeedsOnEachPath) {
-  const ArcPtg ptg(PtgConfig{});
+  const ArcPtg& ptg = jackalPtg();
   // Straight: v = 1.2, w = 0.
   EXPECT_DOUBLE_EQ(ptg.linearSpeed(75), 1.2);
   EXPECT_DOUBLE_EQ(ptg.angularSpeed(75), 0.0);
@@ -67,7 +73,7 @@ TEST(Ptg, PlacesTheRobotOnTheArcOfItsPath) {
   EXPECT_NEAR(right.y, -1.0, 1e-12);
   EXPECT_NEAR(right.yaw, -kPi / 2, 1e-12);
 
-  const ArcPtg jackal(PtgConfig{});
+  const ArcPtg& jackal = jackalPtg();
   // Path 100: v = 0.809902, w = 0.346754, R = 2.335665; 1.5 pseudo-metres take
   // t = 1.5 / sqrt(v^2 + (0.1 w)^2) = 1.5 / 0.810644 = 1.850376 s, a turn of 0.641628 rad:
   // (R sin 0.641628, R (1 - cos 0.641628)) = (1.397896, 0.464511).
@@ -82,7 +88,7 @@ TEST(Ptg, PlacesTheRobotOnTheArcOfItsPath) {
 }
 
 TEST(Ptg, MapsAPointBackToItsPathAndDistance) {
-  const ArcPtg jackal(PtgConfig{});
+  const ArcPtg& jackal = jackalPtg();
   // A point on path 100, 1.5 m along, maps back to (100, 1.5).
   const core::Pose2 p = jackal.poseAt(100, 1.5);
   const TpPoint on_path = jackal.inverseMap({p.x, p.y});
@@ -110,7 +116,7 @@ TEST(Ptg, MapsAPointBackToItsPathAndDistance) {
 }
 
 TEST(PtgCollision, APointAheadIsHitAtItsDistanceLessTheHalfLength) {
-  const ArcPtg jackal(PtgConfig{});
+  const ArcPtg& jackal = jackalPtg();
   // The polygon's front edge is at x = 0.30: a point 1.0 m ahead (0.1 m left) is met after 0.70 m.
   EXPECT_NEAR(jackal.collisionDistance(75, {1.0, 0.1}), 0.70, 1e-12);
   // Beside the polygon's width (|y| > 0.27) the straight path never meets it.
@@ -126,7 +132,7 @@ TEST(PtgCollision, APointAheadIsHitAtItsDistanceLessTheHalfLength) {
 TEST(PtgCollision, AgreesWithTheRobotPolygonPlacedAlongThePath) {
   // The exact distance against a walk along the path in 1 mm steps: the first pose whose polygon
   // holds the point (the point in that pose's frame inside the shape) is at most 1 mm later.
-  const ArcPtg jackal(PtgConfig{});
+  const ArcPtg& jackal = jackalPtg();
   const std::vector<Eigen::Vector2d> points{{1.2, 0.4}, {0.6, -0.5}, {0.0, 0.45}, {-0.2, 0.42}, {2.0, 1.3}};
   for (int k : {0, 20, 60, 75, 90, 130, 150})
     for (const Eigen::Vector2d& point : points) {
@@ -147,7 +153,7 @@ TEST(PtgCollision, AgreesWithTheRobotPolygonPlacedAlongThePath) {
 }
 
 TEST(PtgObstacles, APointAheadBlocksTheStraightPathAtItsCollisionDistance) {
-  const ArcPtg jackal(PtgConfig{});
+  const ArcPtg& jackal = jackalPtg();
   // The cell holding (1.025, 0.125) has corners x = 1.00 and 1.05, y = 0.10 and 0.15: on the
   // straight path the nearest corner is met after 1.00 - 0.30 = 0.70 m; normalised 0.70 / 3.
   std::vector<double> tp;
@@ -167,7 +173,7 @@ TEST(PtgObstacles, APointAheadBlocksTheStraightPathAtItsCollisionDistance) {
 
 TEST(PtgObstacles, IgnoresAPointAlreadyInsideTheRobot) {
   // MRPT's COLL_BEH_BACK_AWAY: a point inside the polygon blocks nothing.
-  const ArcPtg jackal(PtgConfig{});
+  const ArcPtg& jackal = jackalPtg();
   std::vector<double> tp;
   const std::vector<Eigen::Vector2d> inside{{0.2, 0.0}};
   jackal.tpObstacles(inside, tp);

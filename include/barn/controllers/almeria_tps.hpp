@@ -5,22 +5,39 @@
 /// MRPT's reactive navigator (CReactiveNavigationSystem as mrpt_reactivenav2d runs it) rebuilt
 /// from its source, with the PTG file the Almeria group wrote for BARN. It is not their entry.
 ///
+/// The target. MRPT's reactive navigator evaluates a target within its PTG's reach: FullEval's
+/// target factors saturate once the target lies more than ref_distance (3 m for the BARN
+/// Jackal PTG) from every path's end, and the choice then rests on free space alone. For a
+/// farther goal MRPT's CWaypointsNavigator feeds it waypoints (mrpt_navigation's
+/// mrpt_tps_astar_planner hands mrpt_reactivenav2d a sequence). `target: plan_waypoints` (the
+/// default, our choice) does that with barnbench's move_base-like global plan (NavFn on a LiDAR
+/// costmap; the Almeria entry's own planner is not public): every new plan (planner rate 1 Hz)
+/// becomes the waypoint sequence, one waypoint every waypoint_spacing along it and the goal
+/// last. `target: goal` aims at the BARN goal alone, as mrpt_reactivenav2d does with a single
+/// goal.
+///
 /// Every control period (0.1 s, mrpt_reactivenav2d's nav_period):
-///  1. Target checks (CAbstractNavigator). The target is the BARN goal. If the robot's last
-///     move (the segment from the previous tick's position to this one) passes within
-///     target_allowed_distance of it, navigation ends (Reached: zero from then on). If the least
-///     distance to the goal so far has not improved for not_approaching_timeout, navigation is
-///     aborted (Aborted: zero from then on; MRPT's "way seems blocked").
+///  0. Waypoints (CWaypointsNavigator, plan_waypoints only; the goal alone is a sequence of
+///     one). If the robot's last move (the segment from the previous tick's position to this
+///     one) passes within target_allowed_distance of the current waypoint, it is reached: the
+///     next one becomes current, and after the last navigation ends (Reached: zero from then
+///     on). Then every later waypoint (within max_distance_to_allow_skip_waypoint, if > 0)
+///     that the previous tick's TP-obstacles showed reachable along its own path (free beyond
+///     1.01 times its TP distance) counts one more sighting; the farthest with more than
+///     min_timesteps_confirm_skip_waypoints sightings becomes current, those before it skipped.
+///  1. The not-approaching alarm (CAbstractNavigator): if the least distance to the current
+///     waypoint has not improved for not_approaching_timeout since it became current,
+///     navigation is aborted (Aborted: zero from then on; MRPT's "way seems blocked").
 ///  2. Obstacles: the latest scan's returns, placed with the odometry at the scan, in the robot
 ///     frame at this tick.
-///  3. The target in TP-space (ArcPtg::inverseMap). Not exact: the PTG is discarded, no
+///  3. The current waypoint in TP-space (ArcPtg::inverseMap). Not exact: the PTG is discarded, no
 ///     movement is possible this tick (OutOfDomain, zero command).
 ///  4. TP-obstacles (ArcPtg::tpObstacles), normalised by the PTG's ref_distance.
 ///  5. The holonomic method in TP-space, FullEval (fullEval below): a direction k and a speed
 ///     in [0, 1].
 ///  6. Speed: times the ramp of the chosen direction's free distance between
-///     secure_distance_start (0) and secure_distance_end (1); then no more than
-///     |goal| / target_slow_approaching_distance (the Euclidean target slow-down).
+///     secure_distance_start (0) and secure_distance_end (1); then, for the last waypoint, no
+///     more than its distance / target_slow_approaching_distance (the target slow-down).
 ///  7. Speed 0: no way (NoWay, zero command; MRPT's "robot.stop()", and it tries again next
 ///     period). Otherwise the command is path k's (v_k, w_k) times the speed, scaled down to the
 ///     robot limits (v and w together, keeping the curvature) and low-pass filtered
@@ -78,6 +95,7 @@
 #include "barn/controllers/ptg.hpp"
 #include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
+#include "barn/nav/nav_stack.hpp"
 
 namespace barn::controllers {
 
@@ -158,7 +176,21 @@ double limitToRobot(core::Twist& cmd, double max_v, double max_w);
 enum class AlmeriaTpsState { Navigating, NoWay, OutOfDomain, Reached, Aborted };
 std::span<const std::string_view> enumNames(AlmeriaTpsState);
 
+/// What the reactive navigator aims at (see the header comment).
+enum class AlmeriaTarget { PlanWaypoints, Goal };
+std::span<const std::string_view> enumNames(AlmeriaTarget);
+
+/// `plan` (odom frame, robot -> goal) as waypoints: the first plan point at or past each
+/// multiple of `spacing` of arc length, then `goal` (replacing a last waypoint nearer than
+/// spacing / 2 to it).
+std::vector<Eigen::Vector2d> planWaypoints(const std::vector<Eigen::Vector2d>& plan, const Eigen::Vector2d& goal,
+                                           double spacing);
+
 struct AlmeriaTpsConfig {
+  AlmeriaTarget target = AlmeriaTarget::PlanWaypoints;  // our choice (see the header comment)
+  double waypoint_spacing = 0.5;           // [m] our choice: waypoints along the plan
+  int min_timesteps_confirm_skip_waypoints = 1;  // [ticks] ini: [CWaypointsNavigator]
+  double max_distance_to_allow_skip_waypoint = -1.0;  // [m] ini: <= 0 unlimited
   double nav_period = 0.1;                 // [s] mrpt_reactivenav2d node: nav_period default
   double target_allowed_distance = 0.40;   // [m] mrpt_reactivenav2d node: target_allowed_distance default
   double not_approaching_timeout = 30.0;   // [s] ini: alarm_seems_not_approaching_target_timeout
@@ -169,14 +201,23 @@ struct AlmeriaTpsConfig {
   double speedfilter_tau = 0.0;            // [s] MRPT default (the ini leaves it commented out)
   PtgConfig ptg;                           // the BARN Jackal PTG (ptg.hpp)
   FullEvalConfig full_eval;                // reactive2d_default.ini's FullEval
+  nav::NavStackConfig nav = almeriaNav();  // the global plan of plan_waypoints
 
   template <class V> void visit(V& v) {
+    v("target", target); v("waypoint_spacing", waypoint_spacing);
+    v("min_timesteps_confirm_skip_waypoints", min_timesteps_confirm_skip_waypoints);
+    v("max_distance_to_allow_skip_waypoint", max_distance_to_allow_skip_waypoint);
     v("nav_period", nav_period); v("target_allowed_distance", target_allowed_distance);
     v("not_approaching_timeout", not_approaching_timeout); v("secure_distance_start", secure_distance_start);
     v("secure_distance_end", secure_distance_end); v("robot_max_v", robot_max_v);
     v("robot_max_w_deg", robot_max_w_deg); v("speedfilter_tau", speedfilter_tau); v("ptg", ptg);
-    v("full_eval", full_eval);
+    v("full_eval", full_eval); v("nav", nav);
   }
+
+  /// Our choice: BARN's move_base stack with ROS NavFn (NavStackConfig::moveBaseWithNavFn),
+  /// replanning at 1 Hz: each plan is a new waypoint sequence, and MRPT's skip rule needs a
+  /// sequence to last a few control periods.
+  static nav::NavStackConfig almeriaNav();
 };
 void validate(const AlmeriaTpsConfig& config, core::Errors& errors, const std::string& prefix);
 
@@ -191,22 +232,36 @@ class AlmeriaTpsController : public Controller {
   std::string_view stateLabel() const override { return core::enumName(state_); }
   AlmeriaTpsState state() const { return state_; }
   const ArcPtg& ptg() const { return *ptg_; }
+  /// The waypoint sequence and the current one's index (-1 before the first tick).
+  const std::vector<Eigen::Vector2d>& waypoints() const { return waypoints_; }
+  int currentWaypoint() const { return current_; }
   /// The last tick's TP-obstacles (normalised) and FullEval's choice.
   const std::vector<double>& tpObstacles() const { return tp_obstacles_; }
   const FullEvalChoice& lastChoice() const { return choice_; }
 
  private:
   core::Twist stop(AlmeriaTpsState state);
+  /// Step 0 of the header comment; false once the last waypoint is reached.
+  bool stepWaypoints(const Observation& obs);
+  /// Whether the previous tick's TP-obstacles show a free path to `local` (robot frame).
+  bool reachable(const Eigen::Vector2d& local) const;
 
   AlmeriaTpsConfig config_;
   std::shared_ptr<const ArcPtg> ptg_;
   FullEval full_eval_;
+  nav::NavStack nav_;
   EpisodeInfo info_;
   AlmeriaTpsState state_ = AlmeriaTpsState::Navigating;
   bool have_previous_ = false;
   Eigen::Vector2d previous_position_ = Eigen::Vector2d::Zero();  // [m] odom frame, last tick
-  double min_goal_distance_ = 0.0;     // [m] least distance to the goal so far
-  double min_goal_time_ = 0.0;         // [s] when it was reached
+  std::vector<Eigen::Vector2d> waypoints_;  // [m] odom frame, the goal last
+  std::vector<int> sightings_;         // per waypoint: ticks seen reachable
+  int reached_ = 0;                    // waypoints before this one are reached or skipped
+  int current_ = -1;                   // the current waypoint; -1: not started
+  int plans_taken_ = 0;                // nav_.plansMade() when the sequence was last replaced
+  bool have_tp_ = false;               // tp_obstacles_ hold the previous tick's
+  double min_target_distance_ = 0.0;   // [m] least distance to the current waypoint so far
+  double min_target_time_ = 0.0;       // [s] when it was reached
   core::Twist last_command_;           // for the low-pass filter
   FullEvalChoice choice_;
   std::vector<Eigen::Vector2d> points_;  // scratch: obstacle points, robot frame
