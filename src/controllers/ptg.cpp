@@ -22,9 +22,10 @@ double wrapToPi(double a) {
   return a - kPi;
 }
 
+// Wraps to [0, 2 pi); -0 becomes +0 (a contact right at the start is distance +0).
 double wrapTo2Pi(double a) {
   a = std::fmod(a, 2.0 * kPi);
-  return a < 0.0 ? a + 2.0 * kPi : a;
+  return a < 0.0 ? a + 2.0 * kPi : a + 0.0;
 }
 }  // namespace
 
