@@ -198,6 +198,20 @@ TEST_F(AlmeriaController, DrivesTheStraightPathAtFullSpeedTowardANearGoalInOpenS
   EXPECT_EQ(c.state(), AlmeriaTpsState::Navigating);
 }
 
+TEST_F(AlmeriaController, AimingAtAFarGoalInOpenSpaceTheChoiceGoesToTheEdgeOfThePhaseOneWindow) {
+  // The goal 10 m ahead, beyond the PTG's 3 m: every end point is >= 1 (normalised) from it, so
+  // [2] = sqrt(1.01 - 1) = 0.1 everywhere, and [0] = 1 - 0.15 = 0.85 on every path free to 3 m.
+  // Phase 1 keeps 1 / (1 + (4 |i - 75| / 151)^2) >= 0.5 x 1 + 0.5 x 0.202 (paths 0 and 150):
+  // |i - 75| <= 30; all of them tie in phases 2 and 3, and the last of the tie wins: path 105,
+  // alpha = 60 pi / 151 = 1.248 rad off the goal's direction.
+  AlmeriaTpsController c(goalOnly(), ptg_);
+  info_.goal = {10.0, 0.0};
+  c.reset(info_);
+  Tick t = openSpace(info_.lidar, info_.goal);
+  c.act(t.obs);
+  EXPECT_EQ(c.lastChoice().direction, 105);
+}
+
 TEST_F(AlmeriaController, CommandsTheChosenArcScaledByTheSpeed) {
   AlmeriaTpsController c(goalOnly(), ptg_);
   info_.goal = {1.0, 1.0};
