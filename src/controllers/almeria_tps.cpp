@@ -266,6 +266,7 @@ nav::NavStackConfig AlmeriaTpsConfig::almeriaNav() {
 
 void validate(const AlmeriaTpsConfig& c, core::Errors& errors, const std::string& prefix) {
   errors.check(c.waypoint_spacing > 0.0, prefix + ".waypoint_spacing", "must be > 0");
+  errors.check(c.waypoint_allowed_distance >= 0.0, prefix + ".waypoint_allowed_distance", "must be >= 0");
   errors.check(c.min_timesteps_confirm_skip_waypoints >= 0, prefix + ".min_timesteps_confirm_skip_waypoints",
                "must be >= 0");
   errors.check(c.nav_period > 0.0, prefix + ".nav_period", "must be > 0");
@@ -337,7 +338,8 @@ bool AlmeriaTpsController::stepWaypoints(const Observation& obs) {
     const Eigen::Vector2d move = position - from;
     const Eigen::Vector2d& wp = waypoints_[static_cast<std::size_t>(current_)];
     const double s = move.squaredNorm() > 0.0 ? std::clamp((wp - from).dot(move) / move.squaredNorm(), 0.0, 1.0) : 0.0;
-    if ((from + s * move - wp).norm() < config_.target_allowed_distance) {
+    const double allowed = current_ == last ? config_.target_allowed_distance : config_.waypoint_allowed_distance;
+    if ((from + s * move - wp).norm() < allowed) {
       if (current_ == last) return false;
       reached_ = ++current_;
     }

@@ -19,9 +19,9 @@
 /// Every control period (0.1 s, mrpt_reactivenav2d's nav_period):
 ///  0. Waypoints (CWaypointsNavigator, plan_waypoints only; the goal alone is a sequence of
 ///     one). If the robot's last move (the segment from the previous tick's position to this
-///     one) passes within target_allowed_distance of the current waypoint, it is reached: the
-///     next one becomes current, and after the last navigation ends (Reached: zero from then
-///     on). Then every later waypoint (within max_distance_to_allow_skip_waypoint, if > 0)
+///     one) passes within waypoint_allowed_distance of the current waypoint
+///     (target_allowed_distance for the last), it is reached: the next one becomes current,
+///     and after the last navigation ends (Reached: zero from then on). Then every later waypoint (within max_distance_to_allow_skip_waypoint, if > 0)
 ///     that the previous tick's TP-obstacles showed reachable along its own path (free beyond
 ///     1.01 times its TP distance) counts one more sighting; the farthest with more than
 ///     min_timesteps_confirm_skip_waypoints sightings becomes current, those before it skipped.
@@ -189,10 +189,15 @@ std::vector<Eigen::Vector2d> planWaypoints(const std::vector<Eigen::Vector2d>& p
 struct AlmeriaTpsConfig {
   AlmeriaTarget target = AlmeriaTarget::PlanWaypoints;  // our choice (see the header comment)
   double waypoint_spacing = 0.5;           // [m] our choice: waypoints along the plan
+  // [m] mrpt_tps_astar_planner node: mid_waypoints_allowed_distance (the last waypoint, the goal,
+  // has target_allowed_distance)
+  double waypoint_allowed_distance = 0.5;
   int min_timesteps_confirm_skip_waypoints = 1;  // [ticks] ini: [CWaypointsNavigator]
   double max_distance_to_allow_skip_waypoint = -1.0;  // [m] ini: <= 0 unlimited
   double nav_period = 0.1;                 // [s] mrpt_reactivenav2d node: nav_period default
-  double target_allowed_distance = 0.40;   // [m] mrpt_reactivenav2d node: target_allowed_distance default
+  // [m] mrpt_reactivenav2d node: target_allowed_distance default (and the TPS-A* planner node's
+  // final_waypoint_allowed_distance)
+  double target_allowed_distance = 0.40;
   double not_approaching_timeout = 30.0;   // [s] ini: alarm_seems_not_approaching_target_timeout
   double secure_distance_start = 0.05;     // [-] ini: secure_distance_start (normalised)
   double secure_distance_end = 0.15;       // [-] ini: secure_distance_end (normalised)
@@ -204,7 +209,7 @@ struct AlmeriaTpsConfig {
   nav::NavStackConfig nav = almeriaNav();  // the global plan of plan_waypoints
 
   template <class V> void visit(V& v) {
-    v("target", target); v("waypoint_spacing", waypoint_spacing);
+    v("target", target); v("waypoint_spacing", waypoint_spacing); v("waypoint_allowed_distance", waypoint_allowed_distance);
     v("min_timesteps_confirm_skip_waypoints", min_timesteps_confirm_skip_waypoints);
     v("max_distance_to_allow_skip_waypoint", max_distance_to_allow_skip_waypoint);
     v("nav_period", nav_period); v("target_allowed_distance", target_allowed_distance);
