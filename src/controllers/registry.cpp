@@ -1,5 +1,6 @@
 #include "barn/controllers/registry.hpp"
 
+#include "barn/controllers/almeria_tps.hpp"
 #include "barn/controllers/dwa.hpp"
 #include "barn/controllers/eband.hpp"
 #include "barn/controllers/external.hpp"
@@ -73,6 +74,22 @@ Entry externalEntry() {
           }};
 }
 
+// `almeria_tps`: its PTG's collision grid is built once here and shared, read-only, by every
+// episode's controller.
+Entry almeriaTpsEntry() {
+  return {"almeria_tps", [](const core::ConfigNode& block, std::string& effective) -> ControllerFactory {
+            AlmeriaTpsConfig config = core::readConfig<AlmeriaTpsConfig>(block);
+            core::Errors errors;
+            validate(config, errors, block.where());
+            errors.throwIfAny();
+            core::ConfigWriter writer(2);
+            config.visit(writer);
+            effective = "type: almeria_tps\nalmeria_tps:\n" + writer.text();
+            auto ptg = std::make_shared<const ArcPtg>(config.ptg);
+            return [config, ptg] { return std::make_unique<AlmeriaTpsController>(config, ptg); };
+          }};
+}
+
 const std::vector<Entry>& entries() {
   static const std::vector<Entry> kEntries = {
       entry<StraightConfig, StraightController>("straight"),
@@ -85,6 +102,7 @@ const std::vector<Entry>& entries() {
       entry<RrslVfhConfig, RrslVfhController>("rrsl_vfh"),
       entry<In2botConfig, In2botController>("in2bot"),
       entry<KulfmConfig, KulfmController>("kulfm"),
+      almeriaTpsEntry(),
       externalEntry(),
   };
   return kEntries;
