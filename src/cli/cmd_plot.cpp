@@ -1,12 +1,14 @@
 // barn plot: pictures of one run record — per-world scores ordered by difficulty, and the
 // trajectories of chosen worlds (re-simulated from the record: the same seed drives the same
-// episode bit for bit), coloured by controller state or by trial.
+// episode bit for bit), coloured by controller state or by trial; and the stack parameters a
+// controller set during an episode (from its trajectory file).
 
 #include <cstdio>
 #include <filesystem>
 
 #include "barn/viz/image_format.hpp"
 #include "commands.hpp"
+#include "params_plot.hpp"
 #include "record_figures.hpp"
 
 namespace barn::cli {
@@ -22,6 +24,9 @@ struct PlotOptions {
   std::vector<int> worlds;
   std::vector<int> trials;
   std::string colour = "state";
+  std::string trajectory_file;
+  std::vector<std::string> keys;
+  std::string title;
 };
 
 // traj.pdf -> traj_world_<id>.pdf beside it: one figure per world of a several-world request.
@@ -85,6 +90,23 @@ void addPlotCommand(CLI::App& app, CommandContext& /*context*/) {
       replay.renderWorld(id, trials, colouring, file);
       std::printf("wrote %s\n", file.c_str());
     }
+  });
+
+  CLI::App* params = plot->add_subcommand(
+      "params",
+      "The stack parameters a controller set during one episode (the params column of a trajectory file written by "
+      "`barn run --trajectories`): one panel per parameter, its value against time as a step line");
+  params->add_option("trajectory", options->trajectory_file, "Trajectory file, e.g. RECORD/trajectories/world_0_trial_0.csv")
+      ->required();
+  params->add_option("--keys", options->keys, "Parameters to draw, in this order (default: every one the file holds)")
+      ->delimiter(',');
+  params->add_option("--title", options->title, "Title above the first panel");
+  params->add_option("-o,--output", options->output, "Image to write; .png, .pdf or .svg (the extension chooses)")
+      ->required();
+  params->callback([options] {
+    viz::imageFormatFor(options->output);
+    renderParameterPlot(options->trajectory_file, options->keys, options->title, options->output);
+    std::printf("wrote %s\n", options->output.c_str());
   });
 }
 

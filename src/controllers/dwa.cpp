@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <stdexcept>
 
 #include "barn/nav/grid_line.hpp"
 
@@ -51,15 +52,60 @@ void validate(const DwaConfig& c, core::Errors& errors, const std::string& prefi
 }
 
 DwaController::DwaController(const DwaConfig& config)
-    : config_(config), nav_(config.nav), move_base_(config.recovery), footprint_(nav_.paddedFootprint()) {}
+    : config_(config), configured_(config), nav_(config.nav), move_base_(config.recovery),
+      footprint_(nav_.paddedFootprint()) {}
 
 void DwaController::reset(const EpisodeInfo& info) {
   info_ = info;
+  config_ = configured_;  // parameters set while running go back to the configured ones
   nav_.reset(info.goal);
   move_base_.reset();
   escaping_ = false;
   rotating_left_ = rotating_right_ = stuck_left_ = stuck_right_ = false;
   last_rotation_position_ = Eigen::Vector2d::Zero();  // upstream starts prev_x_, prev_y_ at 0
+}
+
+const std::vector<std::string>& DwaController::settableParameters() {
+  static const std::vector<std::string> kKeys = {"max_vel_x",   "max_vel_theta", "vx_samples",   "vtheta_samples",
+                                                 "pdist_scale", "gdist_scale",   "occdist_scale"};
+  return kKeys;
+}
+
+void DwaController::setParameter(std::string_view key, double value) {
+  const std::string name(key);
+  const auto in = [&](const std::vector<std::string>& keys) { return std::find(keys.begin(), keys.end(), name) != keys.end(); };
+  if (!in(settableParameters())) {
+    if (!in(nav::NavStack::settableParameters())) {
+      std::string known;
+      for (const auto* keys : {&settableParameters(), &nav::NavStack::settableParameters()})
+        for (const std::string& k : *keys) known += (known.empty() ? "" : ", ") + k;
+      throw std::invalid_argument(name + ": not a settable parameter (settable: " + known + ")");
+    }
+    nav_.setParameter(key, value);
+    return;
+  }
+  if (!std::isfinite(value)) throw std::invalid_argument(name + ": must be a finite number");
+  // Checked by validate() on a copy with the new value, so a value is refused exactly where the
+  // config file's would be.
+  DwaConfig candidate = config_;
+  if (name == "vx_samples" || name == "vtheta_samples") {
+    if (value != std::floor(value) || std::abs(value) > 1e6) throw std::invalid_argument(name + ": must be a whole number");
+    (name == "vx_samples" ? candidate.vx_samples : candidate.vtheta_samples) = static_cast<int>(value);
+  } else if (name == "max_vel_x") {
+    candidate.max_vel_x = value;
+  } else if (name == "max_vel_theta") {
+    candidate.max_vel_theta = value;
+  } else if (name == "pdist_scale") {
+    candidate.pdist_scale = value;
+  } else if (name == "gdist_scale") {
+    candidate.gdist_scale = value;
+  } else {
+    candidate.occdist_scale = value;
+  }
+  core::Errors errors;
+  validate(candidate, errors, "dwa");
+  if (!errors.empty()) throw std::invalid_argument(errors.messages().front());
+  config_ = candidate;
 }
 
 std::string_view DwaController::stateLabel() const {

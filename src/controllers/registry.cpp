@@ -1,6 +1,7 @@
 #include "barn/controllers/registry.hpp"
 
 #include "barn/controllers/almeria_tps.hpp"
+#include "barn/controllers/applr_dwa.hpp"
 #include "barn/controllers/dwa.hpp"
 #include "barn/controllers/eband.hpp"
 #include "barn/controllers/external.hpp"
@@ -57,6 +58,24 @@ Entry policyEntry(const char* type) {
           }};
 }
 
+// APPLR-DWA: its actor (the published one, converted) is loaded once here and shared, read-only,
+// by every episode's controller; a missing file names the import command.
+Entry applrEntry() {
+  return {"applr_dwa", [](const core::ConfigNode& block, std::string& effective) -> ControllerFactory {
+            ApplrDwaConfig config = core::readConfig<ApplrDwaConfig>(block);
+            core::Errors errors;
+            validate(config, errors, block.where());
+            errors.throwIfAny();
+            auto policy = loadApplrPolicy(config.policy, block.source());
+            config.policy = resolvePolicyPath(config.policy, block.source());
+            ApplrDwaController check(config, policy);  // an actor whose actions the DWA cannot take fails here, once
+            core::ConfigWriter writer(2);
+            config.visit(writer);
+            effective = "type: applr_dwa\napplr_dwa:\n" + writer.text();
+            return [config, policy] { return std::make_unique<ApplrDwaController>(config, policy); };
+          }};
+}
+
 // A controller program run as a child process: paths resolved against the config file's folder
 // (the effective config records them absolute), one process pool per factory, shared by every
 // episode's controller so each worker thread reuses its process.
@@ -103,6 +122,7 @@ const std::vector<Entry>& entries() {
       entry<In2botConfig, In2botController>("in2bot"),
       entry<KulfmConfig, KulfmController>("kulfm"),
       almeriaTpsEntry(),
+      applrEntry(),
       externalEntry(),
   };
   return kEntries;

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <iterator>
 #include <limits>
+#include <memory>
 #include <numbers>
 
 #include "barn/core/errors.hpp"
@@ -132,14 +133,15 @@ PlotRanges plotRanges(const LinePlot& plot, const std::string& where) {
 
 using LegendRows = std::vector<std::vector<const LegendEntry*>>;
 
-/// The series' then the reference lines' legend entries.
+/// The series' then the reference lines' legend entries; one without a label has none.
 std::vector<LegendEntry> legendEntries(const LinePlot& plot) {
   std::vector<LegendEntry> entries;
   for (std::size_t k = 0; k < plot.series.size(); ++k) {
     const LineSeries& s = plot.series[k];
-    entries.push_back({s.label, seriesColour(k), false, s.markers, !s.low.empty()});
+    if (!s.label.empty()) entries.push_back({s.label, seriesColour(k), false, s.markers, !s.low.empty()});
   }
-  for (const ReferenceLine& r : plot.references) entries.push_back({r.label, kReferenceColour, true, false, false});
+  for (const ReferenceLine& r : plot.references)
+    if (!r.label.empty()) entries.push_back({r.label, kReferenceColour, true, false, false});
   return entries;
 }
 
@@ -280,9 +282,17 @@ void drawLegend(cairo_t* cr, const LegendRows& rows, double left) {
 
 }  // namespace
 
-void renderLinePlot(const LinePlot& plot, const std::filesystem::path& output) {
-  const std::string where = output.string();
-  imageFormatFor(output);  // an unknown extension fails before any drawing
+namespace {
+
+/// A plot checked and laid out: its frame and legend rows (the rows point into `entries`).
+struct PlotLayout {
+  PlotFrame frame;
+  std::vector<LegendEntry> entries;
+  LegendRows rows;
+};
+
+/// Checks `plot` (renderLinePlot's InputErrors, `where` naming the file) and lays it out.
+std::unique_ptr<PlotLayout> layOut(const LinePlot& plot, const std::string& where) {
   if (plot.width < 200 || plot.width > 8000 || plot.height < 150 || plot.height > 8000)
     throw core::InputError(where + ": plot size " + std::to_string(plot.width) + " x " + std::to_string(plot.height) +
                            " px is outside 200..8000 x 150..8000");
@@ -290,28 +300,69 @@ void renderLinePlot(const LinePlot& plot, const std::filesystem::path& output) {
     throw core::InputError(where + ": the fixed y range " + detail::formatNumber(plot.y_min, std::chars_format::general, 6) +
                            " ... " + detail::formatNumber(plot.y_max, std::chars_format::general, 6) +
                            " must have finite ends (NaN = automatic) and a top above its bottom");
-  PlotFrame frame;
+  auto layout = std::make_unique<PlotLayout>();
+  PlotFrame& frame = layout->frame;
   frame.data = plotRanges(plot, where);
   frame.left = kLeft;
   frame.right = plot.width - kRight;
-  const std::vector<LegendEntry> entries = legendEntries(plot);
-  const LegendRows rows = legendRows(entries, frame.right - frame.left);
-  const double legend_height = entries.empty() ? 0.0 : kLegendRow * static_cast<double>(rows.size()) + 6.0;
+  layout->entries = legendEntries(plot);
+  layout->rows = legendRows(layout->entries, frame.right - frame.left);
+  const double legend_height = layout->entries.empty() ? 0.0 : kLegendRow * static_cast<double>(layout->rows.size()) + 6.0;
   frame.top = kTitleBand + legend_height;
   frame.bottom = plot.height - kBottom;
   if (frame.bottom - frame.top < 40.0)
     throw core::InputError(where + ": a " + std::to_string(plot.height) + " px tall plot leaves no room below its " +
-                           std::to_string(rows.size()) + " legend rows");
+                           std::to_string(layout->rows.size()) + " legend rows");
+  return layout;
+}
 
-  detail::OutputCanvas image = detail::createOutputCanvas(plot.width, plot.height, output);
-  cairo_t* cr = image.cr();
+/// Draws a laid-out plot with its top-left corner at the context's origin.
+void drawPlot(cairo_t* cr, const LinePlot& plot, const PlotLayout& layout) {
+  const PlotFrame& frame = layout.frame;
   drawGrid(cr, frame, plot.x_ticks);
   drawData(cr, frame, plot);
   setColour(cr, kInk);
   detail::drawText(cr, plot.title, frame.left, 0.6 * kTitleBand, kTitleSize);
   detail::drawCentred(cr, plot.x_label, 0.5 * (frame.left + frame.right), plot.height - 12.0, kLabelSize);
   detail::drawVertical(cr, plot.y_label, 22.0, 0.5 * (frame.top + frame.bottom), kLabelSize);
-  drawLegend(cr, rows, frame.left);
+  drawLegend(cr, layout.rows, frame.left);
+}
+
+}  // namespace
+
+void renderLinePlot(const LinePlot& plot, const std::filesystem::path& output) {
+  const std::string where = output.string();
+  imageFormatFor(output);  // an unknown extension fails before any drawing
+  const std::unique_ptr<PlotLayout> layout = layOut(plot, where);
+  detail::OutputCanvas image = detail::createOutputCanvas(plot.width, plot.height, output);
+  drawPlot(image.cr(), plot, *layout);
+  detail::finishImage(image);
+}
+
+void renderLinePlots(const std::vector<LinePlot>& plots, const std::filesystem::path& output) {
+  const std::string where = output.string();
+  imageFormatFor(output);
+  if (plots.empty()) throw core::InputError(where + ": no plots to draw");
+  std::vector<std::unique_ptr<PlotLayout>> layouts;
+  int height = 0;
+  for (const LinePlot& plot : plots) {
+    if (plot.width != plots.front().width)
+      throw core::InputError(where + ": stacked plots must be equally wide (" + std::to_string(plot.width) + " px and " +
+                             std::to_string(plots.front().width) + " px)");
+    layouts.push_back(layOut(plot, where));
+    height += plot.height;
+  }
+  if (height > 8000) throw core::InputError(where + ": the stacked plots are " + std::to_string(height) + " px tall (at most 8000)");
+  detail::OutputCanvas image = detail::createOutputCanvas(plots.front().width, height, output);
+  cairo_t* cr = image.cr();
+  double top = 0.0;
+  for (std::size_t i = 0; i < plots.size(); ++i) {
+    cairo_save(cr);
+    cairo_translate(cr, 0.0, top);
+    drawPlot(cr, plots[i], *layouts[i]);
+    cairo_restore(cr);
+    top += plots[i].height;
+  }
   detail::finishImage(image);
 }
 

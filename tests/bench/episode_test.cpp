@@ -12,10 +12,14 @@
 
 #include "barn/controllers/registry.hpp"
 #include "tests/bench/empty_world.hpp"
+#include "tests/scratch_dir.hpp"
 #include "barn/core/config.hpp"
 #include "barn/core/protocol.hpp"
+#include "barn/core/rng.hpp"
 #include "barn/core/world_file.hpp"
 #include "barn/core/world_geometry.hpp"
+#include "barn/learning/applr_policy.hpp"
+#include "barn/learning/mlp.hpp"
 #include "barn/sim/lidar.hpp"
 
 namespace barn::bench {
@@ -398,6 +402,38 @@ TEST(Episode, EveryBuiltInControllerObjectReusedGivesWhatAFreshOneGives) {
     EXPECT_EQ(again.outcome, expected.outcome);
     expectSameTrajectory(again, expected);
   }
+}
+
+TEST(Episode, AReusedApplrDwaGivesWhatAFreshOneGivesAndRecordsItsParameters) {
+  // A random actor of the published shape stands in for the published one (not shipped): its
+  // parameters change every second, and reset() must put the DWA's and the costmaps' back.
+  const test::ScratchDir scratch("barn_episode_applr");
+  learning::Mlp<float> actor(721, 16, 7);
+  core::Rng rng(3);
+  actor.initialise(rng);
+  learning::ApplrPolicyInfo info;
+  info.actions = {{"max_vel_x", 0.2, 2.0},          {"max_vel_theta", 0.314, 3.14},   {"vx_samples", 4.0, 12.0},
+                  {"vtheta_samples", 8.0, 40.0},    {"path_distance_bias", 0.1, 1.5}, {"goal_distance_bias", 0.1, 2.0},
+                  {"inflation_radius", 0.1, 0.6}};
+  info.name = "random";
+  learning::writeApplrPolicyFile(scratch.path() / "random.policy", info, actor.parameters());
+  const controllers::ControllerFactory factory = controllers::makeControllerFactory(core::ConfigNode::parseString(
+      "type: applr_dwa\napplr_dwa: {policy: " + (scratch.path() / "random.policy").string() + "}\n", "applr.yaml"));
+  const std::string root = BARN_SOURCE_DIR;
+  const core::WorldSpec first_world = core::readWorldFile(root + "/worlds/world_000.yaml");
+  const core::WorldSpec second_world = core::readWorldFile(root + "/worlds/world_010.yaml");
+  const auto reused = factory();
+  run(first_world, *reused, {}, 3);
+  const EpisodeResult again = run(second_world, *reused, {}, 4, true);
+  const auto fresh = factory();
+  const EpisodeResult expected = run(second_world, *fresh, {}, 4, true);
+  EXPECT_EQ(again.outcome, expected.outcome);
+  expectSameTrajectory(again, expected);
+  // The trajectory records the parameters at the ticks that set them: 0 s, 1 s, ...
+  ASSERT_GT(again.trajectory.size(), 21u);
+  EXPECT_THAT(again.trajectory[0].parameters, ::testing::HasSubstr(";vx_samples="));
+  EXPECT_EQ(again.trajectory[1].parameters, "");
+  EXPECT_THAT(again.trajectory[20].parameters, ::testing::StartsWith("max_vel_x="));
 }
 
 TEST(Episode, SteppingByHandGivesWhatRunEpisodeGives) {

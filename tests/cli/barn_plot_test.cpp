@@ -113,4 +113,45 @@ TEST_F(BarnPlot, WorldRenderWritesVectorFormats) {
   }
 }
 
+TEST_F(BarnPlot, ParamsDrawsOnePanelPerParameterOfATrajectoryFile) {
+  // Two parameters set at 0 s and 1 s, the episode ending at 1.5 s; keys in first-seen order.
+  const fs::path csv = *dir_ / "params.csv";
+  writeFile(csv,
+            "time_s,x,y,yaw,cmd_linear,cmd_angular,state,params\n"
+            "0,0,0,0,0.5,0,planning,max_vel_x=1.5;vx_samples=8\n"
+            "0.5,0.2,0,0,0.5,0,planning,\n"
+            "1,0.4,0,0,0.5,0,planning,max_vel_x=0.25;vx_samples=12\n"
+            "1.5,0.5,0,0,0.5,0,planning,\n");
+  const fs::path png = *dir_ / "params.png";
+  RunResult r = run("plot params " + quote(csv) + " -o " + quote(png));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  // Two stacked 900 x 170 panels: 900 x 340.
+  const std::string bytes = readFile(png);
+  ASSERT_GT(bytes.size(), 24u);
+  const auto be32 = [&](std::size_t at) {
+    return (static_cast<unsigned char>(bytes[at]) << 24) | (static_cast<unsigned char>(bytes[at + 1]) << 16) |
+           (static_cast<unsigned char>(bytes[at + 2]) << 8) | static_cast<unsigned char>(bytes[at + 3]);
+  };
+  EXPECT_EQ(be32(16), 900u);
+  EXPECT_EQ(be32(20), 340u);
+  // --keys chooses and orders them; a key the file does not hold is bad input naming those it does.
+  r = run("plot params " + quote(csv) + " --keys vx_samples -o " + quote(*dir_ / "one.svg"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(magic(*dir_ / "one.svg"), "svg");
+  r = run("plot params " + quote(csv) + " --keys gdist_scale -o " + quote(*dir_ / "none.png"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("no parameter 'gdist_scale' (it holds: max_vel_x, vx_samples)"));
+  // A params cell that does not parse names its line.
+  writeFile(csv, "time_s,x,y,yaw,cmd_linear,cmd_angular,state,params\n0,0,0,0,0.5,0,planning,max_vel_x\n");
+  r = run("plot params " + quote(csv) + " -o " + quote(png));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("params.csv:2: params entry 'max_vel_x': expected key=number"));
+  // A record's trajectory file of a controller that sets nothing: nothing to draw.
+  r = run("run --controller straight --worlds 0 --trials 1 --trajectories --out " + quote(*dir_ / "with_traj"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run("plot params " + quote(*dir_ / "with_traj" / "trajectories" / "world_0_trial_0.csv") + " -o " + quote(png));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("no parameter was set"));
+}
+
 }  // namespace

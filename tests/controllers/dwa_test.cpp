@@ -2,7 +2,10 @@
 
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 namespace barn::controllers {
@@ -183,6 +186,97 @@ TEST(Dwa, RejectsUnknownConfigKeysAndBadValues) {
   validate(config, errors, "dwa");
   ASSERT_FALSE(errors.empty());
   EXPECT_NE(errors.messages().front().find("dwa.max_vel_x"), std::string::npos);
+}
+
+// A DWA on the open field of commandFor's map with the goal at `goal`.
+struct OpenField {
+  explicit OpenField(const Eigen::Vector2d& goal) : dwa(config()) {
+    info.goal = goal;
+    info.lidar.mount_x = 0.0;
+    dwa.reset(info);
+  }
+  static DwaConfig config() {
+    DwaConfig c;
+    c.nav.global_costmap.origin_x = -3.0;
+    c.nav.global_costmap.origin_y = -3.0;
+    c.nav.global_costmap.width = 10.0;
+    c.nav.global_costmap.height = 6.0;
+    return c;
+  }
+  // One tick at time 0.05 k from rest, a fresh empty scan.
+  core::Twist tick(int k) {
+    scan = scanOf({});
+    scan.stamp = 0.05 * k;
+    Observation obs;
+    obs.time = 0.05 * k;
+    obs.scan = &scan;
+    obs.goal = info.goal;
+    return dwa.act(obs);
+  }
+  EpisodeInfo info;
+  core::LaserScan scan;
+  DwaController dwa;
+};
+
+TEST(Dwa, TakesNewSampleCountsWhileRunning) {
+  // The goal ahead and to the left: the best arc turns left. From rest the yaw-rate window is
+  // [-1, 1] (20 rad/s^2 x 0.05 s). With 5 samples the arcs try 0 and -1, -0.5, 0, 0.5 (the top
+  // is never tried) and the rotations +-1: whatever wins is a multiple of 0.5. With BARN's 20
+  // the step is 2 / 19 and the left turn is not.
+  OpenField field({3.0, 2.0});
+  core::Twist cmd;
+  for (int k = 0; k < 3; ++k) cmd = field.tick(k);
+  EXPECT_GT(cmd.angular, 0.0);
+  EXPECT_NE(std::fmod(cmd.angular, 0.5), 0.0);
+  field.dwa.setParameter("vtheta_samples", 5);
+  EXPECT_EQ(field.dwa.parameters().vtheta_samples, 5);
+  cmd = field.tick(3);
+  EXPECT_EQ(cmd.angular, 0.5);
+  // Two samples: the arcs try 0 and -1 only, and no rotation is wider than the step 2: straight on.
+  field.dwa.setParameter("vtheta_samples", 2);
+  cmd = field.tick(4);
+  EXPECT_EQ(cmd.angular, 0.0);
+}
+
+TEST(Dwa, TakesANewTopSpeedUntilReset) {
+  // Straight ahead in the open the fastest sample wins: the window from rest is [0.1, 0.5], and
+  // with max_vel_x 0.3 it is [0.1, 0.3].
+  OpenField field({6.0, 0.0});
+  field.dwa.setParameter("max_vel_x", 0.3);
+  core::Twist cmd;
+  for (int k = 0; k < 3; ++k) cmd = field.tick(k);
+  EXPECT_NEAR(cmd.linear, 0.3, 1e-9);
+  field.dwa.reset(field.info);
+  EXPECT_EQ(field.dwa.parameters().max_vel_x, 0.5);
+  for (int k = 0; k < 3; ++k) cmd = field.tick(k);
+  EXPECT_NEAR(cmd.linear, 0.5, 1e-9);
+}
+
+TEST(Dwa, PassesTheStacksKeysOnAndRefusesBadValues) {
+  OpenField field({6.0, 0.0});
+  field.tick(0);
+  // The inflation radius reaches the global costmap at its next update (10 Hz: tick 2).
+  field.dwa.setParameter("global_costmap.inflation_radius", 0.6);
+  field.tick(1);
+  field.tick(2);
+  EXPECT_EQ(field.dwa.navStack().globalCostmap().config().inflation_radius, 0.6);
+  const auto refusal = [&](const char* key, double value) {
+    try {
+      field.dwa.setParameter(key, value);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_THAT(refusal("vx_samples", 1), ::testing::HasSubstr("dwa.vx_samples: must be >= 2"));
+  EXPECT_THAT(refusal("vtheta_samples", 7.5), ::testing::HasSubstr("vtheta_samples: must be a whole number"));
+  EXPECT_THAT(refusal("max_vel_x", 0.05), ::testing::HasSubstr("dwa.min_vel_x"));  // below min_vel_x 0.1
+  EXPECT_THAT(refusal("pdist_scale", -1.0), ::testing::HasSubstr("scoring scales must be >= 0"));
+  EXPECT_THAT(refusal("sim_time", 1.0),
+              ::testing::AllOf(::testing::HasSubstr("not a settable parameter"), ::testing::HasSubstr("vx_samples"),
+                               ::testing::HasSubstr("local_costmap.inflation_radius")));
+  // A refused value leaves the parameters as they were.
+  EXPECT_EQ(field.dwa.parameters().vx_samples, 6);
 }
 
 }  // namespace

@@ -120,5 +120,61 @@ TEST(LinePlot, RejectsMismatchedIntervalsAndABadFixedRange) {
   EXPECT_FALSE(fs::exists(png));
 }
 
+TEST(LinePlots, StackEachPlotAsItIsDrawnAloneOneBelowTheOther) {
+  const fs::path alone = fs::temp_directory_path() / "barn_line_plot_alone.png";
+  const fs::path stacked = fs::temp_directory_path() / "barn_line_plot_stacked.png";
+  renderLinePlot(intervalPlot(), alone);
+  LinePlot second = lossPlot();
+  second.width = 640;
+  second.height = 300;
+  renderLinePlots({intervalPlot(), second}, stacked);
+  const test::Image one(alone), both(stacked);
+  ASSERT_TRUE(one.ok());
+  ASSERT_TRUE(both.ok());
+  // 640 wide, 400 + 300 tall; the top 400 rows are the first plot's, pixel for pixel (its
+  // marker at (348, 206) is blue in both).
+  EXPECT_EQ(both.width(), 640);
+  EXPECT_EQ(both.height(), 700);
+  const auto blue = test::isColour(kBlueR, kBlueG, kBlueB);
+  EXPECT_TRUE(blue(both.at(348, 206)));
+  bool same = true;
+  for (int y = 0; y < 400 && same; y += 3)
+    for (int x = 0; x < 640 && same; x += 3) {
+      const test::Pixel a = one.at(x, y), b = both.at(x, y);
+      same = a.r == b.r && a.g == b.g && a.b == b.b;
+    }
+  EXPECT_TRUE(same);
+  // The second plot's legend swatch sits at y 54 of its own panel: 400 + 54.
+  EXPECT_TRUE(blue(both.at(94, 454)));
+  fs::remove(alone);
+  fs::remove(stacked);
+}
+
+TEST(LinePlots, RefuseNoPlotsUnequalWidthsAndABadPanel) {
+  const fs::path png = fs::temp_directory_path() / "barn_line_plots_bad.png";
+  EXPECT_THAT([&] { renderLinePlots({}, png); }, ::testing::ThrowsMessage<core::InputError>(::testing::HasSubstr("no plots")));
+  EXPECT_THAT([&] { renderLinePlots({intervalPlot(), lossPlot()}, png); },
+              ::testing::ThrowsMessage<core::InputError>(::testing::HasSubstr("equally wide")));
+  LinePlot uneven = intervalPlot();
+  uneven.series[0].y.pop_back();
+  EXPECT_THAT([&] { renderLinePlots({intervalPlot(), uneven}, png); },
+              ::testing::ThrowsMessage<core::InputError>(::testing::HasSubstr("different lengths")));
+  EXPECT_FALSE(fs::exists(png));
+}
+
+TEST(LinePlot, ASeriesWithoutALabelHasNoLegendRow) {
+  // 150 px tall: the 44 px title band and 58 px below leave 48 px of plot without a legend, but
+  // only 22 px under a 26 px legend row (less than the 40 px minimum).
+  const fs::path png = fs::temp_directory_path() / "barn_line_plot_unlabelled.png";
+  LinePlot plot = lossPlot();
+  plot.references.clear();
+  plot.height = 150;
+  EXPECT_THAT([&] { renderLinePlot(plot, png); }, ::testing::ThrowsMessage<core::InputError>(::testing::HasSubstr("legend rows")));
+  plot.series[0].label.clear();
+  renderLinePlot(plot, png);
+  EXPECT_TRUE(fs::exists(png));
+  fs::remove(png);
+}
+
 }  // namespace
 }  // namespace barn::viz

@@ -24,6 +24,8 @@
 /// move_base aborts.
 
 #include <span>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "barn/controllers/controller.hpp"
@@ -99,6 +101,21 @@ class DwaController : public Controller {
   std::string_view stateLabel() const override;
 
   const nav::NavStack& navStack() const { return nav_; }
+  /// The parameters in force (the configured ones, changed by setParameter()).
+  const DwaConfig& parameters() const { return config_; }
+
+  /// Changes a parameter while running, as dynamic_reconfigure does on move_base's
+  /// TrajectoryPlannerROS (its reconfigure takes every value from the next cycle on). The
+  /// planner's keys: max_vel_x, max_vel_theta (the window is symmetric: min_vel_theta is its
+  /// negative), vx_samples and vtheta_samples (whole numbers: the sampling grid of the next
+  /// act()), pdist_scale, gdist_scale and occdist_scale. Any other key goes to the stack
+  /// (nav::NavStack::setParameter: e.g. `global_costmap.inflation_radius`, applied at that
+  /// map's next update, as costmap_2d applies a reconfigure). reset() restores the configured
+  /// values. Throws std::invalid_argument naming the key for a key neither takes or a value
+  /// the config's validate() refuses.
+  void setParameter(std::string_view key, double value);
+  /// The planner's keys setParameter() takes (the stack's: nav::NavStack::settableParameters()).
+  static const std::vector<std::string>& settableParameters();
   /// TrajectoryPlanner's escape flag: set by a blind back-up, cleared after escape_reset_dist
   /// or escape_reset_theta.
   bool escaping() const { return escaping_; }
@@ -244,7 +261,8 @@ class DwaController : public Controller {
   bool footprintCorners(double x, double y, double cos_theta, double sin_theta, nav::CellIndex (&corners)[4]) const;
   int outlineCost(const nav::CellIndex (&corners)[4]) const;
 
-  DwaConfig config_;
+  DwaConfig config_;      // in force: the configured values changed by setParameter()
+  DwaConfig configured_;  // what reset() restores
   nav::NavStack nav_;
   EpisodeInfo info_;
   MoveBase move_base_;

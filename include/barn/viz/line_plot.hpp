@@ -20,7 +20,7 @@
 namespace barn::viz {
 
 struct LineSeries {
-  std::string label;      // legend text
+  std::string label;      // legend text ("": not in the legend)
   std::vector<double> x;  // same length as y
   std::vector<double> y;  // non-finite points break the line
   // An interval per point, drawn as a capped vertical bar (e.g. a 95 % confidence interval);
@@ -31,7 +31,7 @@ struct LineSeries {
 };
 
 struct ReferenceLine {
-  std::string label;  // legend text
+  std::string label;  // legend text ("": not in the legend)
   double y = 0.0;     // drawn dashed across the plot
 };
 
@@ -60,5 +60,10 @@ struct LinePlot {
 /// out of range, a series has x, y, low and high of mismatched lengths, a fixed y end is
 /// infinite or y_max <= y_min, there is nothing finite to draw, or the file cannot be written.
 void renderLinePlot(const LinePlot& plot, const std::filesystem::path& output);
+
+/// Several plots stacked top to bottom in one image, each drawn as renderLinePlot draws it
+/// alone (e.g. one panel per quantity over a shared time axis). renderLinePlot's InputErrors
+/// for each plot, and for no plots, plots of different widths or more than 8000 px in all.
+void renderLinePlots(const std::vector<LinePlot>& plots, const std::filesystem::path& output);
 
 }  // namespace barn::viz
