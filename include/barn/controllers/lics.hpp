@@ -1,8 +1,8 @@
 #pragma once
 /// `lics`: the LiCS-KI controller (KAIST, BARN Challenge 2024 winner) as the team's simulation
-/// code ran it (damanikjosh/the-barn-challenge@f7bd87c: lics/scripts/run.py,
+/// code ran it (damanikjosh/the-barn-challenge@9971a42: lics/scripts/run.py,
 /// lics/scripts/env/robot.py, lics/config/config.yaml, jackal_helper's move_base launch and
-/// params). Their ROS node has four callbacks; barnbench runs them once per control tick (20 Hz):
+/// params). Their ROS node's callbacks and move_base run here once per control tick (20 Hz):
 ///
 ///  1. Odometry: the global costmap's inflation radius from the odometry speed v [m/s]. The node
 ///     divides v by max_speed, then the formula divides by max_speed again:
@@ -85,7 +85,7 @@ struct LicsConfig {
   }
 
   /// The team's move_base (jackal_helper/launch/move_base.launch and configs/params at
-  /// f7bd87c): GlobalPlanner (Dijkstra, cost_factor 3) at 20 Hz; footprint 0.42 x 0.33 + 0.1
+  /// 9971a42): GlobalPlanner (Dijkstra, cost_factor 3) at 20 Hz; footprint 0.42 x 0.33 + 0.1
   /// padding (inscribed radius 0.265); the scan marks to 4.5 m and clears to 5.0 m; inflation
   /// 0.30 at costmap_2d's default scaling 10; global costmap at 10 Hz, local at 20 Hz (read by
   /// nothing here).
