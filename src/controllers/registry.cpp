@@ -10,6 +10,7 @@
 #include "barn/controllers/inventec.hpp"
 #include "barn/controllers/kulfm.hpp"
 #include "barn/controllers/lflh.hpp"
+#include "barn/controllers/lics.hpp"
 #include "barn/controllers/pure_pursuit.hpp"
 #include "barn/controllers/rrsl_vfh.hpp"
 #include "barn/controllers/straight.hpp"
@@ -40,17 +41,22 @@ Entry entry(const char* type) {
           }};
 }
 
+// The LfLH policy file at `path`, shared read-only.
+std::shared_ptr<const learning::Policy> loadLflhPolicy(const std::string& path) {
+  return std::make_shared<const learning::Policy>(learning::Policy::load(path));
+}
+
 // A controller that runs a learned policy: the policy file (resolved against the config file's
-// folder) is loaded once here and shared, read-only, by every episode's controller.
-template <class Config, class ControllerType>
-Entry policyEntry(const char* type) {
-  return {type, [type](const core::ConfigNode& block, std::string& effective) -> ControllerFactory {
+// folder) is loaded once here by `load` and shared, read-only, by every episode's controller.
+template <class Config, class ControllerType, class Load>
+Entry policyEntry(const char* type, Load load) {
+  return {type, [type, load](const core::ConfigNode& block, std::string& effective) -> ControllerFactory {
             Config config = core::readConfig<Config>(block);
             config.policy = resolvePolicyPath(config.policy, block.source());
             core::Errors errors;
             validate(config, errors, block.where());
             errors.throwIfAny();
-            auto policy = std::make_shared<const learning::Policy>(learning::Policy::load(config.policy));
+            auto policy = load(config.policy);
             core::ConfigWriter writer(2);
             config.visit(writer);
             effective = std::string("type: ") + type + "\n" + type + ":\n" + writer.text();
@@ -116,13 +122,14 @@ const std::vector<Entry>& entries() {
       entry<DwaConfig, DwaController>("dwa"),
       entry<EbandConfig, EbandController>("eband"),
       entry<UtAmrlConfig, UtAmrlController>("ut_amrl"),
-      policyEntry<LflhConfig, LflhController>("lflh"),
-      policyEntry<InventecConfig, InventecController>("inventec"),
+      policyEntry<LflhConfig, LflhController>("lflh", loadLflhPolicy),
+      policyEntry<InventecConfig, InventecController>("inventec", loadLflhPolicy),
       entry<RrslVfhConfig, RrslVfhController>("rrsl_vfh"),
       entry<In2botConfig, In2botController>("in2bot"),
       entry<KulfmConfig, KulfmController>("kulfm"),
       almeriaTpsEntry(),
       applrEntry(),
+      policyEntry<LicsConfig, LicsController>("lics", loadLicsPolicy),
       externalEntry(),
   };
   return kEntries;
