@@ -27,92 +27,57 @@ struct Entry {
   std::function<ControllerFactory(const core::ConfigNode&, std::string&)> make;
 };
 
+// The effective config text of a block: every field with its value, as a manifest records it.
+template <class Config>
+std::string blockText(const char* key, Config& config) {
+  core::ConfigWriter writer(2);
+  config.visit(writer);
+  return std::string(key) + ":\n" + writer.text();
+}
+
+// A block read through its config's field list, `resolve`d (paths made absolute against the
+// config file's folder) and validated: InputError naming the file and every bad field.
+template <class Config, class Resolve>
+Config readValidated(const core::ConfigNode& block, const Resolve& resolve) {
+  Config config = core::readConfig<Config>(block);
+  resolve(config, block.source());
+  core::Errors errors;
+  validate(config, errors, block.where());
+  errors.throwIfAny();
+  return config;
+}
+
+constexpr auto kNoPaths = [](auto&, const std::string&) {};
+constexpr auto kPolicyPath = [](auto& config, const std::string& source) {
+  config.policy = resolvePolicyPath(config.policy, source);
+};
+
+// A controller made from its config alone.
 template <class Config, class ControllerType>
 Entry entry(const char* type) {
   return {type, [type](const core::ConfigNode& block, std::string& effective) -> ControllerFactory {
-            Config config = core::readConfig<Config>(block);
-            core::Errors errors;
-            validate(config, errors, block.where());
-            errors.throwIfAny();
-            core::ConfigWriter writer(2);
-            config.visit(writer);
-            effective = std::string("type: ") + type + "\n" + type + ":\n" + writer.text();
+            Config config = readValidated<Config>(block, kNoPaths);
+            effective = std::string("type: ") + type + "\n" + blockText(type, config);
             return [config] { return std::make_unique<ControllerType>(config); };
+          }};
+}
+
+// A controller with something every episode's controller shares, read-only, made once here
+// from the validated config by `share` (a loaded network, a precomputed table); `resolve`
+// makes its paths absolute first.
+template <class Config, class ControllerType, class Resolve, class Share>
+Entry sharedEntry(const char* type, Resolve resolve, Share share) {
+  return {type, [type, resolve, share](const core::ConfigNode& block, std::string& effective) -> ControllerFactory {
+            Config config = readValidated<Config>(block, resolve);
+            auto shared = share(config);
+            effective = std::string("type: ") + type + "\n" + blockText(type, config);
+            return [config, shared] { return std::make_unique<ControllerType>(config, shared); };
           }};
 }
 
 // The LfLH policy file at `path`, shared read-only.
 std::shared_ptr<const learning::Policy> loadLflhPolicy(const std::string& path) {
   return std::make_shared<const learning::Policy>(learning::Policy::load(path));
-}
-
-// A controller that runs a learned policy: the policy file (resolved against the config file's
-// folder) is loaded once here by `load` and shared, read-only, by every episode's controller.
-template <class Config, class ControllerType, class Load>
-Entry policyEntry(const char* type, Load load) {
-  return {type, [type, load](const core::ConfigNode& block, std::string& effective) -> ControllerFactory {
-            Config config = core::readConfig<Config>(block);
-            config.policy = resolvePolicyPath(config.policy, block.source());
-            core::Errors errors;
-            validate(config, errors, block.where());
-            errors.throwIfAny();
-            auto policy = load(config.policy);
-            core::ConfigWriter writer(2);
-            config.visit(writer);
-            effective = std::string("type: ") + type + "\n" + type + ":\n" + writer.text();
-            return [config, policy] { return std::make_unique<ControllerType>(config, policy); };
-          }};
-}
-
-// APPLR-DWA: its actor (the published one, converted) is loaded once here and shared, read-only,
-// by every episode's controller; a missing file names the import command.
-Entry applrEntry() {
-  return {"applr_dwa", [](const core::ConfigNode& block, std::string& effective) -> ControllerFactory {
-            ApplrDwaConfig config = core::readConfig<ApplrDwaConfig>(block);
-            core::Errors errors;
-            validate(config, errors, block.where());
-            errors.throwIfAny();
-            auto policy = loadApplrPolicy(config.policy, block.source());
-            config.policy = resolvePolicyPath(config.policy, block.source());
-            ApplrDwaController check(config, policy);  // an actor whose actions the DWA cannot take fails here, once
-            core::ConfigWriter writer(2);
-            config.visit(writer);
-            effective = "type: applr_dwa\napplr_dwa:\n" + writer.text();
-            return [config, policy] { return std::make_unique<ApplrDwaController>(config, policy); };
-          }};
-}
-
-// A controller program run as a child process: paths resolved against the config file's folder
-// (the effective config records them absolute), one process pool per factory, shared by every
-// episode's controller so each worker thread reuses its process.
-Entry externalEntry() {
-  return {"external", [](const core::ConfigNode& block, std::string& effective) -> ControllerFactory {
-            ExternalConfig config = resolveExternalPaths(core::readConfig<ExternalConfig>(block), block.source());
-            core::Errors errors;
-            validate(config, errors, block.where());
-            errors.throwIfAny();
-            core::ConfigWriter writer(2);
-            config.visit(writer);
-            effective = "type: external\nexternal:\n" + writer.text();
-            auto pool = std::make_shared<ChildProcessPool>(ChildCommand{config.command, config.working_dir});
-            return [config, pool] { return std::make_unique<ExternalController>(config, pool); };
-          }};
-}
-
-// `almeria_tps`: its PTG's collision grid is built once here and shared, read-only, by every
-// episode's controller.
-Entry almeriaTpsEntry() {
-  return {"almeria_tps", [](const core::ConfigNode& block, std::string& effective) -> ControllerFactory {
-            AlmeriaTpsConfig config = core::readConfig<AlmeriaTpsConfig>(block);
-            core::Errors errors;
-            validate(config, errors, block.where());
-            errors.throwIfAny();
-            core::ConfigWriter writer(2);
-            config.visit(writer);
-            effective = "type: almeria_tps\nalmeria_tps:\n" + writer.text();
-            auto ptg = std::make_shared<const ArcPtg>(config.ptg);
-            return [config, ptg] { return std::make_unique<AlmeriaTpsController>(config, ptg); };
-          }};
 }
 
 const std::vector<Entry>& entries() {
@@ -122,15 +87,28 @@ const std::vector<Entry>& entries() {
       entry<DwaConfig, DwaController>("dwa"),
       entry<EbandConfig, EbandController>("eband"),
       entry<UtAmrlConfig, UtAmrlController>("ut_amrl"),
-      policyEntry<LflhConfig, LflhController>("lflh", loadLflhPolicy),
-      policyEntry<InventecConfig, InventecController>("inventec", loadLflhPolicy),
+      sharedEntry<LflhConfig, LflhController>("lflh", kPolicyPath,
+                                              [](const LflhConfig& c) { return loadLflhPolicy(c.policy); }),
+      sharedEntry<InventecConfig, InventecController>("inventec", kPolicyPath,
+                                                      [](const InventecConfig& c) { return loadLflhPolicy(c.policy); }),
       entry<RrslVfhConfig, RrslVfhController>("rrsl_vfh"),
       entry<In2botConfig, In2botController>("in2bot"),
       entry<KulfmConfig, KulfmController>("kulfm"),
-      almeriaTpsEntry(),
-      applrEntry(),
-      policyEntry<LicsConfig, LicsController>("lics", loadLicsPolicy),
-      externalEntry(),
+      // The PTG's collision grid, built once.
+      sharedEntry<AlmeriaTpsConfig, AlmeriaTpsController>(
+          "almeria_tps", kNoPaths, [](const AlmeriaTpsConfig& c) { return std::make_shared<const ArcPtg>(c.ptg); }),
+      sharedEntry<ApplrDwaConfig, ApplrDwaController>("applr_dwa", kPolicyPath, [](const ApplrDwaConfig& c) {
+        auto policy = loadApplrPolicy(c.policy, "");
+        ApplrDwaController check(c, policy);  // an actor whose actions the DWA cannot take fails here, once
+        return policy;
+      }),
+      sharedEntry<LicsConfig, LicsController>("lics", kPolicyPath,
+                                              [](const LicsConfig& c) { return loadLicsPolicy(c.policy); }),
+      // The program's processes, one pool shared by the factory's controllers (each worker
+      // thread reuses its process); paths resolved against the config file's folder.
+      sharedEntry<ExternalConfig, ExternalController>(
+          "external", [](ExternalConfig& c, const std::string& source) { c = resolveExternalPaths(c, source); },
+          [](const ExternalConfig& c) { return std::make_shared<ChildProcessPool>(ChildCommand{c.command, c.working_dir}); }),
   };
   return kEntries;
 }
@@ -169,13 +147,8 @@ PreparedController prepareController(const core::ConfigNode& config) {
   prepared.factory = findEntry(config, type).make(config.child(type), prepared.effective_config);
   if (config.has(kGlobalPlanKey)) {
     const core::ConfigNode block = config.child(kGlobalPlanKey);
-    auto plan = core::readConfig<GlobalPlanConfig>(block);
-    core::Errors errors;
-    validate(plan, errors, block.where());
-    errors.throwIfAny();
-    core::ConfigWriter writer(2);
-    plan.visit(writer);
-    prepared.effective_config += std::string(kGlobalPlanKey) + ":\n" + writer.text();
+    auto plan = readValidated<GlobalPlanConfig>(block, kNoPaths);
+    prepared.effective_config += blockText(kGlobalPlanKey, plan);
     prepared.factory = [plan, inner = std::move(prepared.factory)] {
       return std::make_unique<GlobalPlanFedController>(plan, inner());
     };
