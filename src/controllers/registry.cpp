@@ -8,6 +8,7 @@
 #include "barn/controllers/inventec.hpp"
 #include "barn/controllers/kulfm.hpp"
 #include "barn/controllers/lflh.hpp"
+#include "barn/controllers/meco.hpp"
 #include "barn/controllers/pure_pursuit.hpp"
 #include "barn/controllers/rrsl_vfh.hpp"
 #include "barn/controllers/straight.hpp"
@@ -85,6 +86,7 @@ const std::vector<Entry>& entries() {
       entry<RrslVfhConfig, RrslVfhController>("rrsl_vfh"),
       entry<In2botConfig, In2botController>("in2bot"),
       entry<KulfmConfig, KulfmController>("kulfm"),
+      entry<MecoConfig, MecoController>("meco"),
       externalEntry(),
   };
   return kEntries;
