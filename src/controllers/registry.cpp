@@ -11,6 +11,7 @@
 #include "barn/controllers/kulfm.hpp"
 #include "barn/controllers/lflh.hpp"
 #include "barn/controllers/lics.hpp"
+#include "barn/controllers/meco.hpp"
 #include "barn/controllers/pure_pursuit.hpp"
 #include "barn/controllers/rrsl_vfh.hpp"
 #include "barn/controllers/straight.hpp"
@@ -94,6 +95,7 @@ const std::vector<Entry>& entries() {
       entry<RrslVfhConfig, RrslVfhController>("rrsl_vfh"),
       entry<In2botConfig, In2botController>("in2bot"),
       entry<KulfmConfig, KulfmController>("kulfm"),
+      entry<MecoConfig, MecoController>("meco"),
       // The PTG's collision grid, built once.
       sharedEntry<AlmeriaTpsConfig, AlmeriaTpsController>(
           "almeria_tps", kNoPaths, [](const AlmeriaTpsConfig& c) { return std::make_shared<const ArcPtg>(c.ptg); }),

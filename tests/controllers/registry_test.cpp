@@ -63,8 +63,8 @@ TEST(ControllerRegistry, EveryShippedConfigBuildsAKnownTypeAndEveryTypeShipsOne)
 TEST(ControllerRegistry, TheShippedBaselineConfigsHoldTheCodesDefaults) {
   // These files say their values are the code's defaults (the BARN baselines and the teams' values
   // as published): their effective configs equal the bare type's.
-  for (const char* name :
-       {"dwa", "eband", "kulfm", "pure_pursuit", "straight", "rrsl_vfh", "in2bot", "ut_amrl", "almeria_tps"}) {
+  for (const char* name : {"dwa", "eband", "kulfm", "pure_pursuit", "straight", "rrsl_vfh", "in2bot", "ut_amrl",
+                           "almeria_tps", "meco"}) {
     const std::string file = std::string(BARN_SOURCE_DIR) + "/configs/controllers/" + name + ".yaml";
     const core::ConfigNode shipped = core::ConfigNode::parseFile(file);
     std::string type;
