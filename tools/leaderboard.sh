@@ -29,8 +29,9 @@ mkdir -p "$work"
 
 worlds="$work/official_worlds"
 [ -d "$worlds" ] || build/barn import-barn "$dataset" --out "$worlds" > /dev/null
-official=$(seq 0 6 294 | while read -r w; do [ -f "$(printf '%s/world_%03d.yaml' "$worlds" "$w")" ] && echo "$w"; done |
-           paste -sd, -)
+official=$(seq 0 6 294 | while read -r w; do
+             if [ -f "$(printf '%s/world_%03d.yaml' "$worlds" "$w")" ]; then echo "$w"; fi
+           done | paste -sd, -)
 [ -n "$official" ] || { echo "leaderboard: the dataset holds no official test world" >&2; exit 2; }
 
 # controller protocol: each system on its edition's scale (k = 4 up to 2023, k = 2 from 2024).
