@@ -51,9 +51,10 @@ std::string worldSetText(const bench::RunManifest& manifest, const std::vector<c
 }  // namespace
 
 void renderScoreBars(const fs::path& record, const std::string& by, const fs::path& output) {
-  const bench::RunManifest manifest = bench::readManifest(fs::path(record) / bench::kManifestFile);
+  const bench::CompleteRecord complete = bench::readCompleteRecord(record);
+  const bench::RunManifest& manifest = complete.manifest;
   const auto worlds = bench::loadManifestWorlds(manifest);
-  const auto results = bench::readEpisodesCsv(fs::path(record) / bench::kEpisodesFile);
+  const std::vector<bench::EpisodeResult>& results = complete.episodes;
   std::map<int, bench::WorldStats> stats;
   for (const bench::WorldStats& w : bench::perWorldStats(results)) stats[w.world_id] = w;
   std::map<int, std::pair<double, double>> range;  // world -> (worst, best) trial score

@@ -21,7 +21,7 @@ std::vector<HtmlFigure> failureFigures(const fs::path& record, const fs::path& s
   std::vector<int> world_order;
   std::map<int, std::vector<int>> failed;  // world -> failed trials
   std::size_t taken = 0;
-  for (const auto& r : bench::readEpisodesCsv(record / bench::kEpisodesFile)) {
+  for (const auto& r : bench::readCompleteRecord(record).episodes) {
     if (r.outcome == bench::Outcome::Success || taken >= max_episodes) continue;
     if (!failed.count(r.world_id)) world_order.push_back(r.world_id);
     failed[r.world_id].push_back(r.trial);

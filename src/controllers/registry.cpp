@@ -1,5 +1,7 @@
 #include "barn/controllers/registry.hpp"
 
+#include <algorithm>
+
 #include "barn/controllers/dwa.hpp"
 #include "barn/controllers/eband.hpp"
 #include "barn/controllers/external.hpp"
@@ -87,8 +89,12 @@ const Entry& findEntry(const core::ConfigNode& config, std::string& type) {
   for (const Entry& e : entries())
     if (type == e.type) {
       core::Errors errors;
-      for (const std::string& key : config.keys())
-        if (key != "type" && key != type) errors.add(config.where(key), "unknown key (expected 'type' and '" + type + "')");
+      std::vector<std::string> seen;
+      for (const std::string& key : config.keys()) {
+        if (std::find(seen.begin(), seen.end(), key) != seen.end()) errors.add(config.where(key), "duplicate key");
+        else if (key != "type" && key != type) errors.add(config.where(key), "unknown key (expected 'type' and '" + type + "')");
+        seen.push_back(key);
+      }
       errors.throwIfAny();
       return e;
     }

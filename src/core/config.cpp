@@ -1,6 +1,7 @@
 #include "barn/core/config.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <set>
 
@@ -32,11 +33,21 @@ std::string describeYamlError(const YAML::Exception& e) {
 ConfigNode ConfigNode::parseString(const std::string& text, const std::string& source_name) {
   ConfigNode result;
   result.source_ = source_name;
+  std::vector<YAML::Node> documents;
   try {
-    result.impl_->node = YAML::Load(text);
+    // Every document is parsed, so text after the first (a second document after `---`, or
+    // anything after `...`) is either refused below or reported as invalid; YAML::Load would
+    // silently drop it.
+    documents = YAML::LoadAll(text);
   } catch (const YAML::Exception& e) {
     throw InputError(source_name + ": not valid YAML: " + describeYamlError(e));
   }
+  if (documents.size() > 1) {
+    const YAML::Mark mark = documents[1].Mark();
+    throw InputError(source_name + ": " + (mark.is_null() ? std::string() : "line " + std::to_string(mark.line + 1) + ": ") +
+                     "a second YAML document (after '---' or '...'); a config file holds one");
+  }
+  if (!documents.empty()) result.impl_->node = documents.front();
   return result;
 }
 
@@ -79,11 +90,35 @@ std::vector<std::string> ConfigNode::keys() const {
       const YAML::Mark mark = item.first.Mark();
       const std::string line = mark.is_null() ? "unknown line" : "line " + std::to_string(mark.line + 1);
       const std::string owner = path_.empty() ? "a key" : "a key in " + path_;
-      throw InputError(source_ + ": " + line + ": " + owner + " is a list or a map, expected a plain name");
+      throw InputError(source_ + ": " + line + ": " + owner +
+                       (item.first.IsNull() ? " is empty (~, null or nothing before ':')"
+                                            : " is a list or a map") +
+                       ", expected a plain name");
     }
     keys.push_back(item.first.Scalar());
   }
   return keys;
+}
+
+namespace {
+
+void collectScalars(const YAML::Node& node, std::vector<std::string>& out) {
+  if (!node) return;
+  if (node.IsScalar()) {
+    out.push_back(node.Scalar());
+  } else if (node.IsSequence()) {
+    for (const auto& item : node) collectScalars(item, out);
+  } else if (node.IsMap()) {
+    for (const auto& item : node) collectScalars(item.second, out);
+  }
+}
+
+}  // namespace
+
+std::vector<std::string> ConfigNode::scalarValues() const {
+  std::vector<std::string> values;
+  collectScalars(impl_->node, values);
+  return values;
 }
 
 namespace {
@@ -104,32 +139,25 @@ bool ConfigNode::read(double& value) const {
   return true;
 }
 
+// Integers are decimal digits (and a leading '-' for a signed one), read exactly: no spaces,
+// '+', "0x" or fraction, and a value out of range is refused, never wrapped or saturated
+// (" -1" as an unsigned seed would otherwise become 2^64 - 1).
 bool ConfigNode::read(int& value) const {
   std::string text;
   if (!scalarText(impl_->node, text) || text.empty()) return false;
-  std::size_t used = 0;
-  long long parsed = 0;
-  try {
-    parsed = std::stoll(text, &used);
-  } catch (...) {
-    return false;
-  }
-  if (used != text.size() || parsed < INT32_MIN || parsed > INT32_MAX) return false;
-  value = static_cast<int>(parsed);
+  int parsed = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), parsed);
+  if (error != std::errc() || end != text.data() + text.size()) return false;
+  value = parsed;
   return true;
 }
 
 bool ConfigNode::read(std::uint64_t& value) const {
   std::string text;
   if (!scalarText(impl_->node, text) || text.empty() || text[0] == '-') return false;
-  std::size_t used = 0;
-  unsigned long long parsed = 0;
-  try {
-    parsed = std::stoull(text, &used);
-  } catch (...) {
-    return false;
-  }
-  if (used != text.size()) return false;
+  std::uint64_t parsed = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), parsed);
+  if (error != std::errc() || end != text.data() + text.size()) return false;
   value = parsed;
   return true;
 }

@@ -153,7 +153,7 @@ TEST_F(RecordSessionTest, ShardsMergeIntoTheWholeRunsBytes) {
   }
   EXPECT_THAT([&] { mergeShardRecords({shards[0]}, root_ / "merged"); },
               ::testing::ThrowsMessage<core::InputError>(HasSubstr("shards 2 of 2 are missing")));
-  const RunManifest merged = mergeShardRecords(shards, root_ / "merged");
+  const RunManifest merged = mergeShardRecords(shards, root_ / "merged").manifest;
   EXPECT_EQ(merged.episodes_total, 6u);
   for (const char* file : {kEpisodesFile, kSummaryFile})
     EXPECT_EQ(readFile(root_ / "merged" / file), readFile(root_ / "whole" / file)) << file;

@@ -521,7 +521,7 @@ TEST_F(ManifestWorlds, WriteCompleteRecordSortsMarksCompleteAndRemovesTheJournal
     r.outcome = Outcome::Success;
     r.sim_time = 10.0;
   }
-  writeCompleteRecord(out.path(), manifest_, results, loadManifestWorlds(manifest_));
+  writeCompleteRecord(RecordWriter(out.path()), manifest_, results, loadManifestWorlds(manifest_));
   EXPECT_FALSE(fs::exists(out.path() / kJournalFile));
   EXPECT_TRUE(fs::exists(out.path() / kSummaryFile));
   const RunManifest m = readManifest(out.path() / kManifestFile);
