@@ -267,5 +267,32 @@ TEST(Config, AMalformedListElementIsAnErrorNamingIt) {
   }
 }
 
+TEST(Config, ASecondDocumentIsRefusedNotDropped) {
+  EXPECT_THAT([] { ConfigNode::parseString("beams: 1\n---\nbeams: 2\n", "t.yaml"); },
+              ::testing::ThrowsMessage<InputError>(HasSubstr("t.yaml: line 3: a second YAML document")));
+  // Text after the end marker is parsed too: invalid text is an error, not ignored.
+  EXPECT_THROW(ConfigNode::parseString("beams: 1\n...\ngarbage: [\n", "t.yaml"), InputError);
+  EXPECT_EQ(readConfig<Outer>(ConfigNode::parseString("beams: 3\n...\n", "t.yaml")).beams, 3);
+  EXPECT_TRUE(ConfigNode::parseString("# only a comment\n", "t.yaml").isNull());
+}
+
+TEST(Config, IntegersAreReadExactlyNeverWrappedOrSaturated) {
+  std::uint64_t u = 7;
+  int i = 7;
+  for (const char* bad : {"\" -1\"", "\"+5\"", "\"5 \"", "0x10", "18446744073709551616", "1.0", "1e3"}) {
+    EXPECT_FALSE(ConfigNode::parseString(std::string("v: ") + bad, "t").child("v").read(u)) << bad;
+    EXPECT_FALSE(ConfigNode::parseString(std::string("v: ") + bad, "t").child("v").read(i)) << bad;
+  }
+  EXPECT_TRUE(ConfigNode::parseString("v: 18446744073709551615", "t").child("v").read(u));
+  EXPECT_EQ(u, 18446744073709551615ull);
+  EXPECT_FALSE(ConfigNode::parseString("v: 2147483648", "t").child("v").read(i));  // INT_MAX + 1
+  EXPECT_TRUE(ConfigNode::parseString("v: -2147483648", "t").child("v").read(i));
+  EXPECT_EQ(i, -2147483647 - 1);
+}
+
+TEST(Config, AnEmptyKeyIsNamedAsSuch) {
+  EXPECT_THAT(errorOf("~: 2\n"), HasSubstr("test.yaml: line 1: a key is empty"));
+}
+
 }  // namespace
 }  // namespace barn::core
