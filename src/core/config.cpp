@@ -4,6 +4,9 @@
 #include <charconv>
 #include <cmath>
 #include <set>
+#include <sstream>
+
+#include <yaml-cpp/eventhandler.h>
 
 #include <yaml-cpp/yaml.h>
 
@@ -22,6 +25,26 @@ ConfigNode& ConfigNode::operator=(const ConfigNode&) = default;
 
 namespace {
 
+// Parses a document without building it, noting where it starts.
+class DocumentStart : public YAML::EventHandler {
+ public:
+  void OnDocumentStart(const YAML::Mark& at) override {
+    seen = true;
+    mark = at;
+  }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t, const std::string&) override {}
+  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
+  void OnMapEnd() override {}
+
+  bool seen = false;
+  YAML::Mark mark = YAML::Mark::null_mark();
+};
+
 // "line 3, column 7: message" for a yaml-cpp exception (yaml-cpp counts from 0).
 std::string describeYamlError(const YAML::Exception& e) {
   if (e.mark.is_null()) return e.msg;
@@ -33,21 +56,23 @@ std::string describeYamlError(const YAML::Exception& e) {
 ConfigNode ConfigNode::parseString(const std::string& text, const std::string& source_name) {
   ConfigNode result;
   result.source_ = source_name;
-  std::vector<YAML::Node> documents;
   try {
-    // Every document is parsed, so text after the first (a second document after `---`, or
-    // anything after `...`) is either refused below or reported as invalid; YAML::Load would
-    // silently drop it.
-    documents = YAML::LoadAll(text);
+    result.impl_->node = YAML::Load(text);
+    // YAML::Load reads the first document and drops the rest: text after it (a second
+    // document after `---`, anything after `...`) is parsed here too, and refused. Two
+    // documents at most are asked for (YAML::LoadAll can loop forever on some malformed text).
+    std::istringstream stream(text);
+    YAML::Parser parser(stream);
+    DocumentStart second;
+    parser.HandleNextDocument(second);
+    second.seen = false;
+    if (parser.HandleNextDocument(second) && second.seen)
+      throw InputError(source_name + ": " +
+                       (second.mark.is_null() ? std::string() : "line " + std::to_string(second.mark.line + 1) + ": ") +
+                       "a second YAML document (after '---' or '...'); a config file holds one");
   } catch (const YAML::Exception& e) {
     throw InputError(source_name + ": not valid YAML: " + describeYamlError(e));
   }
-  if (documents.size() > 1) {
-    const YAML::Mark mark = documents[1].Mark();
-    throw InputError(source_name + ": " + (mark.is_null() ? std::string() : "line " + std::to_string(mark.line + 1) + ": ") +
-                     "a second YAML document (after '---' or '...'); a config file holds one");
-  }
-  if (!documents.empty()) result.impl_->node = documents.front();
   return result;
 }
 

@@ -269,7 +269,7 @@ TEST(Config, AMalformedListElementIsAnErrorNamingIt) {
 
 TEST(Config, ASecondDocumentIsRefusedNotDropped) {
   EXPECT_THAT([] { ConfigNode::parseString("beams: 1\n---\nbeams: 2\n", "t.yaml"); },
-              ::testing::ThrowsMessage<InputError>(HasSubstr("t.yaml: line 3: a second YAML document")));
+              ::testing::ThrowsMessage<InputError>(HasSubstr("t.yaml: line 2: a second YAML document")));
   // Text after the end marker is parsed too: invalid text is an error, not ignored.
   EXPECT_THROW(ConfigNode::parseString("beams: 1\n...\ngarbage: [\n", "t.yaml"), InputError);
   EXPECT_EQ(readConfig<Outer>(ConfigNode::parseString("beams: 3\n...\n", "t.yaml")).beams, 3);
