@@ -35,8 +35,8 @@ std::optional<long> stepsIn(double period, double dt) {
 std::string countStateEntry(std::vector<std::pair<std::string, int>>& entries, std::string& last, std::string_view label) {
   if (label.empty() || label == last) return {};
   if (label.size() > kMaxStateLabelBytes)
-    return "controller state label of " + std::to_string(label.size()) + " bytes, more than the limit of " +
-           std::to_string(kMaxStateLabelBytes) + " bytes";
+    return "controller state label of " + std::to_string(label.size()) + " bytes (the limit is " +
+           std::to_string(kMaxStateLabelBytes) + " bytes)";
   last = label;
   for (auto& [name, count] : entries) {
     if (name == label) {

@@ -20,7 +20,7 @@ namespace barn::bench {
 
 namespace {
 
-// A YAML literal block, indented under its key.
+// A YAML literal block, indented under its key (blockSafe text only).
 std::string block(const std::string& text) {
   std::string out = "|\n";
   std::size_t start = 0;
@@ -101,13 +101,50 @@ std::string convertPathValues(const std::string& config_text, Convert convert) {
   return out;
 }
 
+// A YAML double-quoted scalar that reads back as exactly `text`: quotes, backslashes, control
+// characters and the characters YAML takes for line breaks (NEL, LS, PS) escaped.
 std::string quoted(const std::string& text) {
   std::string out = "\"";
-  for (char ch : text) {
-    if (ch == '"' || ch == '\\') out += '\\';
-    out += ch;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const auto byte = static_cast<unsigned char>(text[i]);
+    const std::string_view rest = std::string_view(text).substr(i);
+    char escape[8];
+    if (byte == '"' || byte == '\\') {
+      out += '\\';
+      out += text[i];
+    } else if (byte == '\n') {
+      out += "\\n";
+    } else if (byte == '\t') {
+      out += "\\t";
+    } else if (byte < 0x20 || byte == 0x7f) {
+      std::snprintf(escape, sizeof escape, "\\x%02x", byte);
+      out += escape;
+    } else if (byte == 0xc2 && rest.size() >= 2 && static_cast<unsigned char>(rest[1]) <= 0x9f) {
+      std::snprintf(escape, sizeof escape, "\\x%02x", static_cast<unsigned char>(rest[1]));  // U+0080..U+009F
+      out += escape;
+      ++i;
+    } else if (rest.starts_with("\xe2\x80\xa8") || rest.starts_with("\xe2\x80\xa9") || rest.starts_with("\xef\xbb\xbf")) {
+      out += rest.starts_with("\xe2\x80\xa8") ? "\\L" : rest.starts_with("\xe2\x80\xa9") ? "\\P" : "\\uFEFF";
+      i += 2;
+    } else {
+      out += text[i];
+    }
   }
   return out + "\"";
+}
+
+// True if `text` reads back unchanged from a literal block (block below): lines of printable
+// characters only, ending in a newline, the first line not indented (it sets the indentation).
+bool blockSafe(const std::string& text) {
+  if (text.empty() || text.back() != '\n' || text.front() == ' ' || text.front() == '\t' || text.front() == '\n')
+    return false;
+  if (text.ends_with("\n\n")) return false;  // a block drops trailing empty lines
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const auto byte = static_cast<unsigned char>(text[i]);
+    if ((byte < 0x20 && byte != '\n' && byte != '\t') || byte == 0x7f || byte == 0xc2 || byte == 0xe2 || byte == 0xef)
+      return false;  // (0xc2, 0xe2, 0xef lead the escaped characters of quoted)
+  }
+  return true;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -169,7 +206,7 @@ class ManifestWriter {
     const std::string text = (flags & kPathValues) ? convertPathValues(value, relative)
                              : (flags & kPath)     ? relative(value)
                                                    : value;
-    return (flags & kYamlText) ? block(text) : quoted(text) + "\n";
+    return (flags & kYamlText) && blockSafe(text) ? block(text) : quoted(text) + "\n";
   }
 
   std::filesystem::path record_dir_;

@@ -234,8 +234,7 @@ void addRunCommand(CLI::App& app, CommandContext& context) {
       throw core::InputError("run: --controller is required (or --resume DIR)");
     if (!options->resume.empty()) {
       for (const char* option : {"--controller", "--config", "--sim-config", "--worlds", "--world-dir", "--trials",
-                                 "--protocol", "--seed", "--out", "--shard", "--keep-going", "--trajectories", "--force",
-                                 "--check"})
+                                 "--protocol", "--seed", "--out", "--shard", "--keep-going", "--force", "--check"})
         if (cmd->count(option) > 0)
           throw core::InputError(std::string("run: ") + option +
                                  ": --resume takes its settings from the record; give only --jobs (and --stop-after) "
@@ -282,6 +281,12 @@ void addRunCommand(CLI::App& app, CommandContext& context) {
       session.record.manifest.trajectories = options->trajectories;
     } else {
       session = resumedSession(options->resume);
+      // The record says whether it keeps trajectories; asking again is harmless, asking for
+      // them midway is not possible (its earlier episodes have none).
+      if (options->trajectories && !session.record.manifest.trajectories)
+        throw core::InputError("--trajectories: " + options->resume +
+                               " was started without trajectories, so its finished episodes have none; start the run "
+                               "again with --trajectories, or resume it without");
     }
     SessionOptions session_options;
     session_options.jobs = options->jobs;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
+#include <string_view>
 #include <set>
 #include <sstream>
 
@@ -45,6 +47,35 @@ class DocumentStart : public YAML::EventHandler {
   YAML::Mark mark = YAML::Mark::null_mark();
 };
 
+// The offset of the first byte that is not YAML text (UTF-8 of a printable character, tab, line
+// feed or carriage return), or npos. yaml-cpp passes other bytes through into values that no
+// writer can give back (an effective config would not read again).
+std::size_t firstNonText(std::string_view text) {
+  std::size_t i = 0;
+  while (i < text.size()) {
+    const auto byte = static_cast<unsigned char>(text[i]);
+    if (byte < 0x80) {
+      if ((byte < 0x20 && byte != '\t' && byte != '\n' && byte != '\r') || byte == 0x7f) return i;
+      ++i;
+      continue;
+    }
+    const std::size_t length = byte >= 0xf0 ? 4 : byte >= 0xe0 ? 3 : byte >= 0xc2 ? 2 : 0;
+    if (length == 0 || byte > 0xf4 || i + length > text.size()) return i;
+    std::uint32_t code = byte & (0xff >> (length + 1));
+    for (std::size_t k = 1; k < length; ++k) {
+      const auto next = static_cast<unsigned char>(text[i + k]);
+      if ((next & 0xc0) != 0x80) return i;
+      code = (code << 6) | (next & 0x3f);
+    }
+    const bool overlong = (length == 3 && code < 0x800) || (length == 4 && code < 0x10000);
+    const bool c1 = code >= 0x80 && code <= 0x9f && code != 0x85;
+    const bool surrogate = code >= 0xd800 && code <= 0xdfff;
+    if (overlong || c1 || surrogate || code == 0xfffe || code == 0xffff || code > 0x10ffff) return i;
+    i += length;
+  }
+  return std::string_view::npos;
+}
+
 // "line 3, column 7: message" for a yaml-cpp exception (yaml-cpp counts from 0).
 std::string describeYamlError(const YAML::Exception& e) {
   if (e.mark.is_null()) return e.msg;
@@ -56,6 +87,13 @@ std::string describeYamlError(const YAML::Exception& e) {
 ConfigNode ConfigNode::parseString(const std::string& text, const std::string& source_name) {
   ConfigNode result;
   result.source_ = source_name;
+  if (const std::size_t bad = firstNonText(text); bad != std::string_view::npos) {
+    const long line = 1 + std::count(text.begin(), text.begin() + static_cast<long>(bad), '\n');
+    char byte[8];
+    std::snprintf(byte, sizeof byte, "0x%02x", static_cast<unsigned char>(text[bad]));
+    throw InputError(source_name + ": line " + std::to_string(line) + ": not YAML text (byte " + byte +
+                     " is a control character or not UTF-8)");
+  }
   try {
     result.impl_->node = YAML::Load(text);
     // YAML::Load reads the first document and drops the rest: text after it (a second
