@@ -625,7 +625,7 @@ TEST(Episode, AStateLabelLongerThanTheBoundEndsTheEpisodeAsAnError) {
   EXPECT_NE(run(emptyWorld(), at_bound).outcome, Outcome::Error);
   const EpisodeResult r = run(emptyWorld(), wide, {}, 1, true);
   EXPECT_EQ(r.outcome, Outcome::Error);
-  EXPECT_THAT(r.error, HasSubstr("state label of 65 bytes, more than the limit of 64 bytes"));
+  EXPECT_THAT(r.error, HasSubstr("state label of 65 bytes (the limit is 64 bytes)"));
   EXPECT_TRUE(r.state_entries.empty());
   ASSERT_EQ(r.trajectory.size(), 1u);  // the first tick, its label cut to the bound
   EXPECT_EQ(r.trajectory.front().state.size(), kMaxStateLabelBytes);

@@ -290,6 +290,17 @@ TEST(Config, IntegersAreReadExactlyNeverWrappedOrSaturated) {
   EXPECT_EQ(i, -2147483647 - 1);
 }
 
+TEST(Config, TextThatIsNotYamlTextIsRefusedNamingTheLine) {
+  // Bytes no writer could give back: a control character, invalid or overlong UTF-8, a C1
+  // control, a surrogate. UTF-8 text (and a BOM) reads.
+  const std::vector<std::string> bad_texts = {"a: 1\nb: \x01\n", "a: 1\nb: \xff\n", "a: 1\nb: \xc0\xaf\n",
+                                             "a: 1\nb: \xc2\x90\n", "a: 1\nb: \xed\xa0\x80\n", "a: 1\nb: \x7f\n"};
+  for (const std::string& bad : bad_texts)
+    EXPECT_THAT([&] { ConfigNode::parseString(bad, "t.yaml"); },
+                ::testing::ThrowsMessage<InputError>(HasSubstr("t.yaml: line 2: not YAML text"))) << bad;
+  EXPECT_NO_THROW(ConfigNode::parseString("\xef\xbb\xbf" "name: \xc3\xa9t\xc3\xa9\r\nx: \"a\tb\"\n", "t.yaml").isMap());
+}
+
 TEST(Config, AnEmptyKeyIsNamedAsSuch) {
   EXPECT_THAT(errorOf("~: 2\n"), HasSubstr("test.yaml: line 1: a key is empty"));
 }
