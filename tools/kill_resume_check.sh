@@ -102,9 +102,10 @@ if command -v strace > /dev/null 2>&1; then
     IFS=: read -r call first last <<< "$spec"
     for when in $(seq "$first" "$last"); do
       out=$work/${call}_$when
-      # (In a subshell of two commands, so the shell's "Killed" notice goes to /dev/null too.)
-      (strace -f -o /dev/null -e trace="$call" -e inject="$call:signal=SIGKILL:when=$when" \
-        "$barn" "${args[@]}" --out "$out"; true) > /dev/null 2>&1
+      # strace re-raises the tracee's SIGKILL on its process group: setsid keeps this script
+      # out of it. The braces send the shell's own "Killed" notice to /dev/null too.
+      { setsid strace -f -o /dev/null -e trace="$call" -e inject="$call:signal=SIGKILL:when=$when" \
+          "$barn" "${args[@]}" --out "$out" > /dev/null 2>&1; } 2> /dev/null || true
       kills=$((kills + 1))
       check "a kill at $call #$when" "$out"
     done
