@@ -384,6 +384,21 @@ TEST_F(Reliability, ResumeAndMergeRefuseAChangedPolicyFile) {
   EXPECT_THAT(merged.output, HasSubstr("config_files differs"));
 }
 
+TEST_F(Reliability, RegressRefusesAPolicyThatIsNotTheOneTheReferenceRan) {
+  // The reference names dir_/p.policy (as the committed one names configs/policies/...) with
+  // the digest of the policy it ran; the file there now is another policy of the same shape.
+  const fs::path record = baselineCopy("lflh");
+  std::string manifest = readFile(record / "manifest.yaml");
+  for (std::size_t at; (at = manifest.find("../../../configs/policies/lflh_1ms.policy")) != std::string::npos;)
+    manifest.replace(at, std::string("../../../configs/policies/lflh_1ms.policy").size(), "../../p.policy");
+  writeFile(record / "manifest.yaml", manifest);
+  fs::copy_file(kRepo / "configs" / "policies" / "lflh_2ms.policy", dir_ / "p.policy");
+  const RunResult r = run("regress --baseline " + quote(dir_ / "baseline") + " --controllers lflh --work " + quote(dir_ / "w"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("p.policy is not the file the reference run used"));
+  EXPECT_THAT(r.output, Not(HasSubstr("rerunning")));
+}
+
 // ---------------------------------------------------------------------------------------------
 // D11, D13, D14: outputs
 
