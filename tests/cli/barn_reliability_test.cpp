@@ -479,6 +479,19 @@ TEST_F(Reliability, TrajectoriesOfAnInterruptedRunAreCompleteAfterResume) {
     EXPECT_EQ(readFile(record / "trajectories" / entry.path().filename()), readFile(entry.path())) << entry.path();
 }
 
+TEST_F(Reliability, MergedShardsCarryTheirTrajectories) {
+  for (const char* k : {"1", "2"})
+    ASSERT_EQ(run(kSmallRun + " --trajectories --shard " + std::string(k) + "/2 --out " + quote(dir_ / ("s" + std::string(k))))
+                  .exit_code,
+              0);
+  ASSERT_EQ(run("merge " + quote(dir_ / "s1") + " " + quote(dir_ / "s2") + " --out " + quote(dir_ / "m")).exit_code, 0);
+  const fs::path whole = smallRecord("whole", "--trajectories");
+  EXPECT_THAT(readFile(dir_ / "m" / "manifest.yaml"), HasSubstr("trajectories: true"));
+  EXPECT_EQ(namesBelow(dir_ / "m" / "trajectories"), namesBelow(whole / "trajectories"));
+  for (const auto& entry : fs::directory_iterator(whole / "trajectories"))
+    EXPECT_EQ(readFile(dir_ / "m" / "trajectories" / entry.path().filename()), readFile(entry.path())) << entry.path();
+}
+
 // ---------------------------------------------------------------------------------------------
 // D5, D17, D18: external programs
 
