@@ -23,8 +23,12 @@ if ! command -v clang++ >/dev/null 2>&1; then
   DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq clang
 fi
 
+# ccache where there is one: the targets of controller configs, manifests and episodes build
+# most of the libraries (controllers, navigation, simulation) with the sanitizers.
+launcher=()
+command -v ccache > /dev/null 2>&1 && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 cmake -S . -B build-fuzz -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Release -DBARN_FUZZ=ON \
-      -DBARN_BUILD_TESTS=OFF -DBARN_BUILD_PYTHON=OFF > /dev/null
+      -DBARN_BUILD_TESTS=OFF -DBARN_BUILD_PYTHON=OFF "${launcher[@]}" > /dev/null
 cmake --build build-fuzz -j "$(nproc)" --target $(printf 'fuzz_%s ' "${targets[@]}") > build-fuzz/build.log 2>&1 ||
   { tail -n 40 build-fuzz/build.log; exit 1; }
 
