@@ -5,13 +5,14 @@
 # read/write round trip, a slow input, a large allocation) stops the script with exit 1; the
 # input is saved as build-fuzz/findings/<target>/crash-* (or oom-, timeout-, leak-) and
 # `build-fuzz/tests/fuzz/fuzz_<target> FILE` replays it.
-# Usage: tools/fuzz.sh [SECONDS] [TARGET...]   targets: world_file npy policy config (default all)
+# Usage: tools/fuzz.sh [SECONDS] [TARGET...]
+#   targets: world_file npy policy config controller_config manifest episodes (default all)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-5}"
 [ $# -gt 0 ] && shift
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(world_file npy policy config)
+[ ${#targets[@]} -eq 0 ] && targets=(world_file npy policy config controller_config manifest episodes)
 
 # Debian's clang brings libFuzzer and the sanitizer runtimes.
 if ! command -v clang++ >/dev/null 2>&1; then
@@ -22,8 +23,12 @@ if ! command -v clang++ >/dev/null 2>&1; then
   DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq clang
 fi
 
+# ccache where there is one: the targets of controller configs, manifests and episodes build
+# most of the libraries (controllers, navigation, simulation) with the sanitizers.
+launcher=()
+command -v ccache > /dev/null 2>&1 && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 cmake -S . -B build-fuzz -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Release -DBARN_FUZZ=ON \
-      -DBARN_BUILD_TESTS=OFF -DBARN_BUILD_PYTHON=OFF > /dev/null
+      -DBARN_BUILD_TESTS=OFF -DBARN_BUILD_PYTHON=OFF "${launcher[@]}" > /dev/null
 cmake --build build-fuzz -j "$(nproc)" --target $(printf 'fuzz_%s ' "${targets[@]}") > build-fuzz/build.log 2>&1 ||
   { tail -n 40 build-fuzz/build.log; exit 1; }
 
@@ -49,12 +54,15 @@ seeds() {
     npy) ls build-fuzz/seeds/npy/*.npy ;;
     policy) ls tests/fuzz/seeds/policy/*.policy configs/policies/*.policy ;;
     config) ls configs/sim/*.yaml configs/controllers/*.yaml configs/lflh/*.yaml examples/external/*.yaml ;;
+    controller_config) ls configs/controllers/*.yaml examples/external/*.yaml tests/fuzz/seeds/controller_config/*.yaml ;;
+    manifest) ls results/baseline/*/manifest.yaml tests/fuzz/seeds/manifest/*.yaml ;;
+    episodes) ls results/baseline/*/episodes.csv tests/fuzz/seeds/episodes/*.csv ;;
   esac
 }
 # Dictionaries of the formats' tokens (tests/fuzz/*.dict).
 dict() {
   case "$1" in
-    world_file|config) echo tests/fuzz/yaml.dict ;;
+    world_file|config|controller_config|manifest) echo tests/fuzz/yaml.dict ;;
     *) echo "tests/fuzz/$1.dict" ;;
   esac
 }

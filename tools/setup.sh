@@ -5,8 +5,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(g++ cmake make pkg-config libbox2d-dev libeigen3-dev libyaml-cpp-dev libcli11-dev
-          libgtest-dev libgmock-dev libbenchmark-dev libcairo2-dev nlohmann-json3-dev libboost-dev python3 python3-dev pybind11-dev
-          python3-numpy python3-pytest slurm-wlm munge chromium)
+          libgtest-dev libgmock-dev libbenchmark-dev libcairo2-dev nlohmann-json3-dev libboost-dev python3 python3-dev
+          pybind11-dev python3-numpy python3-pytest slurm-wlm munge chromium strace)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

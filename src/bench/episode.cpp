@@ -30,17 +30,24 @@ std::optional<long> stepsIn(double period, double dt) {
   return rounded;
 }
 
-// Counts a state entry when the controller's label changes.
-void countStateEntry(std::vector<std::pair<std::string, int>>& entries, std::string& last, std::string_view label) {
-  if (label.empty() || label == last) return;
+// Counts a state entry when the controller's label changes; the error if the label breaks
+// a bound (kMaxStateLabelBytes, kMaxStateLabels), else "".
+std::string countStateEntry(std::vector<std::pair<std::string, int>>& entries, std::string& last, std::string_view label) {
+  if (label.empty() || label == last) return {};
+  if (label.size() > kMaxStateLabelBytes)
+    return "controller state label of " + std::to_string(label.size()) + " bytes (the limit is " +
+           std::to_string(kMaxStateLabelBytes) + " bytes)";
   last = label;
   for (auto& [name, count] : entries) {
     if (name == label) {
       ++count;
-      return;
+      return {};
     }
   }
+  if (entries.size() >= kMaxStateLabels)
+    return "controller used more than " + std::to_string(kMaxStateLabels) + " distinct state labels in one episode (the limit)";
   entries.emplace_back(std::string(label), 1);
+  return {};
 }
 
 }  // namespace
@@ -58,9 +65,13 @@ void validate(const EpisodeConfig& config, core::Errors& errors) {
   sim::validate(config.physics, errors);
   core::validate(config.robot, errors);
   core::validate(config.lidar, errors);
-  errors.check(config.odometry.position_stddev >= 0.0, "odometry.position_stddev", "must be >= 0");
-  errors.check(config.odometry.yaw_stddev >= 0.0, "odometry.yaw_stddev", "must be >= 0");
-  errors.check(config.odometry.speed_stddev >= 0.0, "odometry.speed_stddev", "must be >= 0");
+  // Upper bounds, our choice: noise larger than the field (or a turn) means nothing.
+  errors.check(config.odometry.position_stddev >= 0.0 && config.odometry.position_stddev <= 10.0,
+               "odometry.position_stddev", "must be in [0, 10] [m]");
+  errors.check(config.odometry.yaw_stddev >= 0.0 && config.odometry.yaw_stddev <= 10.0, "odometry.yaw_stddev",
+               "must be in [0, 10] [rad]");
+  errors.check(config.odometry.speed_stddev >= 0.0 && config.odometry.speed_stddev <= 10.0, "odometry.speed_stddev",
+               "must be in [0, 10]");
   validate(config.odometry.drift, errors, "odometry.drift");
   errors.check(config.latency.command >= 0.0 && config.latency.command <= 1.0, "latency.command", "must be in [0, 1] s");
   if (config.physics.rate > 0 && config.lidar.rate > 0) {
@@ -207,7 +218,10 @@ void Episode::step(const core::Twist& command, std::string_view state) {
     fail("controller returned a non-finite command");
     return;
   }
-  countStateEntry(result_.state_entries, last_state_, state);
+  if (const std::string error = countStateEntry(result_.state_entries, last_state_, state); !error.empty()) {
+    fail(error);
+    return;
+  }
   if (latency_steps_ == 0) simulator_.command(command);
   else in_flight_.emplace_back(step_ + latency_steps_, command);
   const double dt = simulator_.dt();
@@ -298,10 +312,12 @@ EpisodeResult runEpisode(const core::WorldSpec& world, const sim::ObstacleField&
       episode.fail(std::string("controller threw: ") + e.what());
       break;
     }
+    const std::string_view state = controller.stateLabel();
+    // A label beyond the bound ends the episode in step(); the trajectory keeps it cut to the bound.
     if (record_trajectory && std::isfinite(command.linear) && std::isfinite(command.angular))
-      trajectory.push_back({episode.observation().time, episode.tickPose(), command, std::string(controller.stateLabel()),
-                            std::string(controller.parameterChanges())});
-    episode.step(command, controller.stateLabel());
+      trajectory.push_back({episode.observation().time, episode.tickPose(), command,
+                            std::string(state.substr(0, kMaxStateLabelBytes)), std::string(controller.parameterChanges())});
+    episode.step(command, state);
   }
   EpisodeResult result = episode.result();
   result.trajectory = std::move(trajectory);

@@ -20,41 +20,11 @@ namespace barn::bench {
 
 namespace fs = std::filesystem;
 
-RecordLock::RecordLock(const fs::path& dir) {
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec) throw core::IoError(dir.string() + ": cannot create folder: " + ec.message());
-  const fs::path path = dir / ".barn.lock";
-  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-  if (fd_ < 0) throw core::IoError(path.string() + ": cannot open: " + std::strerror(errno));
-  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
-    char holder[32] = {};
-    const ssize_t n = ::pread(fd_, holder, sizeof(holder) - 1, 0);
-    ::close(fd_);
-    fd_ = -1;
-    throw core::InputError(dir.string() + ": another barn process is writing this record" +
-                           (n > 0 ? " (pid " + std::string(holder, static_cast<std::size_t>(n)) + ")" : std::string()) +
-                           "; wait for it or choose another --out");
-  }
-  const std::string pid = std::to_string(::getpid());
-  if (::ftruncate(fd_, 0) == 0 && ::pwrite(fd_, pid.data(), pid.size(), 0) < 0) {
-    // The pid is only for the message above; the lock holds without it.
-  }
-}
-
-RecordLock& RecordLock::operator=(RecordLock&& other) noexcept {
-  if (this != &other) {
-    if (fd_ >= 0) ::close(fd_);
-    fd_ = std::exchange(other.fd_, -1);
-  }
-  return *this;
-}
-
-RecordLock::~RecordLock() {
-  if (fd_ >= 0) ::close(fd_);  // closing releases the flock
-}
-
 void checkNoRecord(const fs::path& dir) {
+  std::error_code ec;
+  if (fs::exists(dir / core::kCommitNote, ec))
+    throw core::InputError(dir.string() + ": a write into this record was interrupted; barn run --resume " + dir.string() +
+                           " completes it (or choose another --out)");
   if (!fs::exists(dir / kManifestFile)) return;
   bool complete = false;
   try {
@@ -69,41 +39,66 @@ void checkNoRecord(const fs::path& dir) {
                          " or choose another --out");
 }
 
+void checkRecordSize(std::size_t worlds, int trials) {
+  const std::size_t episodes = worlds * static_cast<std::size_t>(std::max(trials, 0));
+  if (episodes > kMaxEpisodesPerRecord)
+    throw core::InputError("--trials: " + std::to_string(worlds) + " worlds x " + std::to_string(trials) + " trials = " +
+                           std::to_string(episodes) + " episodes, more than one run holds (" +
+                           std::to_string(kMaxEpisodesPerRecord) + ", shards included); run fewer worlds or trials");
+}
+
 RecordSession createRecord(RunManifest manifest, std::vector<core::WorldSpec> worlds, const fs::path& dir) {
   checkNoRecord(dir);
-  const std::size_t episodes = worlds.size() * static_cast<std::size_t>(std::max(manifest.trials, 0));
-  if (episodes > kMaxEpisodesPerRecord)
-    throw core::InputError("--trials: " + std::to_string(worlds.size()) + " worlds x " + std::to_string(manifest.trials) +
-                           " trials = " + std::to_string(episodes) + " episodes, more than one record holds (" +
-                           std::to_string(kMaxEpisodesPerRecord) + "); split the run with --shard K/N");
+  checkRecordSize(worlds.size(), manifest.trials);
   RecordSession session;
   session.dir = dir;
   session.manifest = std::move(manifest);
   session.worlds = std::move(worlds);
   // Last, once everything is valid (so bad input leaves no folder behind): the lock, and the
   // check again under it, which a second process started at the same moment cannot pass.
-  session.lock = RecordLock(dir);
+  session.writer = RecordWriter(dir);
   checkNoRecord(dir);
   return session;
+}
+
+std::string trajectoryFileName(int world_id, int trial) {
+  return "world_" + std::to_string(world_id) + "_trial_" + std::to_string(trial) + ".csv";
 }
 
 RecordSession openRecord(const fs::path& dir) {
   RecordSession session;
   session.dir = dir;
-  if (!fs::exists(dir / kManifestFile))
+  std::error_code ec;
+  // A write killed before the manifest landed leaves its commit note: the writer completes it.
+  if (!fs::exists(dir / kManifestFile, ec) && !fs::exists(dir / core::kCommitNote, ec))
     throw core::InputError(dir.string() + ": no run record here (no " + std::string(kManifestFile) + ")");
-  session.lock = RecordLock(dir);
+  try {
+    session.writer = RecordWriter(dir);
+  } catch (const core::IoError&) {
+    // A complete record can be "resumed" (there is nothing to run) without being writable.
+    core::checkNoInterruptedWrite(dir);
+    if (!fs::exists(dir / kManifestFile, ec) || !readManifest(dir / kManifestFile).complete) throw;
+  }
+  if (!fs::exists(dir / kManifestFile, ec))
+    throw core::InputError(dir.string() + ": no run record here (no " + std::string(kManifestFile) + ")");
   session.manifest = readManifest(dir / kManifestFile);
   const RunManifest& m = session.manifest;
   if (!m.source.empty())
     throw core::InputError(dir.string() + ": imported from " + m.source + " (barn import-out); there is nothing to run");
   session.worlds = loadManifestWorlds(m);
   if (!m.complete) {
+    checkConfigFiles(m, "resuming");
     const fs::path journal = dir / kJournalFile;
-    session.previous = readEpisodesCsv(journal, true);
+    std::vector<EpisodeResult> previous = readEpisodesCsv(journal, true);
     const std::size_t total = session.worlds.size() * static_cast<std::size_t>(m.trials);
-    checkRows(m, session.previous, journal.string(),
+    checkRows(m, previous, journal.string(),
               m.shard_count > 0 ? shardEpisodes(total, m.shard_index, m.shard_count) : std::vector<std::size_t>{}, false);
+    for (EpisodeResult& r : previous) {
+      // An episode journaled without its trajectory file (a record of an older barn, or a file
+      // lost) runs again: the same seed gives the same row and the file.
+      if (m.trajectories && !fs::exists(dir / "trajectories" / trajectoryFileName(r.world_id, r.trial), ec)) continue;
+      session.previous.push_back(std::move(r));
+    }
   }
   return session;
 }
@@ -141,59 +136,90 @@ RecordJournal::RecordJournal(RecordSession& session, std::size_t pending, int th
   m.episodes_done = session.previous.size();
   std::string journal = episodesCsvHeader();
   for (const auto& r : session.previous) journal += episodeCsvRow(r);
-  core::writeFilesAtomic(session.dir, {{kManifestFile, formatManifest(m, session.dir)}, {kJournalFile, journal}});
+  session.writer.write({{kManifestFile, formatManifest(m, session.dir)}, {kJournalFile, journal}});
+  if (m.trajectories) {
+    std::error_code ec;
+    fs::create_directories(session.dir / "trajectories", ec);
+    if (ec) throw core::IoError((session.dir / "trajectories").string() + ": cannot create folder: " + ec.message());
+  }
   journal_.open(session.dir / kJournalFile, std::ios::app | std::ios::binary);
   if (!journal_) throw core::IoError((session.dir / kJournalFile).string() + ": cannot open: " + std::strerror(errno));
 }
 
 bool RecordJournal::append(const EpisodeResult& result) {
+  if (session_.manifest.trajectories) {
+    // The file first: a journaled row always has its trajectory (a kill between the two
+    // leaves a file whose episode runs again and rewrites it, byte for byte).
+    try {
+      core::writeFileAtomic(session_.dir / "trajectories" / trajectoryFileName(result.world_id, result.trial),
+                            trajectoryCsv(result));
+    } catch (const core::IoError& e) {
+      error_ = e.what();
+      return false;
+    }
+  }
   journal_ << episodeCsvRow(result);
   journal_.flush();
-  return static_cast<bool>(journal_);
+  if (!journal_) {
+    error_ = (session_.dir / kJournalFile).string() + ": write failed: " + std::strerror(errno);
+    return false;
+  }
+  return true;
 }
 
-std::optional<std::vector<EpisodeResult>> RecordJournal::finish(
-    std::vector<EpisodeResult> finished, double wall_time_s,
-    const std::optional<std::vector<core::FileContent>>& trajectories) {
+std::optional<std::vector<EpisodeResult>> RecordJournal::finish(std::vector<EpisodeResult> finished, double wall_time_s) {
   if (journal_.is_open()) journal_.close();
   RunManifest& m = session_.manifest;
   m.wall_time_s += wall_time_s;
-  if (trajectories) core::writeFilesAtomic(session_.dir / "trajectories", *trajectories);
   finished.insert(finished.end(), session_.previous.begin(), session_.previous.end());
   if (finished.size() < m.episodes_total) {
     m.episodes_done = finished.size();
-    core::writeFileAtomic(session_.dir / kManifestFile, formatManifest(m, session_.dir));
+    session_.writer.write({{kManifestFile, formatManifest(m, session_.dir)}});
     return std::nullopt;
   }
-  std::vector<EpisodeResult> written = writeCompleteRecord(session_.dir, m, std::move(finished), session_.worlds);
+  std::vector<EpisodeResult> written = writeCompleteRecord(session_.writer, m, std::move(finished), session_.worlds);
   m.complete = true;
+  m.episodes_done = m.episodes_total;
   return written;
 }
 
-RunManifest mergeShardRecords(const std::vector<fs::path>& shards, const fs::path& out) {
+void checkNoRecordForOut(const fs::path& dir) {
+  std::error_code ec;
+  if (fs::exists(dir / kManifestFile, ec) || fs::exists(dir / core::kCommitNote, ec))
+    throw core::InputError(dir.string() + ": already holds a run record; choose another --out");
+}
+
+MergedRecord mergedShardRecords(const std::vector<fs::path>& shards, const fs::path& out) {
   if (shards.empty()) throw core::InputError("merge: no shard records given");
-  if (fs::exists(out / kManifestFile)) throw core::InputError(out.string() + ": already holds a run record");
-  std::vector<RunManifest> manifests;
-  for (const auto& dir : shards) manifests.push_back(readManifest(dir / kManifestFile));
-  const RunManifest& first = manifests.front();
+  std::vector<CompleteRecord> records;
+  for (const auto& dir : shards) {
+    std::error_code ec;
+    if (!fs::exists(dir / kManifestFile, ec))
+      throw core::InputError(dir.string() + ": no run record here (no " + std::string(kManifestFile) + ")");
+    const RunManifest m = readManifest(dir / kManifestFile);
+    if (m.shard_count == 0) throw core::InputError(dir.string() + ": not a shard (run without --shard)");
+    if (!m.complete)
+      throw core::InputError(dir.string() + ": shard " + std::to_string(m.shard_index) + " is not complete (barn run --resume " +
+                             dir.string() + ")");
+    records.push_back(readCompleteRecord(dir));
+  }
+  const RunManifest& first = records.front().manifest;
   std::set<int> seen;
   double wall = 0.0;
+  bool trajectories = true;
   std::vector<EpisodeResult> results;
-  for (std::size_t i = 0; i < manifests.size(); ++i) {
-    const RunManifest& m = manifests[i];
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    const RunManifest& m = records[i].manifest;
     const std::string dir = shards[i].string();
-    if (m.shard_count == 0) throw core::InputError(dir + ": not a shard (run without --shard)");
     if (m.shard_count != first.shard_count)
       throw core::InputError(dir + ": shard of " + std::to_string(m.shard_count) + ", the first is of " +
                              std::to_string(first.shard_count));
     if (const std::string field = experimentDifference(first, m); !field.empty())
       throw core::InputError(dir + ": a different experiment from " + shards.front().string() + " (" + field + " differs)");
     if (!seen.insert(m.shard_index).second) throw core::InputError(dir + ": shard " + std::to_string(m.shard_index) + " given twice");
-    if (!m.complete)
-      throw core::InputError(dir + ": shard " + std::to_string(m.shard_index) + " is not complete (barn run --resume " + dir + ")");
-    const auto rows = readEpisodesCsv(shards[i] / kEpisodesFile);
-    results.insert(results.end(), rows.begin(), rows.end());
+    results.insert(results.end(), records[i].episodes.begin(), records[i].episodes.end());
     wall += m.wall_time_s;
+    trajectories = trajectories && m.trajectories;
   }
   if (static_cast<int>(seen.size()) != first.shard_count) {
     std::string missing;
@@ -201,41 +227,39 @@ RunManifest mergeShardRecords(const std::vector<fs::path>& shards, const fs::pat
       if (!seen.count(k)) missing += (missing.empty() ? "" : ", ") + std::to_string(k);
     throw core::InputError("merge: shards " + missing + " of " + std::to_string(first.shard_count) + " are missing");
   }
-  RunManifest merged = first;
-  merged.shard_index = 0;
-  merged.shard_count = 0;
+  MergedRecord merged;
+  merged.manifest = first;
+  RunManifest& m = merged.manifest;
+  m.shard_index = 0;
+  m.shard_count = 0;
+  m.trajectories = trajectories;
   // Every episode once, each with its own seed: counts alone would take world 0 twice for a
   // missing world 1.
-  checkRows(merged, results, "merge", {}, true);
-  merged.episodes_total = first.world_ids.size() * static_cast<std::size_t>(first.trials);
-  merged.wall_time_s = wall;
-  writeCompleteRecord(out, merged, results, loadManifestWorlds(merged));
-  merged.complete = true;
-  merged.episodes_done = merged.episodes_total;
+  checkRows(m, results, "merge", {}, true);
+  m.episodes_total = first.world_ids.size() * static_cast<std::size_t>(first.trials);
+  m.wall_time_s = wall;
+  CompleteRecordFiles files = completeRecordFiles(out, m, std::move(results), loadManifestWorlds(m));
+  merged.files = std::move(files.files);
+  merged.episodes = std::move(files.episodes);
+  if (trajectories) {
+    for (std::size_t i = 0; i < records.size(); ++i)
+      for (const EpisodeResult& r : records[i].episodes) {
+        const std::string name = trajectoryFileName(r.world_id, r.trial);
+        merged.files.push_back({"trajectories/" + name, core::readTextFile(shards[i] / "trajectories" / name)});
+      }
+  }
+  m.complete = true;
+  m.episodes_done = m.episodes_total;
   return merged;
 }
 
-namespace {
-
-std::string firstLineOf(const std::string& command) {
-  std::string output;
-  if (FILE* pipe = ::popen(command.c_str(), "r")) {
-    std::array<char, 256> buffer{};
-    if (std::fgets(buffer.data(), static_cast<int>(buffer.size()), pipe)) output = buffer.data();
-    ::pclose(pipe);
-  }
-  while (!output.empty() && (output.back() == '\n' || output.back() == '\r')) output.pop_back();
-  return output;
-}
-
-}  // namespace
-
-std::string gitCommit() {
-  const std::string dir = BARN_SOURCE_DIR;
-  const std::string commit = firstLineOf("git -C '" + dir + "' rev-parse HEAD 2>/dev/null");
-  if (commit.empty()) return "unknown";
-  const std::string dirty = firstLineOf("git -C '" + dir + "' status --porcelain --untracked-files=no 2>/dev/null");
-  return dirty.empty() ? commit : commit + "-dirty";
+MergedRecord mergeShardRecords(const std::vector<fs::path>& shards, const fs::path& out) {
+  checkNoRecordForOut(out);
+  MergedRecord merged = mergedShardRecords(shards, out);
+  const RecordWriter writer(out);
+  checkNoRecordForOut(out);  // again under the lock: a second merge into `out` cannot pass it
+  writer.write(merged.files);
+  return merged;
 }
 
 std::string hostName() {

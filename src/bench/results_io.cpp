@@ -1,5 +1,8 @@
 #include "barn/bench/results_io.hpp"
 
+#include <charconv>
+#include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "barn/core/errors.hpp"
@@ -61,31 +64,28 @@ EpisodeResult parseEpisodeRow(const std::string& line, const std::string& where)
   const auto fail = [&](const std::string& what) { throw core::InputError(where + ": " + what); };
   if (static_cast<int>(f.size()) != kColumns) fail("expected " + std::to_string(kColumns) + " columns, got " + std::to_string(f.size()));
   EpisodeResult r;
-  const auto integer = [&](const std::string& text, const char* name) {
-    std::size_t used = 0;
-    long long v = 0;
-    try {
-      v = std::stoll(text, &used);
-    } catch (...) {
-      used = 0;
-    }
-    if (text.empty() || used != text.size()) fail(std::string(name) + ": '" + text + "' is not an integer");
+  // Decimal digits only (no sign, space or "0x"), read exactly: a value past the range is an
+  // error, never wrapped or saturated.
+  const auto whole = [&](const std::string& text, const char* name, std::uint64_t max) {
+    std::uint64_t v = 0;
+    const auto end = text.data() + text.size();
+    const auto [ptr, ec] = std::from_chars(text.data(), end, v);
+    if (text.empty() || ec != std::errc() || ptr != end || v > max)
+      fail(std::string(name) + ": '" + text + "' is not a whole number from 0 to " + std::to_string(max));
     return v;
   };
-  const auto number = [&](const std::string& text, const char* name) {
+  // Finite, or "nan" where a value may be unknown (an imported record's path, speed and
+  // simulated time); never infinite.
+  const auto number = [&](const std::string& text, const char* name, bool may_be_unknown = false) {
     double v = 0.0;
-    if (!core::parseDouble(text, v)) fail(std::string(name) + ": '" + text + "' is not a number");
+    if (!core::parseDouble(text, v) || std::isinf(v) || (std::isnan(v) && !may_be_unknown))
+      fail(std::string(name) + ": '" + text + "' is not a finite number");
     return v;
   };
-  r.world_id = static_cast<int>(integer(f[0], "world"));
-  r.trial = static_cast<int>(integer(f[1], "trial"));
-  const bool digits = !f[2].empty() && f[2].find_first_not_of("0123456789") == std::string::npos;
-  try {
-    if (!digits) throw std::invalid_argument("seed");
-    r.seed = std::stoull(f[2]);
-  } catch (const std::logic_error&) {
-    fail("seed: '" + f[2] + "' is not an unsigned integer");
-  }
+  constexpr std::uint64_t kMaxId = 1'000'000'000;  // as a manifest's world ids
+  r.world_id = static_cast<int>(whole(f[0], "world", kMaxId));
+  r.trial = static_cast<int>(whole(f[1], "trial", kMaxId));
+  r.seed = whole(f[2], "seed", std::numeric_limits<std::uint64_t>::max());
   if (f[3] == "success") r.outcome = Outcome::Success;
   else if (f[3] == "collision") r.outcome = Outcome::Collision;
   else if (f[3] == "timeout") r.outcome = Outcome::Timeout;
@@ -94,9 +94,9 @@ EpisodeResult parseEpisodeRow(const std::string& line, const std::string& where)
   r.actual_time = number(f[4], "time_s");
   r.score = number(f[5], "score");
   r.optimal_time = number(f[6], "optimal_time_s");
-  r.path_length = number(f[7], "path_length_m");
-  r.mean_speed = number(f[8], "mean_speed_mps");
-  r.sim_time = number(f[9], "sim_time_s");
+  r.path_length = number(f[7], "path_length_m", true);
+  r.mean_speed = number(f[8], "mean_speed_mps", true);
+  r.sim_time = number(f[9], "sim_time_s", true);
   if (!f[10].empty() || !f[11].empty()) {
     sim::CollisionInfo info;
     info.point = {number(f[10], "collision_x"), number(f[11], "collision_y")};
@@ -109,7 +109,12 @@ EpisodeResult parseEpisodeRow(const std::string& line, const std::string& where)
       const std::string item = f[12].substr(start, bar == std::string::npos ? std::string::npos : bar - start);
       const std::size_t colon = item.rfind(':');
       if (colon == std::string::npos) fail("states: '" + item + "' is not NAME:COUNT");
-      r.state_entries.emplace_back(item.substr(0, colon), static_cast<int>(integer(item.substr(colon + 1), "states")));
+      if (colon == 0 || colon > kMaxStateLabelBytes)
+        fail("states: a label of " + std::to_string(colon) + " bytes (1 to " + std::to_string(kMaxStateLabelBytes) + ")");
+      if (r.state_entries.size() == kMaxStateLabels)
+        fail("states: more than " + std::to_string(kMaxStateLabels) + " labels");
+      r.state_entries.emplace_back(item.substr(0, colon),
+                                   static_cast<int>(whole(item.substr(colon + 1), "states", std::numeric_limits<int>::max())));
       if (bar == std::string::npos) break;
       start = bar + 1;
     }
@@ -118,27 +123,33 @@ EpisodeResult parseEpisodeRow(const std::string& line, const std::string& where)
   return r;
 }
 
-std::vector<EpisodeResult> readEpisodesCsv(const std::filesystem::path& path, bool allow_missing) {
-  std::error_code ec;
-  if (allow_missing && !std::filesystem::exists(path, ec)) return {};
-  const std::string text = core::readTextFile(path);
+std::vector<EpisodeResult> parseEpisodesCsv(const std::string& text, const std::string& where, bool journal) {
   std::vector<EpisodeResult> results;
   std::size_t start = 0;
   int line_number = 0;
   while (start < text.size()) {
     const std::size_t end = text.find('\n', start);
-    if (end == std::string::npos) break;  // a row cut short by an interruption
+    if (end == std::string::npos) {
+      if (journal) break;  // a row cut short by an interruption
+      throw core::InputError(where + ":" + std::to_string(line_number + 1) + ": the last line is cut short (no newline)");
+    }
     const std::string line = text.substr(start, end - start);
     start = end + 1;
     ++line_number;
     if (line_number == 1) {
-      if (line + "\n" != episodesCsvHeader()) throw core::InputError(path.string() + ": not an episodes.csv (unexpected header)");
+      if (line + "\n" != episodesCsvHeader()) throw core::InputError(where + ": not an episodes.csv (unexpected header)");
       continue;
     }
-    results.push_back(parseEpisodeRow(line, path.string() + ":" + std::to_string(line_number)));
+    results.push_back(parseEpisodeRow(line, where + ":" + std::to_string(line_number)));
   }
-  if (line_number == 0 && !text.empty()) throw core::InputError(path.string() + ": not an episodes.csv (no header line)");
+  if (line_number == 0 && (!text.empty() || !journal)) throw core::InputError(where + ": not an episodes.csv (no header line)");
   return results;
+}
+
+std::vector<EpisodeResult> readEpisodesCsv(const std::filesystem::path& path, bool allow_missing) {
+  std::error_code ec;
+  if (allow_missing && !std::filesystem::exists(path, ec)) return {};
+  return parseEpisodesCsv(core::readTextFile(path), path.string(), /*journal=*/true);
 }
 
 std::string trajectoryCsv(const EpisodeResult& result) {
@@ -153,7 +164,10 @@ std::string trajectoryCsv(const EpisodeResult& result) {
 }
 
 std::vector<TrajectorySample> readTrajectoryCsv(const std::filesystem::path& path) {
-  const std::string text = core::readTextFile(path);
+  return parseTrajectoryCsv(core::readTextFile(path), path.string());
+}
+
+std::vector<TrajectorySample> parseTrajectoryCsv(const std::string& text, const std::string& path) {
   constexpr std::string_view kHeader = "time_s,x,y,yaw,cmd_linear,cmd_angular,state";
   std::vector<TrajectorySample> samples;
   std::size_t start = 0;
@@ -164,10 +178,10 @@ std::vector<TrajectorySample> readTrajectoryCsv(const std::filesystem::path& pat
     if (end == std::string::npos) break;  // a line cut short
     const std::string line = text.substr(start, end - start);
     start = end + 1;
-    const std::string where = path.string() + ":" + std::to_string(++line_number);
+    const std::string where = path + ":" + std::to_string(++line_number);
     if (line_number == 1) {
       has_params = line == std::string(kHeader) + ",params";
-      if (!has_params && line != kHeader) throw core::InputError(path.string() + ": not a trajectory file (unexpected header)");
+      if (!has_params && line != kHeader) throw core::InputError(path + ": not a trajectory file (unexpected header)");
       continue;
     }
     std::vector<std::string> f;
@@ -186,8 +200,5 @@ std::vector<TrajectorySample> readTrajectoryCsv(const std::filesystem::path& pat
   return samples;
 }
 
-std::string trajectoryFileName(int world_id, int trial) {
-  return "world_" + std::to_string(world_id) + "_trial_" + std::to_string(trial) + ".csv";
-}
 
 }  // namespace barn::bench

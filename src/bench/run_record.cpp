@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <set>
 #include <type_traits>
 #include <utility>
 
@@ -19,7 +20,7 @@ namespace barn::bench {
 
 namespace {
 
-// A YAML literal block, indented under its key.
+// A YAML literal block, indented under its key (blockSafe text only).
 std::string block(const std::string& text) {
   std::string out = "|\n";
   std::size_t start = 0;
@@ -45,20 +46,40 @@ std::string withoutTrailingSeparator(std::string path) {
   return path;
 }
 
+/// `path` made absolute with its folder's symlinks resolved (the folder as the file system has
+/// it), so paths relative to a record work whichever name the record was reached by.
+std::filesystem::path physical(const std::filesystem::path& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path absolute = fs::absolute(path, ec).lexically_normal();
+  if (ec || !absolute.has_relative_path()) return absolute;
+  const fs::path name = absolute.filename().empty() ? absolute.parent_path().filename() : absolute.filename();
+  const fs::path parent = fs::weakly_canonical(absolute.filename().empty() ? absolute.parent_path().parent_path()
+                                                                           : absolute.parent_path(), ec);
+  return ec ? absolute : parent / name;
+}
+
 /// An absolute path as seen from `dir`, starting with "./" or "../"; anything else unchanged.
 std::string relativeTo(const std::string& path, const std::filesystem::path& dir) {
   if (path.empty() || path.front() != '/' || dir.empty()) return path;
-  const std::filesystem::path base = std::filesystem::absolute(dir).lexically_normal();
-  const std::string relative = std::filesystem::path(path).lexically_normal().lexically_relative(base).generic_string();
+  std::error_code ec;
+  const std::filesystem::path base = std::filesystem::weakly_canonical(std::filesystem::absolute(dir), ec);
+  if (ec) return path;
+  const std::string relative = physical(path).lexically_relative(base).generic_string();
   if (relative.empty()) return path;
   if (relative == ".") return "./";
   return relative.starts_with("..") ? withoutTrailingSeparator(relative) : "./" + withoutTrailingSeparator(relative);
 }
 
-/// relativeTo undone: a "./" or "../" path made absolute from `dir`; anything else unchanged.
+/// relativeTo undone: a "./" or "../" path made absolute from `dir` (as the file system has
+/// it: a record reached through a symlink at another depth reads as at its own place);
+/// anything else unchanged.
 std::string absoluteFrom(const std::string& path, const std::filesystem::path& dir) {
   if (!(path.starts_with("./") || path.starts_with("../"))) return path;
-  return withoutTrailingSeparator((std::filesystem::absolute(dir) / path).lexically_normal().string());
+  std::error_code ec;
+  std::filesystem::path base = std::filesystem::weakly_canonical(std::filesystem::absolute(dir), ec);
+  if (ec) base = std::filesystem::absolute(dir);
+  return withoutTrailingSeparator((base / path).lexically_normal().string());
 }
 
 /// Applies `convert` to every plain path-like value ("key: value" lines) of a config's text.
@@ -80,13 +101,50 @@ std::string convertPathValues(const std::string& config_text, Convert convert) {
   return out;
 }
 
+// A YAML double-quoted scalar that reads back as exactly `text`: quotes, backslashes, control
+// characters and the characters YAML takes for line breaks (NEL, LS, PS) escaped.
 std::string quoted(const std::string& text) {
   std::string out = "\"";
-  for (char ch : text) {
-    if (ch == '"' || ch == '\\') out += '\\';
-    out += ch;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const auto byte = static_cast<unsigned char>(text[i]);
+    const std::string_view rest = std::string_view(text).substr(i);
+    char escape[8];
+    if (byte == '"' || byte == '\\') {
+      out += '\\';
+      out += text[i];
+    } else if (byte == '\n') {
+      out += "\\n";
+    } else if (byte == '\t') {
+      out += "\\t";
+    } else if (byte < 0x20 || byte == 0x7f) {
+      std::snprintf(escape, sizeof escape, "\\x%02x", byte);
+      out += escape;
+    } else if (byte == 0xc2 && rest.size() >= 2 && static_cast<unsigned char>(rest[1]) <= 0x9f) {
+      std::snprintf(escape, sizeof escape, "\\x%02x", static_cast<unsigned char>(rest[1]));  // U+0080..U+009F
+      out += escape;
+      ++i;
+    } else if (rest.starts_with("\xe2\x80\xa8") || rest.starts_with("\xe2\x80\xa9") || rest.starts_with("\xef\xbb\xbf")) {
+      out += rest.starts_with("\xe2\x80\xa8") ? "\\L" : rest.starts_with("\xe2\x80\xa9") ? "\\P" : "\\uFEFF";
+      i += 2;
+    } else {
+      out += text[i];
+    }
   }
   return out + "\"";
+}
+
+// True if `text` reads back unchanged from a literal block (block below): lines of printable
+// characters only, ending in a newline, the first line not indented (it sets the indentation).
+bool blockSafe(const std::string& text) {
+  if (text.empty() || text.back() != '\n' || text.front() == ' ' || text.front() == '\t' || text.front() == '\n')
+    return false;
+  if (text.ends_with("\n\n")) return false;  // a block drops trailing empty lines
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const auto byte = static_cast<unsigned char>(text[i]);
+    if ((byte < 0x20 && byte != '\n' && byte != '\t') || byte == 0x7f || byte == 0xc2 || byte == 0xe2 || byte == 0xef)
+      return false;  // (0xc2, 0xe2, 0xef lead the escaped characters of quoted)
+  }
+  return true;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -108,6 +166,11 @@ std::string valueText(const std::vector<int>& values) {
   for (std::size_t i = 0; i < values.size(); ++i) text += (i ? ", " : "") + std::to_string(values[i]);
   return text + "]";
 }
+std::string valueText(const std::vector<ConfigFile>& files) {
+  std::string text = "[";
+  for (std::size_t i = 0; i < files.size(); ++i) text += (i ? ", " : "") + files[i].path + " " + files[i].digest;
+  return text + "]";
+}
 
 bool omitted(unsigned flags, bool imported) {
   return ((flags & kRunOnly) && imported) || ((flags & kImportOnly) && !imported);
@@ -120,11 +183,16 @@ class ManifestWriter {
   template <class T>
   void operator()(const char* key, const T& value, unsigned flags) {
     if (omitted(flags, imported_)) return;
+    if ((flags & kOmitDefault) && value == T{}) return;
     if constexpr (std::is_same_v<T, double>) {
       if (!std::isfinite(value)) return;  // unknown: left out, reads back as the default
     }
     if constexpr (std::is_same_v<T, std::string>) {
       text_ += std::string(key) + ": " + stringText(value, flags);
+    } else if constexpr (std::is_same_v<T, std::vector<ConfigFile>>) {
+      text_ += std::string(key) + ":" + (value.empty() ? " []" : "") + "\n";
+      for (const ConfigFile& file : value)
+        text_ += "  - path: " + quoted(relativeTo(file.path, record_dir_)) + "\n    digest: " + quoted(file.digest) + "\n";
     } else {
       text_ += std::string(key) + ": " + valueText(value) + "\n";
     }
@@ -138,7 +206,7 @@ class ManifestWriter {
     const std::string text = (flags & kPathValues) ? convertPathValues(value, relative)
                              : (flags & kPath)     ? relative(value)
                                                    : value;
-    return (flags & kYamlText) ? block(text) : quoted(text) + "\n";
+    return (flags & kYamlText) && blockSafe(text) ? block(text) : quoted(text) + "\n";
   }
 
   std::filesystem::path record_dir_;
@@ -168,6 +236,9 @@ class ManifestReader {
       const auto absolute = [&](const std::string& text) { return absoluteFrom(text, record_dir_); };
       if (flags & kPathValues) value = convertPathValues(value, absolute);
       if (flags & kPath) value = absolute(value);
+    }
+    if constexpr (std::is_same_v<T, std::vector<ConfigFile>>) {
+      for (ConfigFile& file : value) file.path = absoluteFrom(file.path, record_dir_);
     }
   }
 
@@ -215,8 +286,29 @@ ExperimentFields experimentFields(const RunManifest& m) {
 void validate(const RunManifest& m, const core::ConfigNode& root, core::Errors& errors) {
   errors.check(!m.controller.empty(), root.where("controller"), "missing");
   errors.check(m.trials >= 1, root.where("trials"), "must be >= 1");
-  errors.check(m.shard_count >= 0 && m.shard_index >= 0 && m.shard_index <= m.shard_count, root.where("shard_index"),
-               "must be within 1..shard_count (or both 0)");
+  errors.check(m.shard_count >= 0 && m.shard_index >= 0 && m.shard_index <= m.shard_count &&
+                   (m.shard_count == 0) == (m.shard_index == 0),
+               root.where("shard_index"), "must be within 1..shard_count (or both 0)");
+  const std::size_t episodes = m.world_ids.size() * static_cast<std::size_t>(std::max(m.trials, 0));
+  errors.check(episodes <= kMaxEpisodesPerRecord, root.where("trials"),
+               std::to_string(m.world_ids.size()) + " worlds x " + std::to_string(m.trials) +
+                   " trials is more episodes than a record holds (" + std::to_string(kMaxEpisodesPerRecord) + ")");
+  errors.check(std::set<int>(m.world_ids.begin(), m.world_ids.end()).size() == m.world_ids.size(), root.where("world_ids"),
+               "a world is listed twice");
+  errors.check(m.episodes_done <= m.episodes_total && m.episodes_total <= episodes, root.where("episodes_done"),
+               "must be <= episodes_total <= worlds x trials");
+  for (std::size_t i = 0; i < m.config_files.size(); ++i) {
+    std::uint64_t digest = 0;
+    errors.check(m.config_files[i].digest.size() == 16 && core::parseHex(m.config_files[i].digest, digest) &&
+                     !m.config_files[i].path.empty(),
+                 root.where("config_files[" + std::to_string(i) + "]"), "expected a path and a 16-digit hex digest");
+  }
+}
+
+std::string hexDigest(std::uint64_t hash) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%016llx", static_cast<unsigned long long>(hash));
+  return text;
 }
 
 }  // namespace
@@ -228,8 +320,11 @@ std::string formatManifest(const RunManifest& m, const std::filesystem::path& re
 }
 
 RunManifest readManifest(const std::filesystem::path& path) {
-  const core::ConfigNode root = core::ConfigNode::parseFile(path);
-  const std::filesystem::path record_dir = path.parent_path().empty() ? "." : path.parent_path();
+  return parseManifest(core::readTextFile(path), path.parent_path().empty() ? "." : path.parent_path(), path.string());
+}
+
+RunManifest parseManifest(const std::string& text, const std::filesystem::path& record_dir, const std::string& source) {
+  const core::ConfigNode root = core::ConfigNode::parseString(text, source);
   RunManifest m;
   core::Errors errors;
   if (!root.isNull() && !root.isMap()) {
@@ -259,9 +354,33 @@ std::string experimentDifference(const RunManifest& a, const RunManifest& b) {
 std::string worldsDigest(const std::vector<core::WorldSpec>& worlds) {
   std::uint64_t hash = core::fnv1a64("");
   for (const auto& w : worlds) hash = core::fnv1a64(core::formatWorldFile(w), hash);
-  char text[32];
-  std::snprintf(text, sizeof(text), "%016llx", static_cast<unsigned long long>(hash));
-  return text;
+  return hexDigest(hash);
+}
+
+std::vector<ConfigFile> configFileDigests(const std::string& controller_config) {
+  std::vector<ConfigFile> files;
+  if (controller_config.empty()) return files;
+  std::set<std::string> seen;
+  for (const std::string& value : core::ConfigNode::parseString(controller_config, "controller_config").scalarValues()) {
+    std::error_code ec;
+    if (value.empty() || value.front() != '/' || !std::filesystem::is_regular_file(value, ec) || !seen.insert(value).second)
+      continue;
+    files.push_back({value, hexDigest(core::fnv1a64File(value))});
+  }
+  return files;
+}
+
+void checkConfigFiles(const RunManifest& manifest, const std::string& what) {
+  for (const ConfigFile& file : manifest.config_files) {
+    std::error_code ec;
+    if (!std::filesystem::exists(file.path, ec))
+      throw core::InputError(file.path + ": missing; the run's controller config names it (" + what +
+                             " needs the file the run started with)");
+    const std::string now = hexDigest(core::fnv1a64File(file.path));
+    if (now != file.digest)
+      throw core::InputError(file.path + ": changed since the run started (digest " + now + ", the run recorded " +
+                             file.digest + "); " + what + " with it would mix two versions of the controller");
+  }
 }
 
 void sortResults(std::vector<EpisodeResult>& results, const std::vector<int>& world_ids) {
@@ -305,6 +424,7 @@ RunManifest newManifest(const std::string& controller, const std::string& contro
   m.worlds_folder = withoutTrailingSeparator(std::filesystem::absolute(worlds.folder).lexically_normal().string());
   for (const auto& w : worlds.worlds) m.world_ids.push_back(w.id);
   m.worlds_digest = worldsDigest(worlds.worlds);
+  m.config_files = configFileDigests(controller_config);
   m.trials = trials;
   m.seed = seed;
   return m;
@@ -339,21 +459,88 @@ void checkRows(const RunManifest& manifest, const std::vector<EpisodeResult>& ro
                              std::to_string(index % trials) + " is missing");
 }
 
-std::vector<EpisodeResult> writeCompleteRecord(const std::filesystem::path& dir, RunManifest manifest,
-                                               std::vector<EpisodeResult> results,
-                         const std::vector<core::WorldSpec>& worlds) {
+CompleteRecordFiles completeRecordFiles(const std::filesystem::path& dir, RunManifest manifest,
+                                        std::vector<EpisodeResult> results, const std::vector<core::WorldSpec>& worlds) {
   sortResults(results, manifest.world_ids);
   const RunSummary summary = summarise(results);
   manifest.complete = true;
   manifest.episodes_done = results.size();
   manifest.sim_time_s = summary.sim_time;
-  core::writeFilesAtomic(dir, {{kEpisodesFile, episodesCsv(results)},
-                               {kSummaryFile, summaryJson(worldSetName(worlds), summary, perWorldStats(results, core::protocolPreset(recordProtocol(manifest, dir.string())).maxScore()),
-                                                          difficultyBreakdown(results, worlds))},
-                               {kManifestFile, formatManifest(manifest, dir)}});
+  CompleteRecordFiles out;
+  out.files = {{kEpisodesFile, episodesCsv(results)},
+               {kSummaryFile, summaryJson(worldSetName(worlds), summary, perWorldStats(results, core::protocolPreset(recordProtocol(manifest, dir.string())).maxScore()),
+                                          difficultyBreakdown(results, worlds))},
+               {kManifestFile, formatManifest(manifest, dir)}};
+  out.episodes = std::move(results);
+  return out;
+}
+
+std::vector<EpisodeResult> writeCompleteRecord(const RecordWriter& writer, RunManifest manifest,
+                                               std::vector<EpisodeResult> results,
+                                               const std::vector<core::WorldSpec>& worlds) {
+  CompleteRecordFiles record = completeRecordFiles(writer.dir(), std::move(manifest), std::move(results), worlds);
+  writer.write(record.files, {kJournalFile});
+  return std::move(record.episodes);
+}
+
+void checkCompleteRows(const RunManifest& m, const std::vector<EpisodeResult>& rows, const std::string& file) {
+  const std::size_t trials = static_cast<std::size_t>(std::max(m.trials, 0));
+  const std::size_t total = m.world_ids.size() * trials;
+  std::vector<std::size_t> wanted;  // the episodes the record holds (run records)
+  if (m.source.empty()) {
+    if (m.shard_count > 0) {
+      wanted = shardEpisodes(total, m.shard_index, m.shard_count);
+    } else {
+      wanted.resize(total);
+      for (std::size_t i = 0; i < total; ++i) wanted[i] = i;
+    }
+  }
+  // Every row valid and once; an imported record holds the trials its file had. (checkRows
+  // reads an empty list as every episode: a shard of none is checked here.)
+  if (m.source.empty() && wanted.empty() && !rows.empty())
+    throw core::InputError(file + ": world " + std::to_string(rows.front().world_id) + " trial " +
+                           std::to_string(rows.front().trial) + ": not an episode of this record");
+  checkRows(m, rows, file, wanted, false);
+  const std::size_t expected = m.source.empty() ? wanted.size() : m.episodes_done;
+  if (m.episodes_done != expected)
+    throw core::InputError(file + ": the manifest says " + std::to_string(m.episodes_done) + " episodes done, but its " +
+                           std::to_string(m.world_ids.size()) + " worlds x " + std::to_string(m.trials) +
+                           " trials give " + std::to_string(expected));
+  if (rows.size() == expected) return;
+  std::string missing;
+  if (m.source.empty()) {
+    std::map<int, std::size_t> position;
+    for (std::size_t i = 0; i < m.world_ids.size(); ++i) position.emplace(m.world_ids[i], i);
+    std::vector<char> seen(total, 0);
+    for (const EpisodeResult& r : rows) seen[position.at(r.world_id) * trials + static_cast<std::size_t>(r.trial)] = 1;
+    for (const std::size_t index : wanted)
+      if (!seen[index]) {
+        missing = " (world " + std::to_string(m.world_ids[index / trials]) + " trial " + std::to_string(index % trials) +
+                  " missing)";
+        break;
+      }
+  }
+  throw core::InputError(file + ": " + std::to_string(rows.size()) + " rows, the manifest says " +
+                         std::to_string(expected) + missing);
+}
+
+CompleteRecord readCompleteRecord(const std::filesystem::path& dir) {
+  const std::filesystem::path manifest_file = dir / kManifestFile;
   std::error_code ec;
-  std::filesystem::remove(dir / kJournalFile, ec);
-  return results;
+  if (!std::filesystem::exists(manifest_file, ec))
+    throw core::InputError(dir.string() + ": no run record here (no " + std::string(kManifestFile) + ")");
+  core::checkNoInterruptedWrite(dir);
+  CompleteRecord record;
+  record.manifest = readManifest(manifest_file);
+  const RunManifest& m = record.manifest;
+  if (!m.complete)
+    throw core::InputError(dir.string() + ": not complete (" + std::to_string(m.episodes_done) + " of " +
+                           std::to_string(m.episodes_total) + " episodes); finish it with barn run --resume " +
+                           dir.string());
+  const std::filesystem::path file = dir / kEpisodesFile;
+  record.episodes = parseEpisodesCsv(core::readTextFile(file), file.string(), /*journal=*/false);
+  checkCompleteRows(m, record.episodes, file.string());
+  return record;
 }
 
 }  // namespace barn::bench

@@ -3,6 +3,7 @@
 #include <sstream>
 
 #include "barn/core/errors.hpp"
+#include "barn/core/text_io.hpp"
 
 namespace barn::bench {
 
@@ -15,7 +16,7 @@ std::string cellName(std::size_t index, const SweepGrid& grid) {
   std::string name = "cell_" + std::to_string(index);
   for (std::size_t k = 0; k < grid.parameters.size(); ++k) name += "_" + grid.parameters[k].key + "=" + values[k];
   for (char& ch : name)
-    if (ch == '/' || ch == ' ') ch = '_';
+    if (ch == '/' || ch == ' ' || static_cast<unsigned char>(ch) < 0x20) ch = '_';
   return name;
 }
 
@@ -41,9 +42,11 @@ SweepGrid makeSweepGrid(const std::string& controller, std::vector<SweepParamete
       if (parameters[k].key == parameters[i].key)
         throw core::InputError("--param " + parameters[i].key + ": given twice (list every value in one --param)");
   std::size_t cells = 1;
-  for (const auto& p : parameters) cells *= p.values.size();
-  if (cells > kMaxCells)
-    throw core::InputError("sweep: " + std::to_string(cells) + " cells is too many (at most " + std::to_string(kMaxCells) + ")");
+  for (const auto& p : parameters) {
+    cells *= p.values.size();  // stops before it could overflow: each factor is below 2^32
+    if (cells > kMaxCells || p.values.size() > kMaxCells)
+      throw core::InputError("sweep: more than " + std::to_string(kMaxCells) + " cells (too many)");
+  }
   SweepGrid grid;
   grid.controller = controller;
   grid.parameters = std::move(parameters);
@@ -77,8 +80,30 @@ std::string formatSweepFile(const SweepGrid& grid) {
   return "# barnbench sweep: one run record per cell in the folders below\n" + core::writeConfig(grid);
 }
 
+SweepGrid parseSweepFile(const std::string& text, const std::string& source) {
+  const SweepGrid read = core::readConfig<SweepGrid>(core::ConfigNode::parseString(text, source));
+  core::Errors errors(source);
+  errors.check(!read.controller.empty(), "controller", "missing");
+  errors.check(!read.parameters.empty(), "parameters", "missing (a sweep has at least one)");
+  for (std::size_t k = 0; k < read.parameters.size(); ++k)
+    errors.check(!read.parameters[k].key.empty() && !read.parameters[k].values.empty(),
+                 "parameters[" + std::to_string(k) + "]", "needs a key and at least one value");
+  errors.throwIfAny();
+  SweepGrid grid;
+  try {
+    grid = makeSweepGrid(read.controller, read.parameters);
+  } catch (const core::InputError& e) {
+    throw core::InputError(source + ": parameters: " + e.what());
+  }
+  if (grid.cells != read.cells)
+    throw core::InputError(source + ": cells: not the cells of its parameters (the file was changed by hand?)");
+  return grid;
+}
+
 SweepGrid readSweepFile(const std::filesystem::path& sweep_dir) {
-  return core::readConfig<SweepGrid>(core::ConfigNode::parseFile(sweep_dir / kSweepFile));
+  core::checkNoInterruptedWrite(sweep_dir);
+  const std::filesystem::path file = sweep_dir / kSweepFile;
+  return parseSweepFile(core::readTextFile(file), file.string());
 }
 
 }  // namespace barn::bench

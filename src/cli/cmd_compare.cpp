@@ -45,10 +45,10 @@ struct Record {
 Record readRecord(const std::string& dir) {
   Record r;
   r.dir = dir;
-  r.manifest = bench::readManifest(fs::path(dir) / bench::kManifestFile);
-  if (!r.manifest.complete) throw core::InputError(dir + ": the run is not complete (barn run --resume " + dir + ")");
+  bench::CompleteRecord record = bench::readCompleteRecord(dir);
+  r.manifest = std::move(record.manifest);
   r.protocol = bench::recordProtocol(r.manifest, dir + " manifest episode_config");
-  r.results = bench::readEpisodesCsv(fs::path(dir) / bench::kEpisodesFile);
+  r.results = std::move(record.episodes);
   return r;
 }
 
@@ -214,7 +214,7 @@ void addCompareCommand(CLI::App& app, CommandContext& /*context*/) {
   cmd->add_option("--plot", options->plot, "What the plot shows: score or success")
       ->check(CLI::IsMember({"score", "success"}))
       ->capture_default_str();
-  cmd->add_option("--seed", options->seed, "Bootstrap seed")->capture_default_str()->check(kNotNegative);
+  cmd->add_option("--seed", options->seed, "Bootstrap seed")->capture_default_str()->check(kUnsigned);
   cmd->add_option("--bootstrap", options->bootstrap, "Bootstrap resamples of the worlds")
       ->check(CLI::Range(1, 10000000))
       ->capture_default_str();

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "barn/bench/record_writer.hpp"
 #include "barn/bench/world_selection.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/core/text_io.hpp"
@@ -82,19 +83,21 @@ void addExportWorldsCommand(CLI::App& app, CommandContext& /*context*/) {
     // A folder holding another export is replaced only with --force, and then whole: a
     // smaller export over a larger one would otherwise leave files that import-barn (or the
     // harness) takes for part of it.
+    // One locked set write: a kill leaves the earlier export or the new one, never a mix.
+    checkOutFolder(out, "--out");
+    const bench::RecordWriter writer(out);
     const std::vector<fs::path> old_files = existingExportFiles(out);
     if (!old_files.empty() && !options->force)
       throw core::InputError("--out " + options->out + ": already holds exported worlds (" +
                              std::to_string(old_files.size()) + " files, e.g. " + old_files.front().string() +
                              "); --force replaces them, or choose another --out");
-    core::writeFilesAtomic(out, files);
     std::set<fs::path> written;
     for (const auto& file : files) written.insert(file.name);
-    std::size_t removed = 0;
-    for (const auto& file : old_files) {
-      std::error_code ec;
-      if (!written.count(file)) removed += fs::remove(out / file, ec) ? 1 : 0;
-    }
+    std::vector<std::string> removals;
+    for (const auto& file : old_files)
+      if (!written.count(file)) removals.push_back(file.string());
+    writer.write(files, removals);
+    const std::size_t removed = removals.size();
 
     std::printf("wrote %zu worlds (%zu files, %s) to %s%s\n", loaded.worlds.size(), files.size(),
                 gazebo ? "world_N.world and path_files/path_N.npy" : "the BARN dataset layout", options->out.c_str(),

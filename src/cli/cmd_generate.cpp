@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "barn/bench/record_writer.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/core/text_io.hpp"
 #include "barn/core/world_file.hpp"
@@ -68,7 +69,7 @@ void addGenerateCommand(CLI::App& app, CommandContext& context) {
   cmd->add_option("--out", options->out, "Folder for the world files and index.csv")->capture_default_str();
   cmd->add_option("--seed", options->seed, "Base seed of the sweep (every attempt's seed derives from it)")
       ->capture_default_str()
-      ->check(kNotNegative);
+      ->check(kUnsigned);
   cmd->add_option("--worlds-per-set", options->worlds_per_set, "Accepted worlds per parameter set")
       ->check(CLI::Range(1, 10000))
       ->capture_default_str();
@@ -97,19 +98,23 @@ void addGenerateCommand(CLI::App& app, CommandContext& context) {
       }
       return;
     }
-    // A set is written whole or not at all: into a folder holding another set only with
-    // --force, and then none of the old set's files stay behind (a smaller set written over a
-    // larger one would otherwise leave a mixed folder that `--worlds all` runs).
+    // A set is written whole or not at all (one locked set write: a kill leaves the old set or
+    // the new one): into a folder holding another set only with --force, and then none of the
+    // old set's files stay behind (a smaller set written over a larger one would otherwise
+    // leave a mixed folder that `--worlds all` runs).
+    checkOutFolder(options->out, "--out");
+    const bench::RecordWriter writer(options->out);
     const std::vector<std::filesystem::path> old_files = existingWorldSetFiles(options->out);
     if (!old_files.empty() && !options->force)
       throw core::InputError(options->out + ": already holds a world set (" + std::to_string(old_files.size()) +
                              " files); --force replaces it, or choose another --out");
-    core::writeWorldSet(options->out, worlds);
     std::set<std::string> written = {"index.csv"};
     for (const auto& w : worlds) written.insert(core::worldFileName(w.id));
-    std::size_t removed = 0;
+    std::vector<std::string> removals;
     for (const auto& file : old_files)
-      if (!written.count(file.filename().string())) removed += std::filesystem::remove(file) ? 1 : 0;
+      if (!written.count(file.filename().string())) removals.push_back(file.filename().string());
+    writer.write(core::worldSetFiles(worlds), removals);
+    const std::size_t removed = removals.size();
     std::printf("wrote %zu world files and index.csv to %s%s\n", worlds.size(), options->out.c_str(),
                 removed ? (" (removed " + std::to_string(removed) + " files of the old set)").c_str() : "");
   });

@@ -43,7 +43,8 @@ std::string hex64(std::uint64_t value) {
 }
 
 void importOut(const ImportOutOptions& o) {
-  if (fs::exists(fs::path(o.out) / bench::kManifestFile)) throw core::InputError(o.out + ": already holds a run record");
+  checkOutFolder(o.out, "--out");
+  bench::checkNoRecordForOut(o.out);
   const core::Protocol protocol = core::protocolPreset(o.protocol);
   // Everything is read and checked before anything is written.
   const std::string text = core::readTextFile(o.file);
@@ -87,7 +88,9 @@ void importOut(const ImportOutOptions& o) {
   m.episodes_total = imported.results.size();
   m.barnbench_version = BARN_VERSION;
   m.git_commit = bench::gitCommit();
-  const std::vector<bench::EpisodeResult> written = bench::writeCompleteRecord(o.out, m, imported.results, worlds);
+  const bench::RecordWriter writer(o.out);
+  bench::checkNoRecordForOut(o.out);  // again under the lock: a second import into --out cannot pass it
+  const std::vector<bench::EpisodeResult> written = bench::writeCompleteRecord(writer, m, imported.results, worlds);
   std::printf("imported %zu episodes on %zu worlds from %s (scored with %s)\n", imported.results.size(),
               imported.world_ids.size(), o.file.c_str(), std::string(core::toString(protocol.name)).c_str());
   printRecordSummary(o.out, m, worlds, written, protocol.name);
@@ -95,9 +98,10 @@ void importOut(const ImportOutOptions& o) {
 }
 
 void exportOut(const ExportOutOptions& o) {
-  const bench::RunManifest m = bench::readManifest(fs::path(o.record) / bench::kManifestFile);
-  if (!m.complete) throw core::InputError(o.record + ": the run is not complete (barn run --resume " + o.record + ")");
-  const auto results = bench::readEpisodesCsv(fs::path(o.record) / bench::kEpisodesFile);
+  const bench::CompleteRecord record = bench::readCompleteRecord(o.record);
+  const bench::RunManifest& m = record.manifest;
+  const std::vector<bench::EpisodeResult>& results = record.episodes;
+  if (fs::is_directory(o.out)) throw core::InputError("--out " + o.out + ": is a folder, expected a file");
   int errors = 0;
   for (const auto& r : results) errors += r.outcome == bench::Outcome::Error;
   if (errors > 0)

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <string>
 
+#include "barn/bench/record_writer.hpp"
 #include "barn/core/world_file.hpp"
 #include "commands.hpp"
 #include "generator/dataset_import.hpp"
@@ -67,7 +68,9 @@ void addImportCommand(CLI::App& app, CommandContext& context) {
     }
     std::printf("%s", parameterSetTable(worlds).c_str());
     if (const auto halves = generator::absentWorldsMetrics(dataset)) printAbsentWorlds(*halves);
-    core::writeWorldSet(options->out, worlds);
+    checkOutFolder(options->out, "--out");
+    const bench::RecordWriter writer(options->out);
+    writer.write(core::worldSetFiles(worlds));
     std::printf("wrote %zu world files and index.csv to %s\n", worlds.size(), options->out.c_str());
   });
 }

@@ -26,12 +26,12 @@ void addMergeCommand(CLI::App& app, CommandContext& /*context*/) {
   cmd->add_option("--out", options->out, "Folder for the merged record")->required();
   cmd->callback([options] {
     const std::vector<std::filesystem::path> shards(options->shards.begin(), options->shards.end());
-    const bench::RunManifest merged = bench::mergeShardRecords(shards, options->out);
-    std::printf("merged %zu shards, %zu episodes\n", shards.size(), merged.episodes_total);
-    // mergeShardRecords wrote the merged episodes; the summary reads them back from there.
     const std::filesystem::path out = options->out;
-    printRecordSummary(out, merged, bench::loadManifestWorlds(merged), bench::readEpisodesCsv(out / bench::kEpisodesFile),
-                       bench::recordProtocol(merged, "manifest"));
+    checkOutFolder(out, "--out");
+    const bench::MergedRecord merged = bench::mergeShardRecords(shards, out);
+    std::printf("merged %zu shards, %zu episodes\n", shards.size(), merged.manifest.episodes_total);
+    printRecordSummary(out, merged.manifest, bench::loadManifestWorlds(merged.manifest), merged.episodes,
+                       bench::recordProtocol(merged.manifest, "manifest"));
     std::printf("wrote %s\n", options->out.c_str());
   });
 }

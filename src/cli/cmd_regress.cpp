@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "barn/bench/report.hpp"
+#include "barn/bench/record_writer.hpp"
 #include "barn/bench/results_io.hpp"
 #include "barn/bench/run_record.hpp"
 #include "barn/core/config.hpp"
@@ -89,14 +90,18 @@ void addRegressCommand(CLI::App& app, CommandContext& context) {
     const fs::path work = options->work.empty() ? repoPath("results") / "regress" : fs::path(options->work);
     std::vector<Row> rows;
     for (const fs::path& record : referenceRecords(baseline, options->controllers)) {
-      bench::RunManifest manifest = bench::readManifest(record / bench::kManifestFile);
-      if (!manifest.complete) throw core::InputError(record.string() + ": the reference run is not complete");
+      // The reference run, read whole (a reference whose rows disagree with its manifest
+      // would make the check pass against a wrong score); locked while it may be rewritten.
+      bench::RecordWriter baseline_lock;
+      if (options->update) baseline_lock = bench::RecordWriter(record);
+      const bench::CompleteRecord reference = bench::readCompleteRecord(record);
+      const bench::RunManifest& manifest = reference.manifest;
       // The rerun: the same experiment, from scratch, in a fresh record.
       bench::RunManifest rerun = manifest;
       core::ConfigNode node = core::ConfigNode::parseString(rerun.controller_config, record.string() + " controller_config");
       // A committed baseline names files of the checkout it was made in: point a policy file
       // that is not there at this checkout's configs/policies/, and the repository's worlds at
-      // this checkout's worlds/ (the digest still guards their content).
+      // this checkout's worlds/ (the digests still guard their content).
       std::string type;
       node.child("type").read(type);
       std::string policy;
@@ -108,6 +113,19 @@ void addRegressCommand(CLI::App& app, CommandContext& context) {
         node.set(item.substr(0, eq), item.substr(eq + 1));
       }
       rerun.controller_config = node.toYaml();
+      // The files the rerun's config names must be the ones the reference ran with (a policy
+      // retrained since, or another one of the same name, would compare two controllers).
+      rerun.config_files = bench::configFileDigests(rerun.controller_config);
+      if (!manifest.config_files.empty() && options->overrides.empty()) {
+        for (std::size_t i = 0; i < manifest.config_files.size(); ++i) {
+          const bench::ConfigFile& was = manifest.config_files[i];
+          if (i >= rerun.config_files.size() || rerun.config_files[i].digest != was.digest)
+            throw core::InputError(record.string() + ": " +
+                                   (i < rerun.config_files.size() ? rerun.config_files[i].path : was.path) +
+                                   " is not the file the reference run used (its digest was " + was.digest +
+                                   "); restore it, or rerun the reference with barn regress --update");
+        }
+      }
       if (fs::path(rerun.worlds_folder).filename() == "worlds") rerun.worlds_folder = fs::absolute(repoPath("worlds")).string();
       rerun.complete = false;
       rerun.episodes_done = 0;
@@ -122,25 +140,32 @@ void addRegressCommand(CLI::App& app, CommandContext& context) {
           throw core::InputError(dir.string() + ": exists and was not made by barn regress; choose another --work");
         fs::remove_all(dir);
       }
-      core::writeFilesAtomic(dir, {{bench::kManifestFile, bench::formatManifest(rerun, dir)},
-                                   {kRerunMarker, "a rerun made by barn regress; barn regress replaces this folder\n"}});
+      {
+        const bench::RecordWriter writer(dir);  // released before the run takes the folder
+        writer.write({{bench::kManifestFile, bench::formatManifest(rerun, dir)},
+                      {kRerunMarker, "a rerun made by barn regress; barn regress replaces this folder\n"}});
+      }
       std::printf("== %s: rerunning %s\n", record.filename().c_str(), manifest.worlds_spec.c_str());
       std::fflush(stdout);
       SessionOptions session;
       session.jobs = options->jobs;
       runRecordFolder(dir, session);
 
+      const bench::CompleteRecord after = bench::readCompleteRecord(dir);
       Row row;
       row.name = record.filename().string();
-      row.before = bench::summarise(bench::readEpisodesCsv(record / bench::kEpisodesFile));
-      row.after = bench::summarise(bench::readEpisodesCsv(dir / bench::kEpisodesFile));
+      row.before = bench::summarise(reference.episodes);
+      row.after = bench::summarise(after.episodes);
       row.identical = core::readTextFile(record / bench::kEpisodesFile) == core::readTextFile(dir / bench::kEpisodesFile);
       row.failed = row.after.score < row.before.score - options->tolerance - 1e-12 ||
                    row.after.success_rate < row.before.success_rate - options->success_tolerance - 1e-12;
       rows.push_back(row);
       if (options->update) {
-        for (const char* file : {bench::kManifestFile, bench::kEpisodesFile, bench::kSummaryFile})
-          fs::copy_file(dir / file, record / file, fs::copy_options::overwrite_existing);
+        // One set, renamed into place: a kill or a full disk leaves the old reference whole.
+        // The manifest's paths are written relative to the baseline's folder, not the rerun's.
+        baseline_lock.write({{bench::kManifestFile, bench::formatManifest(after.manifest, record)},
+                             {bench::kEpisodesFile, core::readTextFile(dir / bench::kEpisodesFile)},
+                             {bench::kSummaryFile, core::readTextFile(dir / bench::kSummaryFile)}});
       }
     }
     std::printf("\nregression check against %s (tolerance: score %.4f, success %.4f)\n", baseline.c_str(),

@@ -1,7 +1,10 @@
 // barn report: a finished run record or sweep as one self-contained HTML page (html_report.hpp):
 // the summary, the per-world table, the difficulty breakdown and the figures.
 
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <cstdio>
 #include <filesystem>
 
@@ -83,11 +86,10 @@ HtmlTable difficultyTable(const std::vector<bench::BucketSummary>& buckets) {
 }
 
 HtmlReport runReport(const fs::path& dir, const fs::path& figures, int max_failures) {
-  const bench::RunManifest m = bench::readManifest(dir / bench::kManifestFile);
-  if (!m.complete)
-    throw core::InputError(dir.string() + ": not complete; finish it with barn run --resume " + dir.string());
+  const bench::CompleteRecord record = bench::readCompleteRecord(dir);
+  const bench::RunManifest& m = record.manifest;
   const std::vector<core::WorldSpec> worlds = bench::loadManifestWorlds(m);
-  const std::vector<bench::EpisodeResult> results = bench::readEpisodesCsv(dir / bench::kEpisodesFile);
+  const std::vector<bench::EpisodeResult>& results = record.episodes;
   const bench::RunSummary summary = bench::summarise(results);
   HtmlReport report;
   report.title = m.controller + " on " + bench::worldSetName(worlds) + " worlds";
@@ -172,11 +174,14 @@ void addReportCommand(CLI::App& app, CommandContext& /*context*/) {
     const bool is_run = fs::exists(input / bench::kManifestFile);
     if (!is_run && !fs::exists(input / bench::kSweepFile))
       throw core::InputError(input.string() + ": neither a run record (manifest.yaml) nor a sweep (sweep.yaml)");
-    // Figures are drawn into a scratch folder, embedded, and removed.
-    const fs::path scratch = output.parent_path().empty() ? fs::path(".barn_report.tmp") : output.parent_path() / ".barn_report.tmp";
+    if (fs::is_directory(output)) throw core::InputError("-o " + output.string() + ": is a folder, expected a .html file");
+    // Figures are drawn into a scratch folder of this process alone (two reports at once must
+    // not draw into each other's), embedded, and removed.
+    std::string scratch_name = (fs::temp_directory_path() / "barn_report.XXXXXX").string();
+    if (::mkdtemp(scratch_name.data()) == nullptr)
+      throw core::IoError(scratch_name + ": cannot create a scratch folder: " + std::strerror(errno));
+    const fs::path scratch = scratch_name;
     std::error_code ec;
-    fs::remove_all(scratch, ec);
-    fs::create_directories(scratch);
     std::string html;
     try {
       html = renderHtml(is_run ? runReport(input, scratch, options->max_failures) : sweepReport(input, scratch));

@@ -41,6 +41,7 @@ struct RunOptions {
   bool keep_going = false;
   bool force = false;
   bool trajectories = false;
+  bool check = false;
   std::size_t stop_after = 0;  // 0 = never
 };
 
@@ -75,6 +76,7 @@ std::vector<std::string> controllerNames() {
 // The controller config: --config FILE, else configs/controllers/NAME.yaml, else the type NAME
 // with its defaults; an unknown NAME lists the known ones.
 core::ConfigNode controllerConfig(const RunOptions& options) {
+  checkControllerName(options.controller);
   const fs::path file = controllerConfigFile(options.controller, options.config);
   if (!file.empty()) return core::ConfigNode::parseFile(file);
   const std::vector<std::string> types = controllers::controllerTypes();
@@ -132,6 +134,24 @@ void replaceRecord(Session& session, const fs::path& old_dir) {
 }
 
 }  // namespace
+
+void checkControllerName(const std::string& name) {
+  // The name picks configs/controllers/NAME.yaml and the default --out results/NAME: a path
+  // would read any file as a config and write outside results/.
+  if (name.empty() || name.find('/') != std::string::npos || name == "." || name == ".." || name.front() == '-')
+    throw core::InputError("--controller " + name + ": a name (of configs/controllers/NAME.yaml or a controller type), "
+                           "not a path; give a config file with --config FILE");
+}
+
+void checkOutFolder(const fs::path& dir, const std::string& option) {
+  std::error_code ec;
+  const fs::file_status status = fs::status(dir, ec);
+  if (fs::exists(status) && !fs::is_directory(status))
+    throw core::InputError(option + " " + dir.string() + ": is a file, expected a folder");
+  if (!fs::exists(status) && fs::is_symlink(fs::symlink_status(dir, ec)))
+    throw core::InputError(option + " " + dir.string() + ": is a symlink to a missing folder (" +
+                           fs::read_symlink(dir, ec).string() + ")");
+}
 
 void parseShard(const std::string& text, int& index, int& count) {
   const auto slash = text.find('/');
@@ -192,24 +212,34 @@ void addRunCommand(CLI::App& app, CommandContext& context) {
   cmd->add_option("--trials", options->trials, "Trials per world")->check(CLI::Range(1, 100000))->capture_default_str();
   cmd->add_option("--protocol", options->protocol, "barn2023 or barn2024 (overrides the sim config)");
   cmd->add_option("--jobs", options->jobs, "Threads (0 = all cores)")->check(CLI::Range(0, 4096))->capture_default_str();
-  cmd->add_option("--seed", options->seed, "Run seed (LiDAR noise and controller randomness)")->capture_default_str()->check(kNotNegative);
+  cmd->add_option("--seed", options->seed, "Run seed (LiDAR noise and controller randomness)")->capture_default_str()->check(kUnsigned);
   cmd->add_option("--out", options->out, "Record folder (default results/<controller>)");
   cmd->add_option("--shard", options->shard, "Run shard K of N (every N-th episode from K); combine with barn merge");
   cmd->add_option("--resume", options->resume, "Finish the interrupted run in this record folder");
   cmd->add_flag("--keep-going", options->keep_going, "Skip world files that fail to load (reported) instead of stopping");
   cmd->add_option("--stop-after", options->stop_after,
-                  "Stop after this many episodes, as Ctrl-C would (to try out --resume)");
+                  "Stop after this many episodes, as Ctrl-C would (to try out --resume)")
+      ->check(kUnsigned);
   cmd->add_flag("--trajectories", options->trajectories,
                 "Also write trajectories/world_N_trial_T.csv (pose, command and state per control tick)");
   cmd->add_flag("--force", options->force,
-                "Replace the record in --out, once the new run is complete (until then the old one stays)");
-  cmd->callback([options, &context] {
-    fs::path replaced;  // with --force: the record the new one replaces
+                "Replace the complete record in --out, once the new run is complete (until then the old one stays)");
+  cmd->add_flag("--check", options->check,
+                "Read and check everything a run needs (configs, worlds, --out) as it would, then exit without "
+                "running or writing anything (0: it would start)");
+  cmd->callback([options, &context, cmd] {
+    fs::path replaced;                  // with --force: the record the new one replaces
+    bench::RecordWriter replaced_lock;  // ... held, locked, for the whole run and the exchange
     if (options->resume.empty() && options->controller.empty())
       throw core::InputError("run: --controller is required (or --resume DIR)");
-    if (!options->resume.empty() && (!options->controller.empty() || !options->config.empty() ||
-                                     !options->shard.empty() || !options->out.empty()))
-      throw core::InputError("run: --resume takes its settings from the record; give only --jobs (and --stop-after) with it");
+    if (!options->resume.empty()) {
+      for (const char* option : {"--controller", "--config", "--sim-config", "--worlds", "--world-dir", "--trials",
+                                 "--protocol", "--seed", "--out", "--shard", "--keep-going", "--force", "--check"})
+        if (cmd->count(option) > 0)
+          throw core::InputError(std::string("run: ") + option +
+                                 ": --resume takes its settings from the record; give only --jobs (and --stop-after) "
+                                 "with it");
+    }
     if (options->force && options->out.empty()) throw core::InputError("--force: replaces the record in --out; give --out");
     Session session;
     if (options->resume.empty()) {
@@ -226,19 +256,40 @@ void addRunCommand(CLI::App& app, CommandContext& context) {
         dir += "_shard" + std::to_string(shard_index) + "of" + std::to_string(shard_count);
       // The default folder is taken: a new one beside it, never someone's earlier results.
       if (options->out.empty() && fs::exists(dir / bench::kManifestFile)) dir += "_" + timestamp();
+      checkOutFolder(dir, "--out");
       if (options->force && fs::exists(dir / bench::kManifestFile)) {
+        // The old record stays locked until the new one has taken its place: a process still
+        // writing it makes --force fail here, and none can start on it meanwhile.
+        if (!options->check) replaced_lock = bench::RecordWriter(dir);
+        const bench::RunManifest old = bench::readManifest(dir / bench::kManifestFile);
+        if (!old.complete)
+          throw core::InputError("--force: " + dir.string() + " holds an unfinished run (" +
+                                 std::to_string(old.episodes_done) + " of " + std::to_string(old.episodes_total) +
+                                 " episodes), which --force does not replace: finish it with barn run --resume " +
+                                 dir.string() + ", or remove the folder yourself");
         replaced = dir;
         dir += ".new";
-        bench::checkNoRecord(dir);
       }
+      if (options->check) bench::checkNoRecord(dir);
       session = newSession(options->controller, controller_node, episode, loaded, options->worlds, options->trials,
-                           options->seed, shard_index, shard_count, dir);
+                           options->seed, shard_index, shard_count, options->check ? fs::path() : dir);
+      if (options->check) {
+        std::printf("check: %s on %zu worlds x %d trials -> %s: ok (nothing run or written)\n",
+                    options->controller.c_str(), loaded.worlds.size(), options->trials, dir.c_str());
+        return;
+      }
+      session.record.manifest.trajectories = options->trajectories;
     } else {
       session = resumedSession(options->resume);
+      // The record says whether it keeps trajectories; asking again is harmless, asking for
+      // them midway is not possible (its earlier episodes have none).
+      if (options->trajectories && !session.record.manifest.trajectories)
+        throw core::InputError("--trajectories: " + options->resume +
+                               " was started without trajectories, so its finished episodes have none; start the run "
+                               "again with --trajectories, or resume it without");
     }
     SessionOptions session_options;
     session_options.jobs = options->jobs;
-    session_options.trajectories = options->trajectories;
     session_options.stop_after = options->stop_after;
     context.exit_code = executeSessions({&session}, session_options, true);
     if (!replaced.empty()) replaceRecord(session, replaced);

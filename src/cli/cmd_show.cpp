@@ -48,14 +48,10 @@ void addShowCommand(CLI::App& app, CommandContext& /*context*/) {
   cmd->add_flag("--breakdown", options->breakdown, "Show every difficulty group, however few worlds its buckets hold");
   cmd->callback([options] {
     const fs::path dir = options->record;
-    if (!fs::exists(dir / bench::kManifestFile))
-      throw core::InputError(dir.string() + ": no run record here (no " + std::string(bench::kManifestFile) + ")");
-    const bench::RunManifest m = bench::readManifest(dir / bench::kManifestFile);
-    if (!m.complete)
-      throw core::InputError(dir.string() + ": not complete (" + std::to_string(m.episodes_done) + " of " +
-                             std::to_string(m.episodes_total) + " episodes); finish it with barn run --resume " + dir.string());
+    const bench::CompleteRecord record = bench::readCompleteRecord(dir);
+    const bench::RunManifest& m = record.manifest;
     const std::vector<core::WorldSpec> worlds = bench::loadManifestWorlds(m);
-    const std::vector<bench::EpisodeResult> results = bench::readEpisodesCsv(dir / bench::kEpisodesFile);
+    const std::vector<bench::EpisodeResult>& results = record.episodes;
     printRecordSummary(dir, m, worlds, results, bench::recordProtocol(m, "manifest"), options->breakdown);
     std::printf("%s", worldTable(results, core::protocolPreset(bench::recordProtocol(m, "manifest")).maxScore()).c_str());
   });

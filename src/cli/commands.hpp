@@ -3,6 +3,7 @@
 /// callbacks throw core::InputError for bad input (exit 2) and set `exit_code` to 1 when the
 /// work itself fails (a verification mismatch, a failed run).
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <string>
@@ -29,9 +30,17 @@ inline const CLI::Validator kFiniteNumber(
       return "'" + text + "' is not a finite number";
     },
     "FINITE");
-inline const CLI::Validator kNotNegative(
+/// A whole number written in decimal digits alone (no sign, "0x" or spaces) that fits 64 bits:
+/// CLI11 alone saturates 2^64 at 2^64 - 1 and reads "0x10" as 16.
+inline const CLI::Validator kUnsigned(
     [](std::string& text) {
-      return text.find('-') == std::string::npos ? std::string() : "'" + text + "' must not be negative";
+      const bool digits = !text.empty() && text.find_first_not_of("0123456789") == std::string::npos;
+      if (!digits) return "'" + text + "' is not a whole number (decimal digits only, from 0)";
+      const std::string max = "18446744073709551615";  // 2^64 - 1
+      const std::string value = text.substr(std::min(text.find_first_not_of('0'), text.size() - 1));
+      if (value.size() > max.size() || (value.size() == max.size() && value > max))
+        return "'" + text + "' is more than 2^64 - 1";
+      return std::string();
     },
     "UNSIGNED");
 
@@ -63,7 +72,6 @@ void addConfigCommand(CLI::App& app, CommandContext& context);
 /// How a run session executes.
 struct SessionOptions {
   int jobs = 0;                 // threads; 0 = all cores
-  bool trajectories = false;    // write trajectories/
   std::size_t stop_after = 0;   // stop after this many episodes (0 = never)
 };
 
@@ -78,6 +86,12 @@ core::ConfigNode controllerConfigFor(const std::string& controller, const std::s
 std::filesystem::path controllerConfigFile(const std::string& controller, const std::string& config_file);
 /// The validated simulation config (default configs/sim/barn.yaml), protocol overridden if given.
 bench::EpisodeConfig episodeConfigFor(const std::string& sim_config, const std::string& protocol);
+
+/// InputError unless `name` is a plain controller name (no path): it picks
+/// configs/controllers/NAME.yaml and the default --out results/NAME.
+void checkControllerName(const std::string& name);
+/// InputError naming `option` if `dir` is a file or a symlink to nothing (a folder is wanted).
+void checkOutFolder(const std::filesystem::path& dir, const std::string& option);
 
 /// Parses --shard K/N (1 <= K <= N); InputError otherwise.
 void parseShard(const std::string& text, int& index, int& count);

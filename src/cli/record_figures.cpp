@@ -6,6 +6,7 @@
 
 #include "barn/bench/batch.hpp"
 #include "barn/bench/report.hpp"
+#include "barn/bench/record_session.hpp"
 #include "barn/bench/results_io.hpp"
 #include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
@@ -51,9 +52,10 @@ std::string worldSetText(const bench::RunManifest& manifest, const std::vector<c
 }  // namespace
 
 void renderScoreBars(const fs::path& record, const std::string& by, const fs::path& output) {
-  const bench::RunManifest manifest = bench::readManifest(fs::path(record) / bench::kManifestFile);
+  const bench::CompleteRecord complete = bench::readCompleteRecord(record);
+  const bench::RunManifest& manifest = complete.manifest;
   const auto worlds = bench::loadManifestWorlds(manifest);
-  const auto results = bench::readEpisodesCsv(fs::path(record) / bench::kEpisodesFile);
+  const std::vector<bench::EpisodeResult>& results = complete.episodes;
   const core::Protocol preset = core::protocolPreset(bench::recordProtocol(manifest, "manifest"));
   std::map<int, bench::WorldStats> stats;
   for (const bench::WorldStats& w : bench::perWorldStats(results, preset.maxScore())) stats[w.world_id] = w;

@@ -22,7 +22,7 @@ FailureFigures failureFigures(const fs::path& record, const fs::path& scratch, s
   std::map<int, std::vector<int>> failed;  // world -> failed trials
   std::size_t taken = 0;
   const RecordReplay replay(record);
-  for (const auto& r : bench::readEpisodesCsv(record / bench::kEpisodesFile)) {
+  for (const auto& r : bench::readCompleteRecord(record).episodes) {
     if (r.outcome == bench::Outcome::Success || taken >= max_episodes || !replay.canDraw(r.world_id, r.trial)) continue;
     if (!failed.count(r.world_id)) world_order.push_back(r.world_id);
     failed[r.world_id].push_back(r.trial);

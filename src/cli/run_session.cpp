@@ -44,7 +44,7 @@ Session newSession(const std::string& controller_name, const core::ConfigNode& c
                    const bench::EpisodeConfig& episode, const bench::LoadedWorlds& loaded,
                    const std::string& worlds_spec, int trials, std::uint64_t seed, int shard_index, int shard_count,
                    const fs::path& dir) {
-  bench::checkNoRecord(dir);  // before any work, for a quick answer
+  if (!dir.empty()) bench::checkNoRecord(dir);  // before any work, for a quick answer
   Session session;
   controllers::PreparedController controller = controllers::prepareController(controller_config);
   session.make_controller = std::move(controller.factory);
@@ -56,6 +56,12 @@ Session newSession(const std::string& controller_name, const core::ConfigNode& c
       bench::newManifest(controller_name, controller.effective_config, episode, loaded, worlds_spec, trials, seed);
   manifest.shard_index = shard_index;
   manifest.shard_count = shard_count;
+  if (dir.empty()) {  // checked only
+    bench::checkRecordSize(loaded.worlds.size(), trials);
+    session.record.manifest = std::move(manifest);
+    session.record.worlds = loaded.worlds;
+    return session;
+  }
   // Last, once everything is valid, so bad input leaves no folder behind.
   session.record = bench::createRecord(std::move(manifest), loaded.worlds, dir);
   return session;
@@ -118,7 +124,7 @@ std::vector<Session*> sessionsToRun(const std::vector<Session*>& sessions, bool 
     std::printf("%s is already complete\n", record.dir.c_str());
     // Complete in an earlier session: its episodes are only on disk.
     if (print_summaries)
-      printRecordSummary(record.dir, record.manifest, record.worlds, bench::readEpisodesCsv(record.dir / bench::kEpisodesFile),
+      printRecordSummary(record.dir, record.manifest, record.worlds, bench::readCompleteRecord(record.dir).episodes,
                          session->episode.protocol);
   }
   return running;
@@ -147,12 +153,13 @@ struct PreparedBatches {
 
 /// Makes each session's batch (the episodes still pending) and opens its journal; prints what
 /// is about to run (`one_record`: the run is a single record's).
-PreparedBatches prepareBatches(const std::vector<Session*>& running, bool one_record, const SessionOptions& options,
-                               int threads, std::size_t& total, std::size_t& already) {
+PreparedBatches prepareBatches(const std::vector<Session*>& running, bool one_record, int threads, std::size_t& total,
+                               std::size_t& already) {
   PreparedBatches prepared;
   total = already = 0;
   for (Session* session : running) {
-    const bench::BatchSpec& batch = prepared.batches.emplace_back(pendingBatch(*session, options.trajectories));
+    const bench::BatchSpec& batch =
+        prepared.batches.emplace_back(pendingBatch(*session, session->record.manifest.trajectories));
     prepared.journals.push_back(std::make_unique<bench::RecordJournal>(session->record, batch.selected->size(), threads));
     total += session->record.manifest.episodes_total;
     already += session->record.previous.size();
@@ -175,13 +182,12 @@ PreparedBatches prepareBatches(const std::vector<Session*>& running, bool one_re
 /// What one pool of batches produced, per batch.
 struct PoolOutput {
   std::vector<std::vector<bench::EpisodeResult>> results;
-  std::vector<std::vector<core::FileContent>> trajectories;
   double wall = 0.0;  // [s]
 };
 
 /// Runs every batch in one pool, journaling each episode as it ends; Ctrl-C, SIGTERM,
 /// --stop-after or a failed journal write stop it between episodes.
-PoolOutput runPool(const std::vector<Session*>& running, PreparedBatches& prepared, const SessionOptions& options,
+PoolOutput runPool(PreparedBatches& prepared, const SessionOptions& options,
                    std::size_t total, std::size_t already) {
   std::vector<const bench::BatchSpec*> specs;
   for (const bench::BatchSpec& batch : prepared.batches) specs.push_back(&batch);
@@ -192,18 +198,14 @@ PoolOutput runPool(const std::vector<Session*>& running, PreparedBatches& prepar
   const bench::BatchExecution execution{options.jobs, &g_interrupted};
   bench::ProgressReporter progress(total, already, ::isatty(STDOUT_FILENO));
   PoolOutput out;
-  out.trajectories.resize(specs.size());
   const auto t0 = std::chrono::steady_clock::now();
   std::size_t finished_here = 0;
   std::string journal_error;  // the first failed journal write: the run stops there
   out.results = bench::runBatches(specs, execution, [&](std::size_t batch, const bench::EpisodeResult& r, std::size_t, std::size_t) {
-    if (!journals[batch]->append(r) && journal_error.empty()) {
-      journal_error = (running[batch]->record.dir / bench::kJournalFile).string() + ": write failed: " + std::strerror(errno);
+    if (journal_error.empty() && !journals[batch]->append(r)) {
+      journal_error = journals[batch]->error();
       g_interrupted.store(true);  // nothing more can be kept: start no new episode
     }
-    if (options.trajectories)
-      out.trajectories[batch].push_back({bench::trajectoryFileName(r.world_id, r.trial),
-                                         bench::trajectoryCsv(r)});
     progress.update(r.outcome == bench::Outcome::Success, r.sim_time);
     if (options.stop_after > 0 && ++finished_here >= options.stop_after) g_interrupted.store(true);
   });
@@ -226,8 +228,8 @@ int executeSessions(const std::vector<Session*>& sessions, const SessionOptions&
     if (!session->plant_warning.empty() && warned.insert(session->plant_warning).second)
       std::fprintf(stderr, "warning: %s: %s\n", session->record.manifest.controller.c_str(), session->plant_warning.c_str());
   std::size_t total = 0, already = 0;
-  PreparedBatches prepared = prepareBatches(running, sessions.size() == 1, options, threads, total, already);
-  PoolOutput pool = runPool(running, prepared, options, total, already);
+  PreparedBatches prepared = prepareBatches(running, sessions.size() == 1, threads, total, already);
+  PoolOutput pool = runPool(prepared, options, total, already);
 
   // Each record is written whole (or, interrupted, left to --resume).
   int status = 0;
@@ -241,10 +243,8 @@ int executeSessions(const std::vector<Session*>& sessions, const SessionOptions&
       episode_error = episode_error || r.outcome == bench::Outcome::Error;
     }
     for (const auto& r : record.previous) episode_error = episode_error || r.outcome == bench::Outcome::Error;
-    std::optional<std::vector<core::FileContent>> written;
-    if (options.trajectories) written = std::move(pool.trajectories[batch]);
     const std::optional<std::vector<bench::EpisodeResult>> complete =
-        prepared.journals[batch]->finish(std::move(pool.results[batch]), pool.wall / static_cast<double>(running.size()), written);
+        prepared.journals[batch]->finish(std::move(pool.results[batch]), pool.wall / static_cast<double>(running.size()));
     if (!complete) {
       interrupted = true;
       continue;

@@ -28,6 +28,7 @@ struct Session {
 };
 
 /// A new record in `dir` (which must not hold one): everything validated, nothing written yet.
+/// An empty `dir` validates only (barn run --check): no record is created.
 Session newSession(const std::string& controller_name, const core::ConfigNode& controller_config,
                    const bench::EpisodeConfig& episode, const bench::LoadedWorlds& worlds,
                    const std::string& worlds_spec, int trials, std::uint64_t seed, int shard_index, int shard_count,

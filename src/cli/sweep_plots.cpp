@@ -140,9 +140,10 @@ SweepTable readSweepTable(const std::filesystem::path& dir, const std::filesyste
   }
   for (std::size_t c = 0; c < grid.cells.size(); ++c) {
     const std::filesystem::path cell_dir = dir / grid.cells[c];
-    const bench::RunManifest m = bench::readManifest(cell_dir / bench::kManifestFile);
-    if (!m.complete)
+    if (!bench::readManifest(cell_dir / bench::kManifestFile).complete)
       throw core::InputError(cell_dir.string() + ": not complete; finish the sweep with barn sweep --resume " + dir.string());
+    const bench::CompleteRecord record = bench::readCompleteRecord(cell_dir);
+    const bench::RunManifest& m = record.manifest;
     if (c == 0) {
       table.protocol = bench::recordProtocol(m, "manifest");
       table.trials = m.trials;
@@ -150,7 +151,7 @@ SweepTable readSweepTable(const std::filesystem::path& dir, const std::filesyste
     SweepCell cell;
     cell.name = grid.cells[c];
     cell.values = bench::cellValues(grid, c);
-    const auto episodes = bench::readEpisodesCsv(cell_dir / bench::kEpisodesFile);
+    const std::vector<bench::EpisodeResult>& episodes = record.episodes;
     cell.summary = bench::summarise(episodes);
     cell.worlds = bench::perWorldStats(episodes, core::protocolPreset(table.protocol).maxScore());
     table.cells.push_back(cell);

@@ -7,6 +7,7 @@
 #include <poll.h>
 #include <pthread.h>
 #include <spawn.h>
+#include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -113,6 +114,11 @@ ChildProcess::ChildProcess(const ChildCommand& command) {
   setNonBlocking(stdin_fd_);
   setNonBlocking(stdout_fd_);
   setNonBlocking(stderr_fd_);
+  // Readable once the child exits, so a wait for its answer ends then (Linux 5.3; without it
+  // the wait runs to its deadline). Close-on-exec by default.
+#ifdef SYS_pidfd_open
+  exit_fd_ = static_cast<int>(syscall(SYS_pidfd_open, pid_, 0));
+#endif
 }
 
 ChildProcess::~ChildProcess() {
@@ -125,6 +131,7 @@ ChildProcess::~ChildProcess() {
   closeFd(stdin_fd_);
   closeFd(stdout_fd_);
   closeFd(stderr_fd_);
+  closeFd(exit_fd_);
 }
 
 void ChildProcess::closeFd(int& fd) {
@@ -155,21 +162,48 @@ bool ChildProcess::drainStderr() {
 
 bool ChildProcess::waitReady(int fd, short events, Clock::time_point deadline) {
   while (true) {
-    pollfd fds[2] = {{fd, events, 0}, {stderr_fd_, POLLIN, 0}};
-    const nfds_t count = stderr_fd_ >= 0 ? 2 : 1;
-    const int ready = poll(fds, count, millisecondsTo(deadline));
+    // fd first; stderr and the exit descriptor only when open.
+    pollfd fds[3] = {{fd, events, 0}, {stderr_fd_, POLLIN, 0}, {exit_fd_, POLLIN, 0}};
+    const int ready = poll(fds, 3, millisecondsTo(deadline));
     if (ready < 0) {
       if (errno == EINTR) continue;
       throw ChildProcessError("poll failed: " + errnoText(errno));
     }
-    if (count == 2 && fds[1].revents != 0) drainStderr();
+    if (fds[1].revents != 0) drainStderr();
     if (fds[0].revents != 0) return true;  // ready, or hung up / error: the read or write says which
+    if (fds[2].revents != 0) {
+      // It exited, yet the pipe is still open: a process it started holds the other end. No
+      // answer will come from the program itself.
+      throw ChildProcessError(events == POLLIN ? "it exited without answering (a process it started still holds its stdout)"
+                                               : "it exited (a process it started still holds its stdin)");
+    }
     if (Clock::now() >= deadline) return false;
+  }
+}
+
+void ChildProcess::drainStdout() {
+  char buffer[4096];
+  while (stdout_fd_ >= 0 && stdout_buffer_.size() <= kMaxLineBytes) {
+    const ssize_t n = read(stdout_fd_, buffer, sizeof(buffer));
+    if (n > 0) stdout_buffer_.append(buffer, static_cast<std::size_t>(n));
+    else if (n < 0 && errno == EINTR) continue;
+    else return;  // nothing more now, end of file or an error: the next read says which
   }
 }
 
 void ChildProcess::writeLine(std::string_view line, Clock::time_point deadline) {
   if (stdin_fd_ < 0) throw ChildProcessError("its stdin is closed");
+  // Whatever it wrote since its last answer answers nothing: an extra line would be taken as
+  // the answer to this message and shift every later one by one.
+  drainStdout();
+  if (!stdout_buffer_.empty()) {
+    std::string shown = stdout_buffer_.substr(0, 60);
+    for (char& ch : shown)
+      if (static_cast<unsigned char>(ch) < 0x20 || static_cast<unsigned char>(ch) >= 0x7f) ch = '?';
+    throw ChildProcessError("it wrote " + std::to_string(stdout_buffer_.size()) +
+                            " bytes that answer no message ('" + shown + (stdout_buffer_.size() > 60 ? "...'" : "'") +
+                            "): one line per message");
+  }
   std::string data(line);
   data += '\n';
   std::size_t written = 0;
@@ -208,6 +242,9 @@ std::string ChildProcess::readLine(Clock::time_point deadline) {
     if (newline != std::string::npos) {
       std::string line = stdout_buffer_.substr(0, newline);
       stdout_buffer_.erase(0, newline + 1);
+      if (!stdout_buffer_.empty())
+        throw ChildProcessError("it wrote more than one line for one message (" + std::to_string(stdout_buffer_.size()) +
+                                " bytes after its answer)");
       return line;
     }
     searched = stdout_buffer_.size();
@@ -247,19 +284,33 @@ void ChildProcess::noteExit(int status) {
   }
 }
 
+bool ChildProcess::reapIfExited(bool wait) {
+  if (reaped_) return true;
+  siginfo_t info{};
+  int result = 0;
+  // WNOWAIT: look without reaping, so the zombie keeps its pid (the group's id) reserved until
+  // the group has been killed.
+  while ((result = waitid(P_PID, static_cast<id_t>(pid_), &info, WEXITED | WNOWAIT | (wait ? 0 : WNOHANG))) < 0 &&
+         errno == EINTR) {
+  }
+  if (result < 0) {  // not our child any more: nothing left to wait for
+    reaped_ = true;
+    ending_ = "ended";
+    return true;
+  }
+  if (info.si_pid == 0) return false;  // still running
+  kill(-pid_, SIGKILL);                // whatever it started goes with it
+  int status = 0;
+  pid_t done = -1;
+  while ((done = waitpid(pid_, &status, 0)) < 0 && errno == EINTR) {
+  }
+  if (done == pid_) noteExit(status);
+  reaped_ = true;
+  return true;
+}
+
 bool ChildProcess::waitForExit(Clock::time_point deadline) {
-  while (!reaped_) {
-    int status = 0;
-    const pid_t done = waitpid(pid_, &status, WNOHANG);
-    if (done == pid_) {
-      noteExit(status);
-      break;
-    }
-    if (done < 0 && errno != EINTR) {  // not our child any more: nothing left to wait for
-      reaped_ = true;
-      ending_ = "ended";
-      break;
-    }
+  while (!reapIfExited(false)) {
     if (Clock::now() >= deadline) return false;
     // Sleep a little, draining stderr meanwhile (a child blocked on a full stderr pipe never exits).
     pollfd fds{stderr_fd_, POLLIN, 0};
@@ -275,12 +326,7 @@ std::string ChildProcess::stop() {
     if (!waitForExit(Clock::now() + std::chrono::milliseconds(100))) {
       kill(-pid_, SIGKILL);
       killed_by_us_ = true;
-      int status = 0;
-      pid_t done = -1;
-      while ((done = waitpid(pid_, &status, 0)) < 0 && errno == EINTR) {
-      }
-      if (done == pid_) noteExit(status);
-      reaped_ = true;
+      reapIfExited(true);
     }
   }
   // Whatever is left in the stderr pipe. Its write ends died with the process group; the

@@ -88,6 +88,10 @@ void validate(const ExternalConfig& c, core::Errors& errors, const std::string& 
   errors.check(std::isfinite(c.rate) && c.rate > 0.0, prefix + ".rate", "must be > 0 [Hz]");
   errors.check(std::isfinite(c.timeout) && c.timeout > 0.0, prefix + ".timeout", "must be > 0 [s]");
   errors.check(std::isfinite(c.reset_timeout) && c.reset_timeout > 0.0, prefix + ".reset_timeout", "must be > 0 [s]");
+  // Waits longer than a day are typos (our bound); far longer ones would overflow the clock.
+  errors.check(!(c.timeout > 86400.0), prefix + ".timeout", "must be <= 86400 [s]");
+  errors.check(!(c.reset_timeout > 86400.0), prefix + ".reset_timeout", "must be <= 86400 [s]");
+  errors.check(!(c.rate > 1000.0), prefix + ".rate", "must be <= 1000 [Hz]");
   std::error_code ec;
   errors.check(fs::is_directory(c.working_dir, ec), prefix + ".working_dir",
                "'" + c.working_dir + "' is not a folder");

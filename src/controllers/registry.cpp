@@ -1,5 +1,7 @@
 #include "barn/controllers/registry.hpp"
 
+#include <algorithm>
+
 #include "barn/controllers/almeria_tps.hpp"
 #include "barn/controllers/applr_dwa.hpp"
 #include "barn/controllers/dwa.hpp"
@@ -124,9 +126,14 @@ const Entry& findEntry(const core::ConfigNode& config, std::string& type) {
   for (const Entry& e : entries())
     if (type == e.type) {
       core::Errors errors;
-      for (const std::string& key : config.keys())
-        if (key != "type" && key != type && key != kGlobalPlanKey)
+      std::vector<std::string> seen;
+      for (const std::string& key : config.keys()) {
+        if (std::find(seen.begin(), seen.end(), key) != seen.end())
+          errors.add(config.where(key), "duplicate key");
+        else if (key != "type" && key != type && key != kGlobalPlanKey)
           errors.add(config.where(key), "unknown key (expected 'type', '" + type + "' and optionally '" + kGlobalPlanKey + "')");
+        seen.push_back(key);
+      }
       errors.throwIfAny();
       return e;
     }

@@ -1,8 +1,14 @@
 #include "barn/core/config.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
+#include <cstdio>
+#include <string_view>
 #include <set>
+#include <sstream>
+
+#include <yaml-cpp/eventhandler.h>
 
 #include <yaml-cpp/yaml.h>
 
@@ -21,6 +27,55 @@ ConfigNode& ConfigNode::operator=(const ConfigNode&) = default;
 
 namespace {
 
+// Parses a document without building it, noting where it starts.
+class DocumentStart : public YAML::EventHandler {
+ public:
+  void OnDocumentStart(const YAML::Mark& at) override {
+    seen = true;
+    mark = at;
+  }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t, const std::string&) override {}
+  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
+  void OnMapEnd() override {}
+
+  bool seen = false;
+  YAML::Mark mark = YAML::Mark::null_mark();
+};
+
+// The offset of the first byte that is not YAML text (UTF-8 of a printable character, tab, line
+// feed or carriage return), or npos. yaml-cpp passes other bytes through into values that no
+// writer can give back (an effective config would not read again).
+std::size_t firstNonText(std::string_view text) {
+  std::size_t i = 0;
+  while (i < text.size()) {
+    const auto byte = static_cast<unsigned char>(text[i]);
+    if (byte < 0x80) {
+      if ((byte < 0x20 && byte != '\t' && byte != '\n' && byte != '\r') || byte == 0x7f) return i;
+      ++i;
+      continue;
+    }
+    const std::size_t length = byte >= 0xf0 ? 4 : byte >= 0xe0 ? 3 : byte >= 0xc2 ? 2 : 0;
+    if (length == 0 || byte > 0xf4 || i + length > text.size()) return i;
+    std::uint32_t code = byte & (0xff >> (length + 1));
+    for (std::size_t k = 1; k < length; ++k) {
+      const auto next = static_cast<unsigned char>(text[i + k]);
+      if ((next & 0xc0) != 0x80) return i;
+      code = (code << 6) | (next & 0x3f);
+    }
+    const bool overlong = (length == 3 && code < 0x800) || (length == 4 && code < 0x10000);
+    const bool c1 = code >= 0x80 && code <= 0x9f && code != 0x85;
+    const bool surrogate = code >= 0xd800 && code <= 0xdfff;
+    if (overlong || c1 || surrogate || code == 0xfffe || code == 0xffff || code > 0x10ffff) return i;
+    i += length;
+  }
+  return std::string_view::npos;
+}
+
 // "line 3, column 7: message" for a yaml-cpp exception (yaml-cpp counts from 0).
 std::string describeYamlError(const YAML::Exception& e) {
   if (e.mark.is_null()) return e.msg;
@@ -32,8 +87,27 @@ std::string describeYamlError(const YAML::Exception& e) {
 ConfigNode ConfigNode::parseString(const std::string& text, const std::string& source_name) {
   ConfigNode result;
   result.source_ = source_name;
+  if (const std::size_t bad = firstNonText(text); bad != std::string_view::npos) {
+    const long line = 1 + std::count(text.begin(), text.begin() + static_cast<long>(bad), '\n');
+    char byte[8];
+    std::snprintf(byte, sizeof byte, "0x%02x", static_cast<unsigned char>(text[bad]));
+    throw InputError(source_name + ": line " + std::to_string(line) + ": not YAML text (byte " + byte +
+                     " is a control character or not UTF-8)");
+  }
   try {
     result.impl_->node = YAML::Load(text);
+    // YAML::Load reads the first document and drops the rest: text after it (a second
+    // document after `---`, anything after `...`) is parsed here too, and refused. Two
+    // documents at most are asked for (YAML::LoadAll can loop forever on some malformed text).
+    std::istringstream stream(text);
+    YAML::Parser parser(stream);
+    DocumentStart second;
+    parser.HandleNextDocument(second);
+    second.seen = false;
+    if (parser.HandleNextDocument(second) && second.seen)
+      throw InputError(source_name + ": " +
+                       (second.mark.is_null() ? std::string() : "line " + std::to_string(second.mark.line + 1) + ": ") +
+                       "a second YAML document (after '---' or '...'); a config file holds one");
   } catch (const YAML::Exception& e) {
     throw InputError(source_name + ": not valid YAML: " + describeYamlError(e));
   }
@@ -79,11 +153,35 @@ std::vector<std::string> ConfigNode::keys() const {
       const YAML::Mark mark = item.first.Mark();
       const std::string line = mark.is_null() ? "unknown line" : "line " + std::to_string(mark.line + 1);
       const std::string owner = path_.empty() ? "a key" : "a key in " + path_;
-      throw InputError(source_ + ": " + line + ": " + owner + " is a list or a map, expected a plain name");
+      throw InputError(source_ + ": " + line + ": " + owner +
+                       (item.first.IsNull() ? " is empty (~, null or nothing before ':')"
+                                            : " is a list or a map") +
+                       ", expected a plain name");
     }
     keys.push_back(item.first.Scalar());
   }
   return keys;
+}
+
+namespace {
+
+void collectScalars(const YAML::Node& node, std::vector<std::string>& out) {
+  if (!node) return;
+  if (node.IsScalar()) {
+    out.push_back(node.Scalar());
+  } else if (node.IsSequence()) {
+    for (const auto& item : node) collectScalars(item, out);
+  } else if (node.IsMap()) {
+    for (const auto& item : node) collectScalars(item.second, out);
+  }
+}
+
+}  // namespace
+
+std::vector<std::string> ConfigNode::scalarValues() const {
+  std::vector<std::string> values;
+  collectScalars(impl_->node, values);
+  return values;
 }
 
 namespace {
@@ -104,32 +202,25 @@ bool ConfigNode::read(double& value) const {
   return true;
 }
 
+// Integers are decimal digits (and a leading '-' for a signed one), read exactly: no spaces,
+// '+', "0x" or fraction, and a value out of range is refused, never wrapped or saturated
+// (" -1" as an unsigned seed would otherwise become 2^64 - 1).
 bool ConfigNode::read(int& value) const {
   std::string text;
   if (!scalarText(impl_->node, text) || text.empty()) return false;
-  std::size_t used = 0;
-  long long parsed = 0;
-  try {
-    parsed = std::stoll(text, &used);
-  } catch (...) {
-    return false;
-  }
-  if (used != text.size() || parsed < INT32_MIN || parsed > INT32_MAX) return false;
-  value = static_cast<int>(parsed);
+  int parsed = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), parsed);
+  if (error != std::errc() || end != text.data() + text.size()) return false;
+  value = parsed;
   return true;
 }
 
 bool ConfigNode::read(std::uint64_t& value) const {
   std::string text;
   if (!scalarText(impl_->node, text) || text.empty() || text[0] == '-') return false;
-  std::size_t used = 0;
-  unsigned long long parsed = 0;
-  try {
-    parsed = std::stoull(text, &used);
-  } catch (...) {
-    return false;
-  }
-  if (used != text.size()) return false;
+  std::uint64_t parsed = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), parsed);
+  if (error != std::errc() || end != text.data() + text.size()) return false;
   value = parsed;
   return true;
 }

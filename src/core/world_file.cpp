@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -389,6 +390,7 @@ WorldSpec readWorldFile(const std::filesystem::path& path) {
 std::vector<WorldSpec> readWorldSet(const std::filesystem::path& dir, std::vector<std::string>* skipped) {
   std::error_code ec;
   if (!std::filesystem::is_directory(dir, ec)) throw InputError(dir.string() + ": not a folder of world files");
+  checkNoInterruptedWrite(dir);
   std::vector<std::filesystem::path> files;
   for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
     const std::string name = entry.path().filename().string();
@@ -400,7 +402,15 @@ std::vector<WorldSpec> readWorldSet(const std::filesystem::path& dir, std::vecto
   std::vector<WorldSpec> worlds;
   for (const auto& file : files) {
     try {
-      worlds.push_back(readWorldFile(file));
+      WorldSpec world = readWorldFile(file);
+      // world_NNN.yaml names world NNN: a file renamed by hand would run as another world.
+      const std::string stem = file.stem().string().substr(6);
+      long long named = -1;
+      const auto [end, error] = std::from_chars(stem.data(), stem.data() + stem.size(), named);
+      if (!stem.empty() && error == std::errc() && end == stem.data() + stem.size() && named != world.id)
+        throw InputError(file.string() + ": id: " + std::to_string(world.id) + ", but the file's name says world " +
+                         std::to_string(named));
+      worlds.push_back(std::move(world));
     } catch (const InputError& e) {
       if (!skipped) throw;
       skipped->push_back(e.what());
@@ -435,12 +445,12 @@ std::string formatWorldIndex(const std::vector<WorldSpec>& worlds) {
   return out.str();
 }
 
-void writeWorldSet(const std::filesystem::path& dir, const std::vector<WorldSpec>& worlds) {
+std::vector<FileContent> worldSetFiles(const std::vector<WorldSpec>& worlds) {
   std::vector<FileContent> files;
   files.reserve(worlds.size() + 1);
   for (const WorldSpec& w : worlds) files.push_back({worldFileName(w.id), formatWorldFile(w)});
   files.push_back({"index.csv", formatWorldIndex(worlds)});
-  writeFilesAtomic(dir, files);
+  return files;
 }
 
 }  // namespace barn::core

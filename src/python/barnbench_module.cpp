@@ -275,7 +275,7 @@ class PyRecord {
                                           const std::string& controller_config, const std::string& worlds_spec,
                                           const std::string& world_dir, const std::string& sim_config,
                                           const std::string& protocol, int trials, std::uint64_t seed, int shard_index,
-                                          int shard_count) {
+                                          int shard_count, bool trajectories) {
     bench::checkNoRecord(out);
     if (trials < 1) throw core::InputError("trials: " + std::to_string(trials) + " (must be >= 1)");
     if (shard_count < 0 || (shard_count > 0 && (shard_index < 1 || shard_index > shard_count)))
@@ -286,6 +286,7 @@ class PyRecord {
                                               loaded, worlds_spec, trials, seed);
     m.shard_index = shard_index;
     m.shard_count = shard_count;
+    m.trajectories = trajectories;
     return std::make_unique<PyRecord>(bench::createRecord(std::move(m), loaded.worlds, out));
   }
 
@@ -311,7 +312,6 @@ class PyRecord {
     pending_ = bench::pendingEpisodes(session_);
     journal_ = std::make_unique<bench::RecordJournal>(session_, pending_.size(), threads);
     finished_.clear();
-    trajectories_.clear();
     done_.clear();
     if (progress)
       progress_ = std::make_unique<bench::ProgressReporter>(session_.previous.size() + pending_.size(),
@@ -323,15 +323,19 @@ class PyRecord {
     if (!journal_) throw core::InputError("record: begin() first");
     while (!row.empty() && (row.back() == '\n' || row.back() == '\r')) row.pop_back();
     bench::EpisodeResult r = bench::parseEpisodeRow(row, (session_.dir / bench::kJournalFile).string());
+    // The record journals each trajectory with its row (a record that keeps them wants them all).
+    if (session_.manifest.trajectories != trajectory.has_value())
+      throw core::InputError(session_.dir.string() + ": a trajectory is " + (trajectory ? "given" : "missing") +
+                             " for world " + std::to_string(r.world_id) + " trial " + std::to_string(r.trial) +
+                             (session_.manifest.trajectories ? ": the record keeps trajectories" : ": the record keeps none"));
+    if (trajectory) r.trajectory = bench::parseTrajectoryCsv(*trajectory, "trajectory of world " + std::to_string(r.world_id));
     bench::checkRows(session_.manifest, {r}, session_.dir.string(), pending_, false);
     if (!done_.insert({r.world_id, r.trial}).second)
       throw core::InputError(session_.dir.string() + ": world " + std::to_string(r.world_id) + " trial " +
                              std::to_string(r.trial) + " given twice");
-    if (!journal_->append(r))
-      throw core::IoError((session_.dir / bench::kJournalFile).string() + ": write failed: " + std::strerror(errno));
+    if (!journal_->append(r)) throw core::IoError(journal_->error());
     if (progress_) progress_->update(r.outcome == bench::Outcome::Success, r.sim_time);
-    if (trajectory)
-      trajectories_.push_back({bench::trajectoryFileName(r.world_id, r.trial), *trajectory});
+    r.trajectory.clear();  // written; the record's rows do not keep it
     finished_.push_back(std::move(r));
   }
 
@@ -340,12 +344,9 @@ class PyRecord {
     if (!journal_) throw core::InputError("record: begin() first");
     if (progress_) progress_->finish();
     progress_.reset();
-    std::optional<std::vector<core::FileContent>> trajectories;
-    if (!trajectories_.empty()) trajectories = std::move(trajectories_);
-    const bool complete = journal_->finish(std::move(finished_), wall_time_s, trajectories).has_value();
+    const bool complete = journal_->finish(std::move(finished_), wall_time_s).has_value();
     journal_.reset();
     finished_.clear();
-    trajectories_.clear();
     return complete;
   }
 
@@ -356,7 +357,6 @@ class PyRecord {
   bench::RecordSession session_;
   std::unique_ptr<bench::RecordJournal> journal_;
   std::vector<bench::EpisodeResult> finished_;
-  std::vector<core::FileContent> trajectories_;  // of this session's episodes, when recorded
   std::unique_ptr<bench::ProgressReporter> progress_;
   std::vector<std::size_t> pending_;     // what begin() found left to run: only these may come
   std::set<std::pair<int, int>> done_;   // (world, trial) appended since begin()
@@ -421,6 +421,7 @@ PYBIND11_MODULE(_core, m) {
       .def_static("create", &PyRecord::create, py::arg("out"), py::arg("controller"), py::arg("controller_config"),
                   py::arg("worlds_spec"), py::arg("world_dir"), py::arg("sim_config"), py::arg("protocol"),
                   py::arg("trials"), py::arg("seed"), py::arg("shard_index") = 0, py::arg("shard_count") = 0,
+                  py::arg("trajectories") = false,
                   "A new run record in `out` (checked and locked; written by begin())")
       .def_static("open", &PyRecord::open, py::arg("dir"), "The run record in `dir`, to finish")
       .def("pending", &PyRecord::pending, "(world, trial, seed) of the episodes still to run")
@@ -435,7 +436,8 @@ PYBIND11_MODULE(_core, m) {
       .def_property_readonly("worlds_folder", [](const PyRecord& r) { return r.manifest().worlds_folder; })
       .def_property_readonly("episode_config", [](const PyRecord& r) { return r.manifest().episode_config; })
       .def_property_readonly("controller_config", [](const PyRecord& r) { return r.manifest().controller_config; })
-      .def_property_readonly("complete", [](const PyRecord& r) { return r.manifest().complete; });
+      .def_property_readonly("complete", [](const PyRecord& r) { return r.manifest().complete; })
+      .def_property_readonly("trajectories", [](const PyRecord& r) { return r.manifest().trajectories; });
   m.def("merge", [](const std::vector<std::string>& shards, const std::string& out) {
         bench::mergeShardRecords(std::vector<std::filesystem::path>(shards.begin(), shards.end()), out);
       }, py::arg("shards"), py::arg("out"), "Merges the shard records of one run into `out`, as barn merge does");

@@ -71,7 +71,7 @@ OutputCanvas createOutputCanvas(int width, int height, const std::filesystem::pa
                                    : cairo_svg_surface_create(file.c_str(), width, height);
     output.canvas.surface.reset(surface);
     if (cairo_surface_status(surface) != CAIRO_STATUS_SUCCESS) {
-      throw core::InputError(where + ": cannot write: " + cairo_status_to_string(cairo_surface_status(surface)));
+      throw core::IoError(where + ": cannot write: " + cairo_status_to_string(cairo_surface_status(surface)));
     }
     output.canvas.context.reset(cairo_create(surface));
   }
@@ -97,10 +97,10 @@ void finishImage(OutputCanvas& output) {
     cairo_surface_finish(surface);
     status = cairo_surface_status(surface);
   }
-  if (status != CAIRO_STATUS_SUCCESS) throw core::InputError(where + ": cannot write: " + cairo_status_to_string(status));
+  if (status != CAIRO_STATUS_SUCCESS) throw core::IoError(where + ": cannot write: " + cairo_status_to_string(status));
   std::error_code ec;
   std::filesystem::rename(output.temporary, output.path, ec);
-  if (ec) throw core::InputError(where + ": cannot write: " + ec.message());
+  if (ec) throw core::IoError(where + ": cannot write: " + ec.message());
   delete output.unfinished.release();  // renamed: no temporary left to remove
 }
 

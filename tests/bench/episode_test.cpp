@@ -612,5 +612,60 @@ TEST(Episode, ReferencePathIsInTheOdomFrame) {
   EXPECT_NEAR(path.back().y(), 2.175 + 0.15 * 29, 1e-12);
 }
 
+// ---------------------------------------------------------------------------------------------
+// State labels: bounded for every route (runEpisode, the Python Env, external programs)
+
+// Stands still, labelling its n-th tick "s<n mod cycle>" (cycle 0: never repeating), or with a
+// `width`-byte label when width > 0.
+class LabellingController : public controllers::Controller {
+ public:
+  LabellingController(int cycle, std::size_t width) : cycle_(cycle), width_(width) {}
+  void reset(const controllers::EpisodeInfo&) override { tick_ = 0; }
+  core::Twist act(const controllers::Observation&) override {
+    const int n = tick_++;
+    label_ = width_ > 0 ? std::string(width_, 'y') : "s" + std::to_string(cycle_ > 0 ? n % cycle_ : n);
+    return {0.0, 0.0};
+  }
+  double period() const override { return 0.05; }
+  std::string_view stateLabel() const override { return label_; }
+
+ private:
+  int cycle_;
+  std::size_t width_;
+  int tick_ = 0;
+  std::string label_;
+};
+
+TEST(Episode, TheSixtyFifthDistinctStateLabelEndsTheEpisodeAsAnError) {
+  // A new label every tick (0.05 s): labels s0..s63 are counted, the 65th (tick 64, t = 3.2 s)
+  // ends the episode; the row keeps 64 entries.
+  LabellingController controller(0, 0);
+  const EpisodeResult r = run(emptyWorld(), controller, {}, 1, true);
+  EXPECT_EQ(r.outcome, Outcome::Error);
+  EXPECT_THAT(r.error, HasSubstr("more than 64 distinct state labels"));
+  EXPECT_EQ(r.state_entries.size(), kMaxStateLabels);
+  EXPECT_NEAR(r.sim_time, 64 * 0.05, 1e-9);
+  // Re-entering known labels is no breach: 50 labels in turn until the 100 s timeout, ticks at
+  // t = 0, 0.05, ..., 100: 2001 entries, s0 41 times (ticks 0, 50, ..., 2000), s49 40 times.
+  LabellingController cycling(50, 0);
+  const EpisodeResult ok = run(emptyWorld(), cycling);
+  EXPECT_EQ(ok.outcome, Outcome::Timeout) << ok.error;
+  ASSERT_EQ(ok.state_entries.size(), 50u);
+  EXPECT_EQ(ok.state_entries.front().second, 41);
+  EXPECT_EQ(ok.state_entries.back().second, 40);
+}
+
+TEST(Episode, AStateLabelLongerThanTheBoundEndsTheEpisodeAsAnError) {
+  LabellingController at_bound(0, kMaxStateLabelBytes);
+  LabellingController wide(0, kMaxStateLabelBytes + 1);
+  EXPECT_NE(run(emptyWorld(), at_bound).outcome, Outcome::Error);
+  const EpisodeResult r = run(emptyWorld(), wide, {}, 1, true);
+  EXPECT_EQ(r.outcome, Outcome::Error);
+  EXPECT_THAT(r.error, HasSubstr("state label of 65 bytes (the limit is 64 bytes)"));
+  EXPECT_TRUE(r.state_entries.empty());
+  ASSERT_EQ(r.trajectory.size(), 1u);  // the first tick, its label cut to the bound
+  EXPECT_EQ(r.trajectory.front().state.size(), kMaxStateLabelBytes);
+}
+
 }  // namespace
 }  // namespace barn::bench

@@ -153,12 +153,80 @@ TEST_F(RecordSessionTest, ShardsMergeIntoTheWholeRunsBytes) {
   }
   EXPECT_THAT([&] { mergeShardRecords({shards[0]}, root_ / "merged"); },
               ::testing::ThrowsMessage<core::InputError>(HasSubstr("shards 2 of 2 are missing")));
-  const RunManifest merged = mergeShardRecords(shards, root_ / "merged");
+  const RunManifest merged = mergeShardRecords(shards, root_ / "merged").manifest;
   EXPECT_EQ(merged.episodes_total, 6u);
   for (const char* file : {kEpisodesFile, kSummaryFile})
     EXPECT_EQ(readFile(root_ / "merged" / file), readFile(root_ / "whole" / file)) << file;
   EXPECT_THAT([&] { mergeShardRecords(shards, root_ / "merged"); },
               ::testing::ThrowsMessage<core::InputError>(HasSubstr("already holds")));
+}
+
+TEST_F(RecordSessionTest, ACompleteRecordIsReadOnlyWhenItsRowsAgreeWithItsManifest) {
+  {
+    RecordSession session = createRecord(manifest(), loaded_.worlds, root_ / "r");
+    RecordJournal journal(session, 6, 1);
+    std::vector<EpisodeResult> all;
+    for (std::size_t i = 0; i < 6; ++i) all.push_back(result(i));
+    ASSERT_TRUE(journal.finish(all, 0.0));
+  }
+  EXPECT_EQ(readCompleteRecord(root_ / "r").episodes.size(), 6u);
+  const fs::path file = root_ / "r" / kEpisodesFile;
+  const std::string full = readFile(file);
+  const auto rewrite = [&](const std::string& text) { std::ofstream(file, std::ios::binary | std::ios::trunc) << text; };
+  const auto lines = [&](int n) {  // the first n lines
+    std::size_t end = 0;
+    for (int i = 0; i < n; ++i) end = full.find('\n', end) + 1;
+    return full.substr(0, end);
+  };
+  // The header and 5 of the 6 rows (worlds 0, 1, 2 x trials 0, 1): world 2 trial 1 is missing.
+  rewrite(lines(6));
+  EXPECT_THAT([&] { readCompleteRecord(root_ / "r"); },
+              ::testing::ThrowsMessage<core::InputError>(HasSubstr("episodes.csv: 5 rows, the manifest says 6 (world 2 trial 1 missing)")));
+  rewrite(lines(7) + full.substr(lines(2).size(), lines(3).size() - lines(2).size()));  // a row twice
+  EXPECT_THAT([&] { readCompleteRecord(root_ / "r"); }, ::testing::ThrowsMessage<core::InputError>(HasSubstr("given twice")));
+  rewrite(full.substr(0, full.size() - 1));  // the last newline lost
+  EXPECT_THAT([&] { readCompleteRecord(root_ / "r"); }, ::testing::ThrowsMessage<core::InputError>(HasSubstr("cut short")));
+  rewrite(full);
+  std::ofstream(root_ / "r" / core::kCommitNote) << "staging .staging.tmp-1\n";
+  EXPECT_THAT([&] { readCompleteRecord(root_ / "r"); }, ::testing::ThrowsMessage<core::InputError>(HasSubstr("interrupted")));
+}
+
+TEST_F(RecordSessionTest, ResumeRefusesAFileTheConfigNamesThatChanged) {
+  const fs::path script = root_ / "ctrl.py";
+  std::ofstream(script) << "version 1\n";
+  RunManifest m = newManifest("x", "type: external\nexternal:\n  command: [python3, " + script.string() + "]\n",
+                              EpisodeConfig{}, loaded_, "0:3", 2, 5);
+  ASSERT_EQ(m.config_files.size(), 1u);  // the script, not python3 (no path) nor anything else
+  EXPECT_EQ(m.config_files.front().path, script.string());
+  {
+    RecordSession session = createRecord(m, loaded_.worlds, root_ / "r");
+    RecordJournal journal(session, 6, 1);
+    EXPECT_FALSE(journal.finish({result(0)}, 0.0));
+  }
+  EXPECT_NO_THROW(openRecord(root_ / "r"));
+  std::ofstream(script) << "version 2\n";
+  EXPECT_THAT([&] { openRecord(root_ / "r"); },
+              ::testing::ThrowsMessage<core::InputError>(HasSubstr("ctrl.py: changed since the run started")));
+  fs::remove(script);
+  EXPECT_THAT([&] { openRecord(root_ / "r"); }, ::testing::ThrowsMessage<core::InputError>(HasSubstr("ctrl.py: missing")));
+}
+
+TEST_F(RecordSessionTest, AJournaledEpisodeWithoutItsTrajectoryRunsAgain) {
+  RunManifest m = manifest();
+  m.trajectories = true;
+  {
+    RecordSession session = createRecord(m, loaded_.worlds, root_ / "r");
+    RecordJournal journal(session, 6, 1);
+    for (std::size_t i : {0u, 1u, 2u}) ASSERT_TRUE(journal.append(result(i)));
+    EXPECT_FALSE(journal.finish({result(0), result(1), result(2)}, 0.0));
+  }
+  // Each journaled row has its file; one is lost.
+  for (std::size_t i : {0u, 1u, 2u})
+    EXPECT_TRUE(fs::exists(root_ / "r" / "trajectories" / trajectoryFileName(result(i).world_id, result(i).trial)));
+  fs::remove(root_ / "r" / "trajectories" / trajectoryFileName(result(1).world_id, result(1).trial));
+  RecordSession session = openRecord(root_ / "r");
+  EXPECT_EQ(session.previous.size(), 2u);
+  EXPECT_EQ(pendingEpisodes(session), (std::vector<std::size_t>{1, 3, 4, 5}));
 }
 
 }  // namespace

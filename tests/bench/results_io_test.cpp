@@ -319,5 +319,50 @@ TEST_F(EpisodesFile, RejectsABadRowInTheMiddleEvenIfTheLastLineIsTruncated) {
   EXPECT_THAT(errorOf(text), HasSubstr("episodes.csv:2"));
 }
 
+TEST(ParseEpisodeRow, RefusesWhatNoEpisodeWrites) {
+  // Each field out of the range an episode can write, in a row that otherwise reads: a world
+  // id past INT_MAX (would wrap to 1), a signed or hex seed, a non-finite score or time, a
+  // state label longer than the bound, one label too many.
+  EpisodeResult base = awkwardRow();
+  base.state_entries.clear();
+  const auto withField = [&](std::size_t index, const std::string& value) {
+    std::string row = episodeCsvRow(base);
+    row.pop_back();
+    std::vector<std::string> fields;
+    std::size_t start = 0;
+    for (std::size_t comma; (comma = row.find(',', start)) != std::string::npos; start = comma + 1)
+      fields.push_back(row.substr(start, comma - start));
+    fields.push_back(row.substr(start));
+    fields[index] = value;
+    std::string out;
+    for (std::size_t i = 0; i < fields.size(); ++i) out += (i ? "," : "") + fields[i];
+    return out;
+  };
+  EXPECT_NO_THROW(parseEpisodeRow(withField(0, "1000000000"), "x"));
+  for (const auto& [index, value] : std::vector<std::pair<std::size_t, std::string>>{
+           {0, "4294967297"}, {0, "1000000001"}, {1, "-1"}, {2, "0x10"}, {2, "+5"}, {2, "18446744073709551616"},
+           {5, "nan"}, {4, "inf"}, {6, "-inf"}, {7, "inf"}}) {
+    EXPECT_THROW(parseEpisodeRow(withField(index, value), "x"), core::InputError) << index << " = " << value;
+  }
+  // An imported record does not know the path, speed or simulated time: nan there reads.
+  EXPECT_NO_THROW(parseEpisodeRow(withField(7, "nan"), "x"));
+  EXPECT_NO_THROW(parseEpisodeRow(withField(9, "nan"), "x"));
+  EXPECT_NO_THROW(parseEpisodeRow(withField(12, std::string(kMaxStateLabelBytes, 'a') + ":1"), "x"));
+  EXPECT_THROW(parseEpisodeRow(withField(12, std::string(kMaxStateLabelBytes + 1, 'a') + ":1"), "x"), core::InputError);
+  std::string labels;
+  for (std::size_t k = 0; k <= kMaxStateLabels; ++k) labels += (k ? "|s" : "s") + std::to_string(k) + ":1";
+  EXPECT_THAT([&] { parseEpisodeRow(withField(12, labels), "x"); },
+              ::testing::ThrowsMessage<core::InputError>(HasSubstr("more than 64 labels")));
+}
+
+TEST(ParseEpisodesCsv, ACompleteFileMustEndItsLastLineAJournalMayNot) {
+  const std::string text = episodesCsv({awkwardRow()}) + "7,0,1,succ";
+  EXPECT_EQ(parseEpisodesCsv(text, "j", true).size(), 1u);
+  EXPECT_THAT([&] { parseEpisodesCsv(text, "episodes.csv", false); },
+              ::testing::ThrowsMessage<core::InputError>(HasSubstr("episodes.csv:3: the last line is cut short")));
+  EXPECT_THROW(parseEpisodesCsv("", "episodes.csv", false), core::InputError);
+  EXPECT_TRUE(parseEpisodesCsv("", "episodes.partial.csv", true).empty());
+}
+
 }  // namespace
 }  // namespace barn::bench

@@ -146,6 +146,25 @@ TEST(Manifest, PreservesMultiLineConfigBlocksExactly) {
   EXPECT_EQ(back.episode_config, std::string(kEpisodeConfig));
 }
 
+TEST(Manifest, AnyStringReadsBackExactly) {
+  // Characters YAML takes for line breaks or cannot hold raw: a newline, a tab, a control
+  // character, NEL, LS (U+2028), PS, a BOM, in a quoted field; texts that a literal block would
+  // change (an indented first line, no final newline, trailing empty lines, a carriage return).
+  RunManifest m = fullManifest();
+  m.worlds_spec = std::string("a\nb\tc\x01 d\xc2\x85") + "e\xe2\x80\xa8" + "f\xe2\x80\xa9g\xef\xbb\xbfh\x7f\"\\";
+  m.host = "\xc3\xa9t\xc3\xa9";  // UTF-8 is kept as it is
+  const std::vector<std::string> texts = {"  type: x\n", "type: x", "type: x\n\n\n", "type: x\r\n", "type: \xe2\x80\xa8x\n"};
+  for (const std::string& text : texts) {
+    m.controller_config = text;
+    m.episode_config = text;
+    const RunManifest back = roundTrip(m);
+    EXPECT_EQ(back.controller_config, text);
+    EXPECT_EQ(back.episode_config, text);
+    EXPECT_EQ(back.worlds_spec, m.worlds_spec);
+    EXPECT_EQ(back.host, m.host);
+  }
+}
+
 TEST(Manifest, FormatIsStableAcrossARoundTrip) {
   const test::ScratchDir dir("barn_run_record_test");
   const std::string text = formatManifest(fullManifest(), dir.path());
@@ -521,7 +540,7 @@ TEST_F(ManifestWorlds, WriteCompleteRecordSortsMarksCompleteAndRemovesTheJournal
     r.outcome = Outcome::Success;
     r.sim_time = 10.0;
   }
-  writeCompleteRecord(out.path(), manifest_, results, loadManifestWorlds(manifest_));
+  writeCompleteRecord(RecordWriter(out.path()), manifest_, results, loadManifestWorlds(manifest_));
   EXPECT_FALSE(fs::exists(out.path() / kJournalFile));
   EXPECT_TRUE(fs::exists(out.path() / kSummaryFile));
   const RunManifest m = readManifest(out.path() / kManifestFile);

@@ -110,5 +110,23 @@ TEST_F(SweepFile, AMalformedFieldIsAnErrorNamingIt) {
               ThrowsMessage<core::InputError>(HasSubstr("sweep.yaml: cels: unknown key")));
 }
 
+TEST_F(SweepFile, CellsThatAreNotTheGridOfItsParametersAreRefused) {
+  // A cell folder is never taken from the file unchecked ("../../elsewhere" would resume a
+  // record outside the sweep).
+  const std::string head = "controller: dwa\nparameters:\n  - key: a\n    values: [\"1\", \"2\"]\n";
+  EXPECT_NO_THROW(readBack(head + "cells: [cell_0_a=1, cell_1_a=2]\n"));
+  for (const char* cells : {"cells: [cell_0_a=1]\n", "cells: [cell_0_a=1, ../../elsewhere]\n", "cells: []\n"})
+    EXPECT_THAT([&] { readBack(head + cells); }, ThrowsMessage<core::InputError>(HasSubstr("cells: not the cells"))) << cells;
+  EXPECT_THAT([&] { readBack("controller: dwa\ncells: []\n"); },
+              ThrowsMessage<core::InputError>(HasSubstr("parameters: missing")));
+}
+
+TEST(SweepGrid, ACellCountThatWouldOverflowIsTooManyNotFew) {
+  // 64 parameters of 2 values: 2^64 cells, which a size_t product would wrap to 0.
+  std::vector<SweepParameter> parameters;
+  for (int k = 0; k < 64; ++k) parameters.push_back(parseSweepParameter("k" + std::to_string(k) + "=1,2"));
+  EXPECT_THAT([&] { makeSweepGrid("dwa", parameters); }, ThrowsMessage<core::InputError>(HasSubstr("too many")));
+}
+
 }  // namespace
 }  // namespace barn::bench

@@ -40,12 +40,14 @@ const fs::path kDatasetDir = barn::test::externalData("BARN_DATASET_DIR");
 
 
 
-/// Names of the regular files in `dir`, sorted; empty if `dir` does not exist.
+/// Names of the files in `dir` but the writer's lock (.barn.lock), sorted; empty if `dir` does
+/// not exist.
 std::vector<std::string> fileNames(const fs::path& dir) {
   std::vector<std::string> names;
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) return names;
-  for (const auto& entry : fs::directory_iterator(dir)) names.push_back(entry.path().filename().string());
+  for (const auto& entry : fs::directory_iterator(dir))
+    if (entry.path().filename() != ".barn.lock") names.push_back(entry.path().filename().string());
   std::sort(names.begin(), names.end());
   return names;
 }

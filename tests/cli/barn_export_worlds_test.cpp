@@ -31,7 +31,8 @@ std::vector<std::string> filesBelow(const fs::path& dir) {
   std::vector<std::string> names;
   std::error_code ec;
   for (const auto& entry : fs::recursive_directory_iterator(dir, ec))
-    if (entry.is_regular_file()) names.push_back(fs::relative(entry.path(), dir).string());
+    if (entry.is_regular_file() && entry.path().filename() != ".barn.lock")  // the writer's lock
+      names.push_back(fs::relative(entry.path(), dir).string());
   std::sort(names.begin(), names.end());
   return names;
 }

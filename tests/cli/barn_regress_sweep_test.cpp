@@ -191,7 +191,7 @@ TEST(Sweep, RejectsAKeyGivenTwice) {
 TEST(Run, RejectsANegativeSeed) {
   const RunResult r = run("run --controller straight --worlds 0 --seed -1 --out '" + tempPath("barn_seed").string() + "'");
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_THAT(r.output, HasSubstr("must not be negative"));
+  EXPECT_THAT(r.output, HasSubstr("--seed: '-1' is not a whole number"));
 }
 
 }  // namespace

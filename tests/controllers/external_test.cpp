@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <bit>
+#include <csignal>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -11,9 +12,11 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <string>
 #include <sys/wait.h>
+#include <thread>
 #include <vector>
 
 #include "barn/bench/batch.hpp"
@@ -397,6 +400,49 @@ TEST(ExternalProtocol, CostmapsGoOutOnlyWhenTheyChanged) {
   EXPECT_THAT(external::observationMessage(obs, sent), Not(HasSubstr("local_costmap")));
   grid.version = 8;
   EXPECT_THAT(external::observationMessage(obs, sent), HasSubstr("local_costmap"));
+}
+
+// ---------------------------------------------------------------------------------------------
+// ChildProcess: lockstep and the process group
+
+TEST(ChildProcess, ASecondLineForOneMessageFailsTheExchange) {
+  // One printf writes two lines for the first message: taking the first as the answer would
+  // leave the second to be read as the answer to the next message, and so on, one tick late.
+  ChildProcess child(ChildCommand{{"/bin/sh", "-c", "read m; printf 'a\\nb\\n'; read m; echo c"}, ""});
+  const auto deadline = ChildProcess::Clock::now() + std::chrono::seconds(5);
+  child.writeLine("first", deadline);
+  std::string error;
+  try {
+    child.readLine(deadline);
+    child.writeLine("second", deadline);  // b arrived separately: found before this is sent
+  } catch (const ChildProcessError& e) {
+    error = e.what();
+  }
+  EXPECT_THAT(error, ::testing::AnyOf(HasSubstr("more than one line"), HasSubstr("bytes that answer no message")));
+}
+
+TEST(ChildProcess, WhatAProgramStartedGoesWithItWhenItExits) {
+  // The program starts a helper that holds its stdout, then exits with status 3 without
+  // answering: the wait ends at the exit (not the 10 s deadline), and the helper is killed.
+  ChildProcess child(ChildCommand{{"/bin/sh", "-c", "sleep 60 & echo $! > /dev/stderr; read m; exit 3"}, ""});
+  const auto start = ChildProcess::Clock::now();
+  child.writeLine("observation", start + std::chrono::seconds(10));
+  EXPECT_THAT([&] { child.readLine(start + std::chrono::seconds(10)); },
+              ::testing::ThrowsMessage<ChildProcessError>(HasSubstr("exited without answering")));
+  EXPECT_LT(ChildProcess::Clock::now() - start, std::chrono::seconds(5));
+  EXPECT_EQ(child.stop(), "exited with status 3");
+  const pid_t helper = std::stoi(child.stderrTail());
+  // Killed: gone, or a zombie until whoever adopted it reaps it (the signal takes a moment).
+  bool running = true;
+  std::string text;
+  for (int wait = 0; wait < 100 && running; ++wait) {
+    std::ifstream stat("/proc/" + std::to_string(helper) + "/stat");
+    text.assign(std::istreambuf_iterator<char>(stat), std::istreambuf_iterator<char>());
+    running = !text.empty() && text.find(") Z ") == std::string::npos;
+    if (running) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  if (running) ::kill(helper, SIGKILL);
+  EXPECT_FALSE(running) << "helper " << helper << " outlived the program: " << text;
 }
 
 }  // namespace

@@ -210,5 +210,11 @@ TEST(StraightController, RespectsTheRobotsAngularLimit) {
   EXPECT_DOUBLE_EQ(controller.act(obs).angular, 1.0);
 }
 
+TEST(ControllerRegistry, ADuplicateTopLevelKeyIsRefusedNotTheFirstTaken) {
+  EXPECT_THAT(factoryError("type: pure_pursuit\ntype: straight\n"), HasSubstr("type: duplicate key"));
+  EXPECT_THAT(factoryError("type: pure_pursuit\npure_pursuit: {speed: 0.5}\npure_pursuit: {speed: 1.9}\n"),
+              HasSubstr("pure_pursuit: duplicate key"));
+}
+
 }  // namespace
 }  // namespace barn::controllers

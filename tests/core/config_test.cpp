@@ -267,5 +267,43 @@ TEST(Config, AMalformedListElementIsAnErrorNamingIt) {
   }
 }
 
+TEST(Config, ASecondDocumentIsRefusedNotDropped) {
+  EXPECT_THAT([] { ConfigNode::parseString("beams: 1\n---\nbeams: 2\n", "t.yaml"); },
+              ::testing::ThrowsMessage<InputError>(HasSubstr("t.yaml: line 2: a second YAML document")));
+  // Text after the end marker is parsed too: invalid text is an error, not ignored.
+  EXPECT_THROW(ConfigNode::parseString("beams: 1\n...\ngarbage: [\n", "t.yaml"), InputError);
+  EXPECT_EQ(readConfig<Outer>(ConfigNode::parseString("beams: 3\n...\n", "t.yaml")).beams, 3);
+  EXPECT_TRUE(ConfigNode::parseString("# only a comment\n", "t.yaml").isNull());
+}
+
+TEST(Config, IntegersAreReadExactlyNeverWrappedOrSaturated) {
+  std::uint64_t u = 7;
+  int i = 7;
+  for (const char* bad : {"\" -1\"", "\"+5\"", "\"5 \"", "0x10", "18446744073709551616", "1.0", "1e3"}) {
+    EXPECT_FALSE(ConfigNode::parseString(std::string("v: ") + bad, "t").child("v").read(u)) << bad;
+    EXPECT_FALSE(ConfigNode::parseString(std::string("v: ") + bad, "t").child("v").read(i)) << bad;
+  }
+  EXPECT_TRUE(ConfigNode::parseString("v: 18446744073709551615", "t").child("v").read(u));
+  EXPECT_EQ(u, 18446744073709551615ull);
+  EXPECT_FALSE(ConfigNode::parseString("v: 2147483648", "t").child("v").read(i));  // INT_MAX + 1
+  EXPECT_TRUE(ConfigNode::parseString("v: -2147483648", "t").child("v").read(i));
+  EXPECT_EQ(i, -2147483647 - 1);
+}
+
+TEST(Config, TextThatIsNotYamlTextIsRefusedNamingTheLine) {
+  // Bytes no writer could give back: a control character, invalid or overlong UTF-8, a C1
+  // control, a surrogate. UTF-8 text (and a BOM) reads.
+  const std::vector<std::string> bad_texts = {"a: 1\nb: \x01\n", "a: 1\nb: \xff\n", "a: 1\nb: \xc0\xaf\n",
+                                             "a: 1\nb: \xc2\x90\n", "a: 1\nb: \xed\xa0\x80\n", "a: 1\nb: \x7f\n"};
+  for (const std::string& bad : bad_texts)
+    EXPECT_THAT([&] { ConfigNode::parseString(bad, "t.yaml"); },
+                ::testing::ThrowsMessage<InputError>(HasSubstr("t.yaml: line 2: not YAML text"))) << bad;
+  EXPECT_NO_THROW(ConfigNode::parseString("\xef\xbb\xbf" "name: \xc3\xa9t\xc3\xa9\r\nx: \"a\tb\"\n", "t.yaml").isMap());
+}
+
+TEST(Config, AnEmptyKeyIsNamedAsSuch) {
+  EXPECT_THAT(errorOf("~: 2\n"), HasSubstr("test.yaml: line 1: a key is empty"));
+}
+
 }  // namespace
 }  // namespace barn::core

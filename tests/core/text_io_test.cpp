@@ -3,8 +3,12 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <csignal>
 #include <filesystem>
 #include <stdexcept>
+#include <sys/resource.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "barn/core/errors.hpp"
@@ -99,6 +103,100 @@ TEST(TextIo, AFailedWriteIsAnIoErrorWithTheSystemsReason) {
     EXPECT_THAT(e.what(), HasSubstr("below"));
     EXPECT_THAT(e.what(), HasSubstr("Not a directory"));
   }
+  fs::remove_all(dir);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Sets committed through a note, completed after a kill
+
+TEST(TextIo, ASetKilledAfterItsCommitNoteIsCompletedByTheNextWriter) {
+  // The state a kill leaves between the commit and its end: the note lists a, b and c to move
+  // in and d to remove; a has already moved (staging no longer holds it), b and c have not.
+  const fs::path dir = scratch("barn_text_io_commit");
+  writeFileAtomic(dir / "a", "old a");
+  writeFileAtomic(dir / "b", "old b");
+  writeFileAtomic(dir / "d", "old d");
+  fs::create_directories(dir / ".staging.tmp-777" / "sub");
+  writeFileAtomic(dir / ".staging.tmp-777" / "b", "new b");
+  writeFileAtomic(dir / ".staging.tmp-777" / "sub" / "c", "new c");
+  writeFileAtomic(dir / "a", "new a");
+  writeFileAtomic(dir / kCommitNote, "staging .staging.tmp-777\nrename a\nrename b\nrename sub/c\nremove d\n");
+  // Readers see a mix of two versions: they refuse the folder, naming it.
+  EXPECT_THAT([&] { checkNoInterruptedWrite(dir); }, ::testing::ThrowsMessage<InputError>(HasSubstr("interrupted")));
+  EXPECT_TRUE(finishInterruptedWrite(dir));
+  EXPECT_EQ(readTextFile(dir / "a"), "new a");
+  EXPECT_EQ(readTextFile(dir / "b"), "new b");
+  EXPECT_EQ(readTextFile(dir / "sub" / "c"), "new c");
+  EXPECT_FALSE(fs::exists(dir / "d"));
+  EXPECT_FALSE(fs::exists(dir / kCommitNote));
+  EXPECT_FALSE(fs::exists(dir / ".staging.tmp-777"));
+  EXPECT_NO_THROW(checkNoInterruptedWrite(dir));
+  EXPECT_FALSE(finishInterruptedWrite(dir));  // nothing left to complete
+  fs::remove_all(dir);
+}
+
+TEST(TextIo, RemovalsLandWithTheSetAndNoteAndStagingAreGone) {
+  const fs::path dir = scratch("barn_text_io_removals");
+  writeFilesAtomic(dir, {{"keep", "1"}, {"old", "1"}});
+  writeFilesAtomic(dir, {{"keep", "2"}, {"new", "2"}}, {"old", "never_there"});
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"keep", "new"}));
+  EXPECT_EQ(readTextFile(dir / "keep"), "2");
+  fs::remove_all(dir);
+}
+
+TEST(TextIo, FinishingRemovesWhatKilledWritersLeftButNothingElse) {
+  const fs::path dir = scratch("barn_text_io_leftovers");
+  fs::create_directories(dir / ".staging.tmp-123" / "x");
+  writeFileAtomic(dir / "manifest.yaml.tmp-456", "half");
+  fs::create_directories(dir / "trajectories");
+  writeFileAtomic(dir / "trajectories" / "world_0_trial_0.csv.tmp-789", "half");
+  writeFileAtomic(dir / "trajectories" / "world_0_trial_0.csv", "whole");
+  writeFileAtomic(dir / "notes.tmp-draft", "mine");  // not a pid: a user's file
+  EXPECT_FALSE(finishInterruptedWrite(dir));
+  EXPECT_FALSE(fs::exists(dir / ".staging.tmp-123"));
+  EXPECT_FALSE(fs::exists(dir / "manifest.yaml.tmp-456"));
+  EXPECT_FALSE(fs::exists(dir / "trajectories" / "world_0_trial_0.csv.tmp-789"));
+  EXPECT_EQ(readTextFile(dir / "trajectories" / "world_0_trial_0.csv"), "whole");
+  EXPECT_EQ(readTextFile(dir / "notes.tmp-draft"), "mine");
+  fs::remove_all(dir);
+}
+
+TEST(TextIo, AWriteThatFailsMidwayLeavesTheOldFileAndNoTemporary) {
+  // A file size limit of 100 bytes (a full disk's EFBIG): 1000 bytes cannot be written. In a
+  // child process, so the limit stays there.
+  const fs::path dir = scratch("barn_text_io_full");
+  writeFileAtomic(dir / "f.txt", "old");
+  const pid_t child = ::fork();
+  if (child == 0) {
+    ::signal(SIGXFSZ, SIG_IGN);
+    const rlimit limit{100, 100};
+    ::setrlimit(RLIMIT_FSIZE, &limit);
+    try {
+      writeFileAtomic(dir / "f.txt", std::string(1000, 'x'));
+    } catch (const IoError&) {
+      ::_exit(0);
+    }
+    ::_exit(1);
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "no IoError";
+  EXPECT_EQ(readTextFile(dir / "f.txt"), "old");
+  int entries = 0;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir)) ++entries;
+  EXPECT_EQ(entries, 1);  // f.txt alone: no f.txt.tmp-PID
+  fs::remove_all(dir);
+}
+
+TEST(TextIo, AFileDigestReadsInPiecesAsTheWholeTextWould) {
+  const fs::path dir = scratch("barn_text_io_digest");
+  const std::string text(200000, 'q');  // longer than one 64 KiB piece
+  writeFileAtomic(dir / "big", text);
+  EXPECT_EQ(fnv1a64File(dir / "big"), fnv1a64(text));
+  EXPECT_THROW(fnv1a64File(dir / "missing"), InputError);
   fs::remove_all(dir);
 }
 

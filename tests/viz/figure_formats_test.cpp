@@ -205,8 +205,8 @@ TEST_F(FigureFormats, AFileThatCannotBeWrittenLeavesNothingBehind) {
       const fs::path file = dir_ / "missing" / ("figure" + extension);
       try {
         kind.render(file);
-        ADD_FAILURE() << "no InputError for " << file;
-      } catch (const core::InputError& e) {
+        ADD_FAILURE() << "no IoError for " << file;
+      } catch (const core::IoError& e) {
         EXPECT_THAT(e.what(), HasSubstr(file.string()));
         EXPECT_THAT(e.what(), HasSubstr("cannot write"));
       }

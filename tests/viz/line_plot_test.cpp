@@ -56,7 +56,8 @@ TEST(LinePlot, BadInputIsAnInputErrorNamingTheFile) {
   LinePlot tiny = lossPlot();
   tiny.width = 10;
   EXPECT_THROW(renderLinePlot(tiny, png), core::InputError);
-  EXPECT_THROW(renderLinePlot(lossPlot(), "/nonexistent/dir/plot.png"), core::InputError);
+  // A file that cannot be written is a failed write (exit 1), not bad input.
+  EXPECT_THROW(renderLinePlot(lossPlot(), "/nonexistent/dir/plot.png"), core::IoError);
 }
 
 // One series of three points on categories 0, 1, 2 with 95 % intervals, y fixed to 0 ... 1.

@@ -67,6 +67,17 @@ class PlotsTest : public ::testing::Test {
     }
   }
 
+  // A file that cannot be written is a failed write (exit 1), not bad input.
+  template <class Render>
+  void expectIoError(Render render, const std::vector<std::string>& parts) {
+    try {
+      render();
+      ADD_FAILURE() << "no IoError";
+    } catch (const core::IoError& e) {
+      for (const std::string& part : parts) EXPECT_THAT(e.what(), HasSubstr(part));
+    }
+  }
+
   fs::path png_;         // output of the test
   fs::path unwritable_;  // in a directory that is never created
 };
@@ -672,19 +683,19 @@ TEST_F(PlotsTest, PairedChartRejectsBadInputAndUnknownExtensions) {
   EXPECT_FALSE(fs::exists(jpg));
   fs::path pdf = unwritable_;
   pdf.replace_extension(".pdf");
-  expectInputError([&] { renderPairedWorlds(pairedWorlds(), pdf); }, {pdf.string(), "cannot write"});
-  expectInputError([&] { renderPairedWorlds(pairedWorlds(), unwritable_); }, {unwritable_.string(), "cannot write"});
+  expectIoError([&] { renderPairedWorlds(pairedWorlds(), pdf); }, {pdf.string(), "cannot write"});
+  expectIoError([&] { renderPairedWorlds(pairedWorlds(), unwritable_); }, {unwritable_.string(), "cannot write"});
   EXPECT_FALSE(fs::exists(unwritable_.parent_path()));
 }
 
 // ---------------------------------------------------------------------------
 // Output errors
 
-TEST_F(PlotsTest, UnwritablePathThrowsInputErrorNamingThePath) {
+TEST_F(PlotsTest, UnwritablePathThrowsIoErrorNamingThePath) {
   const std::vector<std::string> parts = {unwritable_.string(), "cannot write"};
-  expectInputError([&] { renderHeatMap(sweep(), unwritable_); }, parts);
-  expectInputError([&] { renderWorldBars(threeHundredWorlds(), unwritable_); }, parts);
-  expectInputError(
+  expectIoError([&] { renderHeatMap(sweep(), unwritable_); }, parts);
+  expectIoError([&] { renderWorldBars(threeHundredWorlds(), unwritable_); }, parts);
+  expectIoError(
       [&] {
         renderTrajectories(emptyWorld(), core::protocolPreset("barn2023"), {}, unwritable_, scaled(20.0));
       },

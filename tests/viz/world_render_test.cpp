@@ -144,13 +144,13 @@ TEST_F(WorldRenderTest, RendersWithoutContainmentOrPathAndWithEmptyPath) {
   EXPECT_TRUE(fs::exists(png_path_));
 }
 
-TEST_F(WorldRenderTest, ThrowsInputErrorNamingThePathWhenDirectoryIsMissing) {
+TEST_F(WorldRenderTest, ThrowsIoErrorNamingThePathWhenDirectoryIsMissing) {
   ASSERT_FALSE(fs::exists(missing_dir_));
   const fs::path target = missing_dir_ / "world.png";
   try {
     renderWorld(tinyWorld(), core::protocolPreset("barn2023"), target);
-    FAIL() << "expected core::InputError";
-  } catch (const core::InputError& e) {
+    FAIL() << "expected core::IoError";
+  } catch (const core::IoError& e) {
     EXPECT_THAT(e.what(), HasSubstr(target.string()));
     EXPECT_THAT(e.what(), HasSubstr("cannot write"));
   }

@@ -17,6 +17,9 @@
 #   --sbatch OPTION     any other sbatch option, repeatable (e.g. --sbatch --constraint=avx2)
 #   --dry-run           print the two sbatch commands instead of submitting them
 #
+# These come before run|sweep (after it, they are refused). barn's options are checked once
+# (barn run|sweep --check) before anything is submitted.
+#
 # Writes OUT/shard_K (one per task), OUT/merged (the result) and OUT/logs/. Tasks may be
 # requeued (preemption, node failure): a task that runs again resumes its shard. If a task
 # fails or hits its time limit, run the same command again: finished shards are no-ops,
@@ -60,6 +63,10 @@ for option in "$@"; do
   case $option in
     --out|--out=*|--shard|--shard=*|--resume|--resume=*|--merge|--merge=*|--jobs|--jobs=*)
       fail "$option: set by the job array (OUT is the second argument, --jobs is --cpus-per-task)" ;;
+    --shards|--shards=*|--cpus-per-task|--cpus-per-task=*|--mem|--mem=*|--time|--time=*|--partition|--partition=*| \
+    --account|--account=*|--qos|--qos=*|--sbatch|--sbatch=*|--dry-run)
+      # Passed on, it would reach barn (every task failing) and a misplaced --dry-run would submit.
+      fail "$option: an option of submit.sh, which must come before $mode (see $0 --help)" ;;
   esac
 done
 
@@ -67,6 +74,14 @@ here=$(cd "$(dirname "$0")" && pwd)
 repo=$(cd "$here/../.." && pwd)
 [ -x "$repo/build/barn" ] || fail "$repo/build/barn not found: build barnbench first (tools/setup.sh)"
 out=$(realpath -m "$out")
+
+# barn's own arguments are checked once, as task 1 would read them, before anything is queued
+# (a bad controller name would otherwise fail every task and kill the merge job). --check
+# reads everything and writes nothing.
+if [ ! -f "$out/experiment.txt" ]; then
+  "$repo/build/barn" "$mode" --check --shard "1/$shards" --out "$out/shard_1" "$@" > /dev/null ||
+    fail "barn $mode refused the options above (nothing submitted)"
+fi
 
 # The experiment OUT holds: a second submit must be the same one, or shards would resume
 # a different experiment than the command asks for.

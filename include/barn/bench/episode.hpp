@@ -99,6 +99,15 @@ enum class Outcome {
 };
 std::string_view toString(Outcome outcome);
 
+/// Bounds on a controller's state labels (stateLabel(), an external program's "state", a
+/// Python controller's third value), kept by every episode whichever route the controller
+/// came by: a label longer than this, or more distinct labels than this in one episode, ends
+/// the episode as an error naming the limit, so a controller cannot fill barn's memory or a
+/// record with labels. Our choice: the shipped controllers use at most 8 labels of at most 12
+/// bytes.
+inline constexpr std::size_t kMaxStateLabelBytes = 64;  // [bytes]
+inline constexpr std::size_t kMaxStateLabels = 64;      // distinct labels per episode
+
 /// One control tick of the trajectory record (world frame).
 struct TrajectorySample {
   double time = 0.0;    // [s]
@@ -158,7 +167,8 @@ class Episode {
 
   /// Applies `command` at this tick and advances to the next one (or to the end); `state` is
   /// the controller's state label then (counted in the record; "" for none). A non-finite
-  /// command ends the episode as an error.
+  /// command, or a label beyond kMaxStateLabelBytes or kMaxStateLabels, ends the episode as
+  /// an error instead.
   void step(const core::Twist& command, std::string_view state = {});
   /// Ends the episode now as an error (the controller failed).
   void fail(const std::string& message);

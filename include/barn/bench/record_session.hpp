@@ -26,48 +26,33 @@
 
 namespace barn::bench {
 
-/// An exclusive lock on a record folder (flock on its `.barn.lock`), held while one process
-/// writes the record: a second writer of the same folder gets a clear error instead of silently
-/// losing one run's results. Released when destroyed (or when the process dies).
-class RecordLock {
- public:
-  RecordLock() = default;
-  /// Takes the lock on `dir` (created if missing); InputError naming the holder if taken.
-  explicit RecordLock(const std::filesystem::path& dir);
-  RecordLock(RecordLock&& other) noexcept : fd_(std::exchange(other.fd_, -1)) {}
-  RecordLock& operator=(RecordLock&& other) noexcept;
-  RecordLock(const RecordLock&) = delete;
-  RecordLock& operator=(const RecordLock&) = delete;
-  ~RecordLock();
-
- private:
-  int fd_ = -1;
-};
-
-/// A record this process writes: its folder (locked), manifest, worlds, and the episodes that
-/// earlier sessions finished (resume).
+/// A record this process writes: its folder (locked by its writer), manifest, worlds, and the
+/// episodes that earlier sessions finished (resume).
 struct RecordSession {
-  RecordLock lock;
+  RecordWriter writer;  // not held for a complete record opened where it cannot be locked (read-only)
   std::filesystem::path dir;
   RunManifest manifest;
   std::vector<core::WorldSpec> worlds;
   std::vector<EpisodeResult> previous;
 };
 
-/// At most this many episodes in one record (its bookkeeping is set up before the first one
-/// runs); beyond it, shards split the run across processes.
-inline constexpr std::size_t kMaxEpisodesPerRecord = 1'000'000;
-
-/// InputError if `dir` already holds a run record (a quick answer before the work of
-/// createRecord, which checks again under the lock).
+/// InputError if `dir` already holds a run record, or a write into it was interrupted (a quick
+/// answer before the work of createRecord, which checks again under the lock).
 void checkNoRecord(const std::filesystem::path& dir);
+
+/// InputError unless `worlds` x `trials` episodes fit one record (kMaxEpisodesPerRecord).
+void checkRecordSize(std::size_t worlds, int trials);
 
 /// A new record of `manifest` (its shard fields set) in `dir`, which must not hold one.
 /// Everything is checked before the folder is created and locked; nothing is written yet.
 RecordSession createRecord(RunManifest manifest, std::vector<core::WorldSpec> worlds, const std::filesystem::path& dir);
 
-/// The record in `dir`, to finish: locked, its manifest read, its worlds loaded (and checked
-/// against the digest), and, if incomplete, its journal read and checked row by row.
+/// The record in `dir`, to finish: locked (a write a kill interrupted completed first), its
+/// manifest read, its worlds loaded (and checked against the digest), and, if incomplete, the
+/// files its controller config names checked against their digests and its journal read and
+/// checked row by row. With trajectories, a journaled episode whose trajectory file is missing
+/// is left out of `previous`, to run again (the same seed gives the same row). A complete
+/// record that cannot be locked (read-only) is opened without the lock: nothing is written.
 RecordSession openRecord(const std::filesystem::path& dir);
 
 /// Episode indices (world position x trials + trial) of the record still to run: its shard's
@@ -83,31 +68,50 @@ class RecordJournal {
   /// `pending`: the episodes this session will run (pendingEpisodes).
   RecordJournal(RecordSession& session, std::size_t pending, int threads);
 
-  /// Appends a finished episode's row and flushes it; false (errno set) if that failed, after
-  /// which nothing more can be kept.
+  /// Appends a finished episode's row and flushes it, after writing its trajectory file
+  /// (trajectories/world_W_trial_T.csv) if the record keeps trajectories; false if that
+  /// failed (error() says why), after which nothing more can be kept.
   bool append(const EpisodeResult& result);
+  /// Why the last append failed: the file and the system's reason.
+  const std::string& error() const { return error_; }
 
   /// Closes the journal. If `finished` and the earlier rows hold every episode, writes the
   /// complete record (episodes.csv, summary.json, the manifest marked complete) and returns
   /// its episodes as written; else writes the manifest with what is done, for a later resume,
-  /// and returns nothing. `trajectories`, if given, go to trajectories/ first. `wall_time_s`
-  /// adds to the manifest's.
-  std::optional<std::vector<EpisodeResult>> finish(std::vector<EpisodeResult> finished, double wall_time_s,
-              const std::optional<std::vector<core::FileContent>>& trajectories = std::nullopt);
+  /// and returns nothing. `wall_time_s` adds to the manifest's.
+  std::optional<std::vector<EpisodeResult>> finish(std::vector<EpisodeResult> finished, double wall_time_s);
 
  private:
   RecordSession& session_;
   std::ofstream journal_;
+  std::string error_;
 };
 
-/// Merges the complete shard records of one run (`barn run --shard K/N`) into `out` (which
-/// must not hold a record): byte-identical to the record a single run writes. Returns the
-/// merged manifest; InputError if a shard is missing, incomplete, twice, or of another run.
-RunManifest mergeShardRecords(const std::vector<std::filesystem::path>& shards, const std::filesystem::path& out);
+/// The name of an episode's file in trajectories/.
+std::string trajectoryFileName(int world_id, int trial);
 
-/// Facts about where this process runs, for the manifest: `git rev-parse HEAD` of the source
-/// tree barnbench was built from (with "-dirty" if it has changes) or "unknown", the host
-/// name, and the current UTC time (ISO 8601).
+/// The complete shard records of one run (`barn run --shard K/N`), read (readCompleteRecord)
+/// and checked, as the files of the merged record in `out`: byte-identical to the record a
+/// single run writes, the shards' trajectory files included. InputError if a shard is missing,
+/// incomplete, twice, of another run, or its rows disagree with its manifest.
+struct MergedRecord {
+  RunManifest manifest;                 // the merged manifest (complete)
+  std::vector<EpisodeResult> episodes;  // as written
+  std::vector<core::FileContent> files;
+};
+MergedRecord mergedShardRecords(const std::vector<std::filesystem::path>& shards, const std::filesystem::path& out);
+
+/// InputError if `dir` holds a run record (for writers of a new one other than `barn run`:
+/// merge, import-out).
+void checkNoRecordForOut(const std::filesystem::path& dir);
+
+/// Merges the shards into `out` (which must not hold a record; checked again under its lock):
+/// mergedShardRecords written as one set. Returns the merged record.
+MergedRecord mergeShardRecords(const std::vector<std::filesystem::path>& shards, const std::filesystem::path& out);
+
+/// Facts about where this process runs, for the manifest: the commit of the source tree
+/// barnbench was built from (with "-dirty" if it had changes), recorded when it was built
+/// ("unknown" outside a git checkout), the host name, and the current UTC time (ISO 8601).
 std::string gitCommit();
 std::string hostName();
 std::string utcNow();

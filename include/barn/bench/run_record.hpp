@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "barn/bench/episode.hpp"
+#include "barn/bench/record_writer.hpp"
 #include "barn/bench/world_selection.hpp"
 
 namespace barn::bench {
@@ -26,6 +27,10 @@ inline constexpr const char* kJournalFile = "episodes.partial.csv";
 inline constexpr const char* kEpisodesFile = "episodes.csv";
 inline constexpr const char* kSummaryFile = "summary.json";
 
+/// At most this many episodes in one record (its bookkeeping is set up before the first one
+/// runs).
+inline constexpr std::size_t kMaxEpisodesPerRecord = 1'000'000;
+
 /// What the manifest does with a field besides writing and reading it (flags, or-ed).
 namespace manifest_field {
 inline constexpr unsigned kExperiment = 1u << 0;  // what was run: experimentDifference compares it
@@ -34,12 +39,24 @@ inline constexpr unsigned kPath = 1u << 2;        // an absolute path, written r
 inline constexpr unsigned kPathValues = 1u << 3;  // YAML text whose path values are written relative to the record
 inline constexpr unsigned kRunOnly = 1u << 4;     // left out of an imported record (nothing was run)
 inline constexpr unsigned kImportOnly = 1u << 5;  // written for an imported record only
+inline constexpr unsigned kOmitDefault = 1u << 6;  // left out at its default (empty, false): older manifests read back the same
 }  // namespace manifest_field
+
+/// A file the controller config names (a policy, a controller program's script), with a digest
+/// of its bytes when the run started: resume, merge and regress refuse to go on with another
+/// version of it.
+struct ConfigFile {
+  std::string path;    // absolute (written relative to the record)
+  std::string digest;  // FNV-1a 64 of its bytes, hex
+  template <class V> void visit(V& v) { v("path", path); v("digest", digest); }
+  bool operator==(const ConfigFile&) const = default;
+};
 
 struct RunManifest {
   // What was run: two records with equal fields here hold parts of the same experiment.
   std::string controller;         // name given to --controller
   std::string controller_config;  // effective controller config (YAML text)
+  std::vector<ConfigFile> config_files;  // the files controller_config names, with digests
   std::string episode_config;     // effective robot, LiDAR, physics and protocol config (YAML text)
   std::string worlds_spec;        // --worlds as given
   std::string worlds_folder;      // absolute folder of the world files (the file: relative to the record)
@@ -47,6 +64,7 @@ struct RunManifest {
   std::string worlds_digest;      // FNV-1a 64 of the world files' text, hex
   int trials = 1;
   std::uint64_t seed = 0;
+  bool trajectories = false;  // trajectories/ holds one file per journaled episode (--trajectories)
   // Set for a record imported from another harness's results (barn import-out): nothing was
   // run, so it has no seed or controller config (neither is written) and cannot be resumed.
   std::string source;         // the imported file, as given
@@ -73,6 +91,7 @@ struct RunManifest {
     using namespace manifest_field;
     v("controller", controller, kExperiment);
     v("controller_config", controller_config, kExperiment | kYamlText | kPathValues | kRunOnly);
+    v("config_files", config_files, kExperiment | kRunOnly | kOmitDefault);
     v("episode_config", episode_config, kExperiment | kYamlText);
     v("worlds_spec", worlds_spec, 0u);
     v("worlds_folder", worlds_folder, kPath);
@@ -80,6 +99,7 @@ struct RunManifest {
     v("worlds_digest", worlds_digest, kExperiment);
     v("trials", trials, kExperiment);
     v("seed", seed, kExperiment | kRunOnly);
+    v("trajectories", trajectories, kRunOnly | kOmitDefault);
     v("source", source, kExperiment | kImportOnly);
     v("source_digest", source_digest, kExperiment | kImportOnly);
     v("shard_index", shard_index, 0u);
@@ -112,6 +132,17 @@ std::string formatManifest(const RunManifest& manifest, const std::filesystem::p
 /// Reads and checks a manifest; InputError naming the file and field on any problem. Paths
 /// written relative to the record (see formatManifest) come back absolute.
 RunManifest readManifest(const std::filesystem::path& path);
+/// readManifest of a manifest's text, as if it were the manifest of `record_dir` (`source`
+/// names it in messages).
+RunManifest parseManifest(const std::string& text, const std::filesystem::path& record_dir, const std::string& source);
+
+/// The files a controller config (effective, paths absolute) names: every scalar value that is
+/// an absolute path to a regular file, once each, in order, with its digest. InputError if one
+/// cannot be read.
+std::vector<ConfigFile> configFileDigests(const std::string& controller_config);
+/// InputError naming the file if a file of `manifest.config_files` is missing or its bytes
+/// changed since the run started (`what` says what refuses: "resume", "merge", "regress").
+void checkConfigFiles(const RunManifest& manifest, const std::string& what);
 
 /// The protocol the record's episodes ran under, read from its episode_config; InputError
 /// naming `where` if that does not read.
@@ -140,10 +171,36 @@ std::vector<core::WorldSpec> loadManifestWorlds(const RunManifest& manifest);
 void checkRows(const RunManifest& manifest, const std::vector<EpisodeResult>& rows, const std::string& where,
                const std::vector<std::size_t>& allowed, bool complete);
 
-/// Writes the finished record: episodes.csv (sorted), summary.json and the manifest marked
-/// complete; removes the journal. `results` must hold every episode of the record. Returns
-/// them as written (sorted), so callers can go on without reading episodes.csv back.
-std::vector<EpisodeResult> writeCompleteRecord(const std::filesystem::path& dir, RunManifest manifest, std::vector<EpisodeResult> results,
-                         const std::vector<core::WorldSpec>& worlds);
+/// The files of a finished record in `dir`: episodes.csv (sorted), summary.json and the
+/// manifest marked complete. `results` must hold every episode of the record; `episodes` are
+/// they as written (sorted), so callers can go on without reading episodes.csv back.
+struct CompleteRecordFiles {
+  std::vector<core::FileContent> files;
+  std::vector<EpisodeResult> episodes;
+};
+CompleteRecordFiles completeRecordFiles(const std::filesystem::path& dir, RunManifest manifest,
+                                        std::vector<EpisodeResult> results, const std::vector<core::WorldSpec>& worlds);
+
+/// Writes the finished record through `writer` (its folder, locked) as one set, the journal
+/// removed with it; returns its episodes as written.
+std::vector<EpisodeResult> writeCompleteRecord(const RecordWriter& writer, RunManifest manifest,
+                                               std::vector<EpisodeResult> results,
+                                               const std::vector<core::WorldSpec>& worlds);
+
+/// A finished record read back.
+struct CompleteRecord {
+  RunManifest manifest;
+  std::vector<EpisodeResult> episodes;  // as episodes.csv holds them
+};
+
+/// The one reader of a finished record, used by every command that reads one: InputError
+/// (exit 2) naming the folder or file if it holds no record, is unfinished, a write into it
+/// was interrupted, or its episodes.csv disagrees with its manifest — a row missing, extra,
+/// twice or of another run ("episodes.csv: 3 rows, the manifest says 10 (world 3 trial 0
+/// missing)"). The worlds are not loaded (loadManifestWorlds).
+CompleteRecord readCompleteRecord(const std::filesystem::path& dir);
+/// checkRows for a complete record's rows: every episode the manifest says it holds (its
+/// shard's, or episodes_done for an imported one), each once. InputError naming `file`.
+void checkCompleteRows(const RunManifest& manifest, const std::vector<EpisodeResult>& rows, const std::string& file);
 
 }  // namespace barn::bench

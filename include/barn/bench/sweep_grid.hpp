@@ -44,8 +44,12 @@ core::ConfigNode cellConfig(const SweepGrid& grid, const core::ConfigNode& base,
 inline constexpr const char* kSweepFile = "sweep.yaml";
 
 /// sweep.yaml's text, and the grid read back from a sweep folder's sweep.yaml (InputError
-/// naming the file and field if it is malformed).
+/// naming the file and field if it is malformed, if its cells are not the grid of its
+/// parameters — a cell folder is never taken from the file unchecked — or if a write into the
+/// folder was interrupted).
 std::string formatSweepFile(const SweepGrid& grid);
 SweepGrid readSweepFile(const std::filesystem::path& sweep_dir);
+/// readSweepFile of sweep.yaml's text, `source` naming it.
+SweepGrid parseSweepFile(const std::string& text, const std::string& source);
 
 }  // namespace barn::bench

@@ -90,6 +90,10 @@ class ConfigNode {
   /// a list or a map (`[1]: 2`) rather than a name.
   std::vector<std::string> keys() const;
 
+  /// Every scalar value under this node (list elements and map values, not keys), in document
+  /// order: e.g. to find the files a config names.
+  std::vector<std::string> scalarValues() const;
+
   /// Scalar reads; false if the node is not a scalar of that type.
   bool read(double& value) const;
   bool read(int& value) const;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "barn/core/world.hpp"
+#include "barn/core/text_io.hpp"
 
 namespace barn::core {
 
@@ -25,15 +26,17 @@ WorldSpec parseWorldFile(const std::string& text, const std::string& source_name
 /// Reads and validates a world file.
 WorldSpec readWorldFile(const std::filesystem::path& path);
 
-/// All world_*.yaml files of a folder, sorted by id; InputError if there are none or two
-/// files share an id, and if a file is invalid unless `skipped` is given: then its message is
-/// added there and the file left out.
+/// All world_*.yaml files of a folder, sorted by id; InputError if there are none, two files
+/// share an id, or a write into the folder was interrupted (checkNoInterruptedWrite), and if a
+/// file is invalid — or its name's number is not its id (world_003.yaml holding id 7) — unless
+/// `skipped` is given: then its message is added there and the file left out.
 std::vector<WorldSpec> readWorldSet(const std::filesystem::path& dir, std::vector<std::string>* skipped = nullptr);
 
 /// index.csv of a set: one line per world with the fields a table or a plot needs.
 std::string formatWorldIndex(const std::vector<WorldSpec>& worlds);
 
-/// Writes every world file and index.csv into `dir`, all or nothing.
-void writeWorldSet(const std::filesystem::path& dir, const std::vector<WorldSpec>& worlds);
+/// Every world file and index.csv of a set, for a writer of the folder (all or nothing:
+/// bench::RecordWriter).
+std::vector<FileContent> worldSetFiles(const std::vector<WorldSpec>& worlds);
 
 }  // namespace barn::core

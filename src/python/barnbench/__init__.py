@@ -479,11 +479,12 @@ def _run_python(controller_class, params, worlds, world_dir, trials, jobs, seed,
             raise InputError(f"{out}: a record of {record.controller}, not of {name}")
         recorded = _core.recorded_python_config(record.controller_config)
         params, plan_text = json.loads(recorded["params"] or "{}"), recorded["global_plan"]
+        trajectories = record.trajectories  # the record says whether it keeps them
     else:
         plan_text = _global_plan_text(global_plan)
         name, config_text = _python_config(controller_class, params, plan_text)
         record = _core.Record.create(str(out), name, config_text, str(worlds), str(world_dir), sim_config, protocol,
-                                     trials, seed, shard_index, shard_count)
+                                     trials, seed, shard_index, shard_count, bool(trajectories))
     if not record.complete:
         spec = _Spec(controller_class, params, record.worlds_folder, record.episode_config, plan_text, trajectories)
         tasks = record.pending()
