@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <stdexcept>
 
 #include "barn/nav/grid_line.hpp"
 
@@ -91,7 +92,7 @@ int Costmap::inflationReach() const {
   return 0;
 }
 
-void Costmap::buildKernel() const {
+void Costmap::buildKernel() {
   // InflationLayer's table, in cell units: a cell is inflated only within ceil(radius / res)
   // cells of its source, and the cost is taken at the cell distance times the resolution.
   const int r = inflation_cells_;
@@ -163,7 +164,12 @@ void Costmap::foldCellChangesIntoBox() {
   if (!box.empty()) queueReinflation(box);
 }
 
-void Costmap::inflatePending() const {
+void Costmap::requireUpdated() const {
+  if (stale_) throw std::logic_error("Costmap read with changes not folded in: call update() first");
+}
+
+void Costmap::update() {
+  if (!stale_) return;
   if (kernel_.empty()) buildKernel();
   bool changed = false;
   // Regions first: recomputed in full, their cells are up to date.
@@ -327,7 +333,7 @@ void Costmap::integrateScan(const core::LaserScan& scan, const core::Pose2& sens
   }
 }
 
-void Costmap::stampObstacle(int ox, int oy, CellBox target) const {
+void Costmap::stampObstacle(int ox, int oy, CellBox target) {
   const int r = inflation_cells_;
   const int side = 2 * r + 1;
   const int y0 = std::max(target.y0, oy - r), y1 = std::min(target.y1, oy + r + 1);
@@ -342,7 +348,7 @@ void Costmap::stampObstacle(int ox, int oy, CellBox target) const {
   }
 }
 
-void Costmap::recomputeCell(int x, int y) const {
+void Costmap::recomputeCell(int x, int y) {
   const std::size_t i = index(x, y);
   const std::uint8_t state = obstacle_[i];
   if (state != kFreeCost) {
@@ -352,7 +358,7 @@ void Costmap::recomputeCell(int x, int y) const {
   }
   // The nearest obstacle decides: offsets are visited nearest first. The cell's nearest
   // obstacle in the state it was computed for was nearest_ away, so offsets nearer than that
-  // can only hold obstacles new since then, and inflatePending stamps those afterwards.
+  // can only hold obstacles new since then, and update stamps those afterwards.
   const int r = inflation_cells_;
   const std::uint32_t from = std::min<std::uint32_t>(nearest_[i], static_cast<std::uint32_t>(first_offset_from_.size() - 1));
   const auto first = offsets_by_distance_.begin() + static_cast<std::ptrdiff_t>(first_offset_from_[from]);
@@ -375,7 +381,7 @@ void Costmap::recomputeCell(int x, int y) const {
   nearest_[i] = kNoObstacle;
 }
 
-void Costmap::reinflate(CellBox changed, int grow) const {
+void Costmap::reinflate(CellBox changed, int grow) {
   // Cells recomputed: the changed box grown by `grow`. Obstacles that influence them: that
   // box grown by the inflation reach.
   const int r = inflation_cells_;

@@ -98,6 +98,7 @@ void NavStack::update(double time, const core::LaserScan& scan, const core::Pose
     global_parameters_pending_ = false;
     global_.integrateScan(scan, sensor_pose, robot_pose.position());
     if (config_.footprint_clearing) global_.clearPolygon(footprintAt(robot_pose));
+    global_.update();
     last_global_update_ = time;
   }
   if (local_updates_queued_ == local_updates_.size()) local_updates_.emplace_back();
@@ -152,17 +153,21 @@ void NavStack::applyLocalUpdates(std::size_t count) const {
               local_updates_.begin() + static_cast<std::ptrdiff_t>(local_updates_queued_));
   local_updates_queued_ -= count;
   published_updates_ -= std::min(published_updates_, count);
+  local_.update();
 }
 
 void NavStack::clearCostmapsOutside(const Eigen::Vector2d& centre, double keep) {
   global_.clearOutside(centre, keep);
+  global_.update();
   applyLocalUpdates(local_updates_queued_);
   local_.clearOutside(centre, keep);
+  local_.update();
 }
 
 void NavStack::resetLocalCostmap() {
   applyLocalUpdates(local_updates_queued_);
   local_.reset();
+  local_.update();
 }
 
 const std::vector<std::string>& NavStack::settableParameters() {

@@ -65,6 +65,7 @@ double bandLength(const std::vector<EbandBubble>& band) {
 TEST(EbandBubbles, RadiusInvertsTheInflationAndIsZeroInCollision) {
   nav::Costmap map = emptyMap();
   map.markObstacle({0.0, 0.0});
+  map.update();
   const EbandConfig config;
   ElasticBand eband(config, kCircumscribed);
   eband.setCostmap(map);
@@ -113,6 +114,7 @@ TEST(EbandBand, AStraightPlanInTheOpenBecomesAFewOverlappingBubbles) {
 TEST(EbandBand, APlanThroughAnObstacleIsRefusedAndGapsAreFilled) {
   nav::Costmap map = emptyMap();
   map.markObstacle({0.0, 0.0});
+  map.update();
   const EbandConfig config;
   ElasticBand eband(config, kCircumscribed);
   eband.setCostmap(map);
@@ -175,6 +177,7 @@ TEST(EbandOptimisation, TheExternalForcePushesBubblesAwayFromAWall) {
   // bubbles (0.553 m) reach it, so they are pushed toward -y; the ends stay.
   nav::Costmap map = emptyMap();
   for (double x = -1.5; x <= 1.5; x += 0.05) map.markObstacle({x, 0.5});
+  map.update();
   const EbandConfig config;
   ElasticBand eband(config, kCircumscribed);
   eband.setCostmap(map);
@@ -209,6 +212,7 @@ TEST(EbandOptimisation, FailsWhenABubbleIsInCollision) {
   // An obstacle appears on a bubble's centre: optimisation fails and leaves the band alone.
   const Eigen::Vector2d on = before[before.size() / 2].center.position();
   map.markObstacle(on);
+  map.update();
   EXPECT_FALSE(eband.optimize());
   ASSERT_EQ(eband.bubbles().size(), before.size());
   for (std::size_t k = 0; k < before.size(); ++k) EXPECT_EQ(eband.bubbles()[k].center.x, before[k].center.x);

@@ -342,13 +342,16 @@ TEST(SafetyChecks, RearRegionSeesOnlyWhatIsDirectlyBehind) {
   c.rolling = true;
   nav::Costmap map(c);
   map.recentre({0.0, 0.0});
+  map.update();
   const core::Rect body = core::Rect::centred(0.508, 0.43);
   const core::Pose2 pose{0.0, 0.0, 0.0};
   const core::Rect strip = rearStrip(body, 0.1);
   EXPECT_FALSE(rearRegionBlocked(map, pose, strip, 0.0));
   map.markObstacle({0.5, 0.0});  // ahead: not in the strip
+  map.update();
   EXPECT_FALSE(rearRegionBlocked(map, pose, strip, 0.0));
   map.markObstacle({-0.30, 0.1});  // 0.046 m behind the rear edge (-0.254): in the strip
+  map.update();
   EXPECT_TRUE(rearRegionBlocked(map, pose, strip, 0.0));
 }
 
@@ -359,9 +362,11 @@ TEST(SafetyChecks, BackTrackStripIsTheCodesTenByTenCellBoxExtended) {
   c.rolling = true;
   nav::Costmap map(c);
   map.recentre({0.0, 0.0});
+  map.update();
   // The robot 2 cm off the cell grid: its 0.43 m strip reaches y = 0.235, the code's 0.27, and
   // the cell [-0.30, -0.25] x [0.25, 0.30] lies between.
   map.markObstacle({-0.28, 0.27});
+  map.update();
   const InventecConfig config;
   const core::Pose2 pose{0.0, 0.02, 0.0};
   EXPECT_TRUE(rearRegionBlocked(map, pose, rearStrip(core::Rect::centred(config.roi_length, config.roi_width), config.roi_depth), 0.0));
@@ -387,6 +392,7 @@ nav::Costmap teamLocalCostmap(double inflation_radius) {
   c.cost_scaling_factor = 1.0;
   nav::Costmap map(c);
   map.recentre({0.0, 0.0});
+  map.update();
   return map;
 }
 
@@ -397,12 +403,14 @@ TEST(SafetyChecks, RearWeightSeesObstaclesCloseBehindTheStripWithNoneInIt) {
   // A wall 0.07-0.17 m behind every strip cell: each costs more than 85 of 100.
   nav::Costmap near = teamLocalCostmap(5.0);
   for (double y = -0.4; y <= 0.4; y += 0.05) near.markObstacle({-0.42, y});
+  near.update();
   EXPECT_FALSE(rearRegionBlocked(near, pose, strip, 0.0));  // nothing lethal in the strip
   EXPECT_TRUE(rearRegionBlocked(near, pose, strip, 0.85));
 
   // The same wall 0.65-0.75 m behind: the strip's mean cost is about 54 of 100.
   nav::Costmap far = teamLocalCostmap(5.0);
   for (double y = -0.4; y <= 0.4; y += 0.05) far.markObstacle({-1.0, y});
+  far.update();
   EXPECT_FALSE(rearRegionBlocked(far, pose, strip, 0.85));
   EXPECT_TRUE(rearRegionBlocked(far, pose, strip, 0.5));
 }
@@ -412,6 +420,7 @@ TEST(SafetyChecks, RearWeightLeavesCellsBeyondTheInflationOutOfTheMean) {
   // end cost 79-96 of 100, the rest 0 (not counted), so the mean is over the near ones.
   nav::Costmap map = teamLocalCostmap(0.3);
   map.markObstacle({-0.30, 0.58});
+  map.update();
   const core::Rect wide{-0.354, -0.254, -0.5, 0.5};
   const core::Pose2 pose{0.0, 0.0, 0.0};
   EXPECT_TRUE(rearRegionBlocked(map, pose, wide, 0.8));
@@ -425,6 +434,7 @@ TEST(RotateCheck, SeesTheTurnedFootprintAndOnlyTheRearHalfTheTailSwingsInto) {
   c.height = 4.0;
   nav::Costmap map(c);
   map.recentre({0.0, 0.0});
+  map.update();
   RotateCheck check;
   check.body = core::Rect::centred(0.508, 0.43);
   check.rear_weight = 0.0;  // lethal cells only (the weight has its own test)
@@ -441,6 +451,7 @@ TEST(RotateCheck, SeesTheTurnedFootprintAndOnlyTheRearHalfTheTailSwingsInto) {
   // An obstacle in the strip 0.23-0.33 m behind, on the right: turning left swings the tail
   // into it, turning right swings it away.
   map.markObstacle({-0.30, -0.15});
+  map.update();
   EXPECT_TRUE(rotateCheckHit({}, map, pose, 1.0, check));
   EXPECT_FALSE(rotateCheckHit({}, map, pose, -1.0, check));
   // The strip follows the robot's pose: turned half round, the obstacle is ahead.
@@ -453,6 +464,7 @@ TEST(SafetyChecks, InscribedCellPointsAreObstacleCellsAndTheirInscribedRingInThe
   // away does not.
   nav::Costmap map = teamLocalCostmap(5.0);
   map.markObstacle({-0.325, -0.125});  // the cell [-0.35, -0.30] x [-0.15, -0.10], behind on the right
+  map.update();
   const core::Pose2 pose{0.0, 0.0, 0.0};
   std::vector<Eigen::Vector2d> points = inscribedCellPoints(map, pose, 1.0);
   ASSERT_EQ(points.size(), 9u);
@@ -478,6 +490,7 @@ TEST(SafetyChecks, ATurnInPlaceRolledOutAgainstTheCostmapSeesWhatTheTailSwingsIn
   // footprint (|y| > 0.215).
   nav::Costmap map = teamLocalCostmap(5.0);
   map.markObstacle({-0.21, -0.26});
+  map.update();
   const core::Pose2 pose{0.0, 0.0, 0.0};
   const core::Rect body = core::Rect::centred(0.508, 0.43);
   const std::vector<Eigen::Vector2d> remembered = inscribedCellPoints(map, pose, 0.5);

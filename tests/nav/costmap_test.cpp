@@ -43,6 +43,7 @@ CostmapConfig smallMap() {
 TEST(Costmap, MarksAReturnWithinObstacleRange) {
   Costmap map(smallMap());
   map.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
+  map.update();
   CellIndex cell;
   ASSERT_TRUE(map.toCell({1.0, 0.0}, cell));
   EXPECT_TRUE(map.isObstacle(cell.x, cell.y));
@@ -53,15 +54,18 @@ TEST(Costmap, MarksAReturnWithinObstacleRange) {
 TEST(Costmap, IgnoresReturnsBeyondObstacleRange) {
   Costmap map(smallMap());
   map.integrateScan(scanAhead(2.7), {0.0, 0.0, 0.0}, {0.0, 0.0});  // 2.7 m > 2.5 m
+  map.update();
   EXPECT_EQ(map.costAt({2.7, 0.0}), kFreeCost);
 }
 
 TEST(Costmap, RayTraceClearingRemovesAnObstacleThatMoved) {
   Costmap map(smallMap());
   map.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
+  map.update();
   ASSERT_EQ(map.costAt({1.0, 0.0}), kLethalCost);
   // The obstacle moved away: the beam now returns at 2.0 m and its ray clears 1.0 m.
   map.integrateScan(scanAhead(2.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
+  map.update();
   EXPECT_EQ(map.costAt({1.0, 0.0}), kFreeCost);
   EXPECT_EQ(map.costAt({2.0, 0.0}), kLethalCost);
 }
@@ -73,7 +77,9 @@ TEST(Costmap, ASourceThatDoesNotClearKeepsAnObstacleThatMoved) {
   c.clearing = false;
   Costmap map(c);
   map.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
+  map.update();
   map.integrateScan(scanAhead(2.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
+  map.update();
   EXPECT_EQ(map.costAt({1.0, 0.0}), kLethalCost);
   EXPECT_EQ(map.costAt({2.0, 0.0}), kLethalCost);
 }
@@ -82,16 +88,21 @@ TEST(Costmap, ABeamWithoutAReturnNeitherMarksNorClears) {
   // laser_geometry drops +inf (and range_max) beams, so nothing is traced along them.
   Costmap map(smallMap());
   map.integrateScan(scanAhead(2.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
+  map.update();
   map.integrateScan(scanAhead(kInf), {0.0, 0.0, 0.0}, {0.0, 0.0});
+  map.update();
   EXPECT_EQ(map.costAt({2.0, 0.0}), kLethalCost);
   map.integrateScan(scanAhead(30.0), {0.0, 0.0, 0.0}, {0.0, 0.0});  // exactly range_max
+  map.update();
   EXPECT_EQ(map.costAt({2.0, 0.0}), kLethalCost);
   // With inf_is_valid a no-return beam clears the raytrace range (3 m) and marks nothing.
   CostmapConfig c = smallMap();
   c.inf_is_valid = true;
   Costmap valid(c);
   valid.integrateScan(scanAhead(2.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
+  valid.update();
   valid.integrateScan(scanAhead(kInf), {0.0, 0.0, 0.0}, {0.0, 0.0});
+  valid.update();
   EXPECT_EQ(valid.costAt({2.0, 0.0}), kFreeCost);
 }
 
@@ -100,8 +111,10 @@ TEST(Costmap, AReturnBetweenObstacleAndRaytraceRangeClearsItsOwnCell) {
   // a return at 2.7 m (inside 3.0, beyond 2.5) frees the cell an earlier return marked.
   Costmap map(smallMap());
   map.markObstacle({2.7, 0.0});
+  map.update();
   ASSERT_EQ(map.costAt({2.7, 0.0}), kLethalCost);
   map.integrateScan(scanAhead(2.7), {0.0, 0.0, 0.0}, {0.0, 0.0});
+  map.update();
   EXPECT_EQ(map.costAt({2.7, 0.0}), kFreeCost);
 }
 
@@ -113,9 +126,13 @@ TEST(Costmap, RayTraceStopsAtTheRaytraceRange) {
   c.width = 8.0;
   Costmap map(c);
   map.markObstacle({2.0, 0.0});
+  map.update();
   map.markObstacle({3.02, 0.0});  // cell 120: the last one cleared
+  map.update();
   map.markObstacle({3.06, 0.0});  // cell 121: beyond the raytrace range
+  map.update();
   map.integrateScan(scanAhead(5.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
+  map.update();
   EXPECT_EQ(map.costAt({2.0, 0.0}), kFreeCost);
   EXPECT_NE(map.costAt({3.02, 0.0}), kLethalCost);
   EXPECT_EQ(map.costAt({3.06, 0.0}), kLethalCost);
@@ -138,6 +155,7 @@ TEST(Costmap, BarnInflationTableInCells) {
   // by rounding 6 x 0.05 above 0.30); (6,1) 6.083 cells -> beyond the radius -> 0.
   Costmap map(smallMap());
   map.markObstacle({0.025, 0.025});
+  map.update();
   CellIndex hit;
   ASSERT_TRUE(map.toCell({0.025, 0.025}, hit));
   EXPECT_EQ(map.cost(hit.x + 5, hit.y + 1), kInscribedCost);
@@ -160,16 +178,22 @@ TEST(Costmap, FootprintClearingFreesEveryCellTheOutlineTouches) {
   };
   const CellIndex edge = cellOf(0.34, 0.01), inside = cellOf(0.12, 0.12), beyond = cellOf(0.40, 0.01);
   map.markObstacle({0.34, 0.01});
+  map.update();
   map.markObstacle({0.12, 0.12});
+  map.update();
   map.markObstacle({0.40, 0.01});
+  map.update();
   const std::vector<Eigen::Vector2d> polygon = {{0.32, 0.22}, {-0.32, 0.22}, {-0.32, -0.22}, {0.32, -0.22}};
   map.clearPolygon(polygon);
+  map.update();
   EXPECT_FALSE(map.isObstacle(edge.x, edge.y));
   EXPECT_FALSE(map.isObstacle(inside.x, inside.y));
   EXPECT_TRUE(map.isObstacle(beyond.x, beyond.y));
   // A corner off the map clears nothing (costmap_2d gives up on the whole polygon).
   map.markObstacle({0.12, 0.12});
+  map.update();
   map.clearPolygon({{0.32, 0.22}, {-0.32, 0.22}, {-0.32, -0.22}, {9.0, -0.22}});
+  map.update();
   EXPECT_TRUE(map.isObstacle(inside.x, inside.y));
 }
 
@@ -180,6 +204,7 @@ TEST(Costmap, InflatesAroundAnObstacleAtKnownDistances) {
   c.cost_scaling_factor = 3.0;
   Costmap map(c);
   map.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
+  map.update();
   CellIndex hit;
   ASSERT_TRUE(map.toCell({1.0, 0.0}, hit));
   // Cell centres 4 cells (0.2 m) and 8 cells (0.4 m) away along y.
@@ -203,6 +228,7 @@ TEST(Costmap, AWideRadiusCostsWhatItsTableSaysAtEveryCellOutToTheRadius) {
   c.origin_y = -6.0;
   Costmap map(withLflhInflation(c));
   map.markObstacle({0.025, 0.025});
+  map.update();
   CellIndex hit;
   ASSERT_TRUE(map.toCell({0.025, 0.025}, hit));
   int nonzero_beyond_two_metres = 0;
@@ -216,6 +242,7 @@ TEST(Costmap, AWideRadiusCostsWhatItsTableSaysAtEveryCellOutToTheRadius) {
   EXPECT_GT(nonzero_beyond_two_metres, 0);  // the tail is there: costs 1 out to 2.08 m
   EXPECT_EQ(map.inflationCost(2.2), kFreeCost);
   map.clearPolygon({{0.2, 0.2}, {-0.2, 0.2}, {-0.2, -0.2}, {0.2, -0.2}});
+  map.update();
   for (int y = 0; y < map.heightCells(); ++y)
     for (int x = 0; x < map.widthCells(); ++x) ASSERT_EQ(map.cost(x, y), kFreeCost);
 }
@@ -227,13 +254,16 @@ TEST(Costmap, NewInflationSettingsCostWhatAFreshMapWithThemCosts) {
   for (const auto& [radius, scaling] : {std::pair{0.6, 3.0}, std::pair{0.1, 10.0}, std::pair{0.35, 5.0}}) {
     Costmap changed(c);
     changed.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
+    changed.update();
     changed.costAt({0.0, 0.0});  // inflated with the old settings first
     changed.setInflation(radius, scaling);
+    changed.update();
     CostmapConfig fresh_config = c;
     fresh_config.inflation_radius = radius;
     fresh_config.cost_scaling_factor = scaling;
     Costmap fresh(fresh_config);
     fresh.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
+    fresh.update();
     for (int y = 0; y < fresh.heightCells(); ++y)
       for (int x = 0; x < fresh.widthCells(); ++x)
         ASSERT_EQ(changed.cost(x, y), fresh.cost(x, y)) << "radius " << radius << ", cell (" << x << ", " << y << ")";
@@ -244,6 +274,7 @@ TEST(Costmap, NewInflationSettingsCostWhatAFreshMapWithThemCosts) {
   narrow.inflation_radius = 0.1;
   Costmap map(narrow);
   map.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
+  map.update();
   CellIndex hit;
   ASSERT_TRUE(map.toCell({1.0, 0.0}, hit));
   EXPECT_EQ(map.cost(hit.x, hit.y + 2), kInscribedCost);
@@ -253,8 +284,10 @@ TEST(Costmap, NewInflationSettingsCostWhatAFreshMapWithThemCosts) {
 TEST(Costmap, ClearingAnObstacleRemovesItsInflation) {
   Costmap map(smallMap());
   map.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
+  map.update();
   EXPECT_GT(map.costAt({1.0, 0.2}), kFreeCost);
   map.integrateScan(scanAhead(2.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
+  map.update();
   EXPECT_EQ(map.costAt({1.0, 0.2}), kFreeCost);
 }
 
@@ -271,8 +304,8 @@ std::uint8_t bruteForceCost(const Costmap& map, int x, int y) {
   return nearest > reach ? kFreeCost : map.inflationCostAtCells(nearest);
 }
 
-// Scans of random ranges from random poses mark and clear cells in many places; after each,
-// some cells are read (so some updates are folded in lazily, several at once), and with
+// Scans of random ranges from random poses mark and clear cells in many places; after some of
+// them the changes are folded in (update(), so several at once, or one), and with
 // `moves` the robot's footprint is cleared and a rolling window re-centres. At the end every
 // cell must cost what a from-scratch inflation gives; in a rolling window, every cell farther
 // than the inflation reach from the edges (at the edge the window left, a cell keeps the cost
@@ -294,8 +327,9 @@ void expectIncrementalInflationEqualsInflatingFromScratch(const CostmapConfig& c
       map.clearPolygon({c + Eigen::Vector2d(-0.3, -0.25), c + Eigen::Vector2d(0.3, -0.25), c + Eigen::Vector2d(0.3, 0.25),
                         c + Eigen::Vector2d(-0.3, 0.25)});
     }
-    if (step % 3 == 0) map.costAt(pose.position());
+    if (step % 3 == 0) map.update();  // several changes folded in at once, or one
   }
+  map.update();
   int obstacles = 0, inflated = 0;
   const int margin = config.rolling ? static_cast<int>(std::ceil(config.inflation_radius / config.resolution)) : 0;
   for (int y = margin; y < map.heightCells() - margin; ++y)
@@ -338,6 +372,7 @@ TEST(Costmap, IncrementalInflationEqualsInflatingFromScratchWithTheLflhStacksWid
       marked.erase(marked.begin() + static_cast<std::ptrdiff_t>(gone));
     }
     if (step % 5 != 4) continue;
+    map.update();  // five steps' changes at once
     // From scratch: the cost at the nearest obstacle cell, over the few obstacle cells there are.
     std::vector<CellIndex> obstacles;
     for (int y = 0; y < map.heightCells(); ++y)
@@ -377,12 +412,16 @@ TEST(Costmap, RollingWindowKeepsObstaclesSeenEarlierWhileTheyStayInside) {
   c.rolling = true;  // 10 x 10 m around the robot
   Costmap map(c);
   map.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
+  map.update();
   // The robot drives 3 m away, facing away: the LiDAR no longer sees the obstacle.
   map.recentre({-3.0, 0.0});
+  map.update();
   EXPECT_EQ(map.costAt({1.0, 0.0}), kLethalCost);
   // 7 m away the obstacle has left the window and is forgotten.
   map.recentre({-7.0, 0.0});
+  map.update();
   map.recentre({0.0, 0.0});
+  map.update();
   EXPECT_EQ(map.costAt({1.0, 0.0}), kFreeCost);
 }
 
@@ -395,6 +434,7 @@ TEST(Costmap, RollingWindowMovesByWholeCellsOnceTheRobotIsACellFromTheCentre) {
   const auto expectOrigin = [&](const Eigen::Vector2d& position, double x, double y) {
     const Eigen::Vector2d predicted = map.windowOriginFor(map.origin(), position);
     map.recentre(position);
+    map.update();
     EXPECT_NEAR(map.origin().x(), x, 1e-9) << position.transpose();
     EXPECT_NEAR(map.origin().y(), y, 1e-9) << position.transpose();
     EXPECT_EQ(predicted, map.origin()) << position.transpose();
@@ -413,6 +453,7 @@ TEST(Costmap, TracksUnknownSpaceWhenAsked) {
   Costmap map(c);
   EXPECT_EQ(map.costAt({2.0, 2.0}), kUnknownCost);
   map.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
+  map.update();
   EXPECT_EQ(map.costAt({0.5, 0.0}), kFreeCost);
   EXPECT_EQ(map.costAt({2.0, 2.0}), kUnknownCost);
 }
@@ -420,7 +461,9 @@ TEST(Costmap, TracksUnknownSpaceWhenAsked) {
 TEST(Costmap, ClearOutsideForgetsDistantObstacles) {
   Costmap map(smallMap());
   map.integrateScan(scanAhead(2.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
+  map.update();
   map.clearOutside({0.0, 0.0}, 1.5);
+  map.update();
   EXPECT_EQ(map.costAt({2.0, 0.0}), kFreeCost);
 }
 
@@ -428,18 +471,22 @@ TEST(Costmap, ResetForgetsEverythingUntilTheNextScan) {
   // costmap_2d's resetLayers (eband's answer to a plan it cannot turn into a band).
   Costmap map(smallMap());
   map.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
+  map.update();
   ASSERT_EQ(map.costAt({1.0, 0.0}), kLethalCost);
   ASSERT_GT(map.costAt({0.8, 0.0}), kFreeCost);
   const std::uint64_t version = map.version();
   map.reset();
+  map.update();
   EXPECT_NE(map.version(), version);
   for (int y = 0; y < map.heightCells(); ++y)
     for (int x = 0; x < map.widthCells(); ++x) ASSERT_EQ(map.cost(x, y), kFreeCost);
   EXPECT_FALSE(map.isObstacle(0, 0));
   // The next scan marks and inflates as on a fresh map.
   map.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
+  map.update();
   Costmap fresh(smallMap());
   fresh.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
+  fresh.update();
   for (int y = 0; y < map.heightCells(); ++y)
     for (int x = 0; x < map.widthCells(); ++x) ASSERT_EQ(map.cost(x, y), fresh.cost(x, y));
 }

@@ -138,6 +138,7 @@ void markOrClearAround(Costmap& map, core::Rng& rng, const Eigen::Vector2d& p, d
   if (rng.uniform01() < mark) map.markObstacle(p);
   else map.clearPolygon({p + Eigen::Vector2d(-1.5, -1.5), p + Eigen::Vector2d(1.5, -1.5), p + Eigen::Vector2d(1.5, 1.5),
                          p + Eigen::Vector2d(-1.5, 1.5)});
+  map.update();
 }
 
 // The exhaustive descent, or none when the goal cannot be entered.
@@ -152,6 +153,7 @@ Costmap randomInflatedMap(core::Rng& rng, int width, int height, double obstacle
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x)
       if (rng.uniform01() < obstacle_fraction) map.markObstacle({x + 0.5, y + 0.5});
+  map.update();
   return map;
 }
 
@@ -219,6 +221,7 @@ TEST(GlobalPlanner, NavFnReusesAPlanOnlyWhenItWouldComputeTheSame) {
   const Eigen::Vector2d goal(36.5, 15.3);
   map.clearPolygon({goal + Eigen::Vector2d(-2, -2), goal + Eigen::Vector2d(2, -2), goal + Eigen::Vector2d(2, 2),
                     goal + Eigen::Vector2d(-2, 2)});
+  map.update();
   Eigen::Vector2d robot(3.2, 15.5);
   int reused_inputs = 0, found = 0;
   for (int step = 0; step < 300; ++step) {
@@ -233,6 +236,7 @@ TEST(GlobalPlanner, NavFnReusesAPlanOnlyWhenItWouldComputeTheSame) {
     } else {
       ++reused_inputs;  // nothing changed: the inputs of the last plan
     }
+    map.update();
     const Plan kept = planner.plan(map, robot, goal);
     const Plan fresh = GlobalPlanner(config).plan(map, robot, goal);
     ASSERT_EQ(kept.found, fresh.found) << "step " << step;
@@ -344,6 +348,7 @@ TEST(GlobalPlanner, KeptFieldPlansAsAFreshOneWhileARobotRevealsAnObstacleField) 
             else map.clearPolygon({c + Eigen::Vector2d(dx - 0.02, dy - 0.02), c + Eigen::Vector2d(dx + 0.02, dy - 0.02),
                                    c + Eigen::Vector2d(dx + 0.02, dy + 0.02), c + Eigen::Vector2d(dx - 0.02, dy + 0.02)});
           }
+      map.update();
     };
     int plans = 0, found = 0;
     for (int step = 0; step < 120 && (robot - goal).norm() > 0.3; ++step) {

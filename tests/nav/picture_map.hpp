@@ -24,6 +24,7 @@ inline Costmap pictureMap(const std::vector<std::string>& rows) {
     for (std::size_t col = 0; col < rows[r].size(); ++col)
       if (rows[r][col] == '#')
         map.markObstacle({static_cast<double>(col) + 0.5, static_cast<double>(rows.size() - 1 - r) + 0.5});
+  map.update();
   return map;
 }
 

@@ -610,6 +610,7 @@ Costmap inflatedMap() {
   c.cost_scaling_factor = 1.0;
   Costmap map(c);
   map.markObstacle(centre(5, 4));
+  map.update();
   return map;
 }
 

@@ -10,10 +10,11 @@
 ///   inscribed_radius < d <= inflation_radius -> 252 exp(-cost_scaling_factor (d - inscribed_radius))
 ///   d > inflation_radius                  -> 0
 ///
-/// A scan only changes cells along its rays; the inflation is recomputed in the window around
-/// the cells that became or stopped being obstacles, so an update costs what it changed. It is
-/// recomputed lazily, at the first cost read after a change: a map nobody reads between scans
-/// (the local costmap of a controller that plans on the global one) costs only its ray traces.
+/// Changes (scans, cleared polygons, marked obstacles) are recorded as they come; update()
+/// folds them into the costs, as costmap_2d's updateMap does, recomputing the inflation only in
+/// the window around the cells that became or stopped being obstacles, so an update costs what
+/// it changed. The readers are const and read the map as of the last update(); reading a map
+/// with changes not yet folded in is a programming error (std::logic_error).
 
 #include <array>
 #include <cstdint>
@@ -128,15 +129,18 @@ class Costmap {
   }
   Eigen::Vector2d cellCentre(CellIndex cell) const;
 
+  /// Folds every change since the last update into the costs (the inflation around them).
+  void update();
+
   /// Final (inflated) cost of a cell; cells outside the map are unknown.
   std::uint8_t cost(int x, int y) const {
     if (!inBounds(x, y)) return kUnknownCost;
-    if (stale_) inflatePending();
+    requireUpdated();
     return cost_[index(x, y)];
   }
   /// All final costs, row-major (x fastest), widthCells() x heightCells().
   const std::uint8_t* costs() const {
-    if (stale_) inflatePending();
+    requireUpdated();
     return cost_.data();
   }
   std::uint8_t costAt(const Eigen::Vector2d& p) const;
@@ -148,7 +152,7 @@ class Costmap {
   /// Changes whenever a cost changed (planners cache on it); a scan that only confirms what
   /// the map held leaves it.
   std::uint64_t version() const {
-    if (stale_) inflatePending();
+    requireUpdated();
     return version_;
   }
 
@@ -175,14 +179,15 @@ class Costmap {
   void changeObstacle(int x, int y, std::uint8_t value);
   void queueReinflation(CellBox box);
   void foldCellChangesIntoBox();
-  void inflatePending() const;
-  void buildKernel() const;
+  /// Throws std::logic_error if there are changes update() has not folded in yet.
+  void requireUpdated() const;
+  void buildKernel();
   /// Recomputes the costs of the cells of `changed` grown by `grow` cells on every side.
-  void reinflate(CellBox changed, int grow) const;
+  void reinflate(CellBox changed, int grow);
   /// Sets one cell's cost from the obstacles within the reach.
-  void recomputeCell(int x, int y) const;
+  void recomputeCell(int x, int y);
   /// Raises the free cells of `target` around obstacle (ox, oy) to its kernel.
-  void stampObstacle(int ox, int oy, CellBox target) const;
+  void stampObstacle(int ox, int oy, CellBox target);
   /// The cell where costmap_2d's ray trace from cell `from` toward `to` ends: `to` pulled
   /// back onto the map along the ray.
   CellIndex rayStopCell(CellIndex from, const Eigen::Vector2d& to) const;
@@ -195,26 +200,25 @@ class Costmap {
   int height_ = 0;
   Eigen::Vector2d origin_;
   std::vector<std::uint8_t> obstacle_;  // kLethalCost, kFreeCost or kUnknownCost per cell
-  // Final cost per cell: a cache of obstacle_ and the inflation, brought up to date by the
-  // first read after a change (hence mutable).
-  mutable std::vector<std::uint8_t> cost_;
+  // Final cost per cell: obstacle_ and the inflation, as of the last update().
+  std::vector<std::uint8_t> cost_;
   // Changes whose inflation is not yet folded in: cells whose state may differ from the one
   // their costs were computed for (inflated_state_), and regions (a few boxes, merged when
   // many; re-inflated with a margin of the reach plus one cell).
-  mutable std::vector<std::uint8_t> inflated_state_;
-  mutable std::vector<CellIndex> changed_;
-  mutable std::vector<CellBox> pending_;
-  mutable bool stale_ = false;
+  std::vector<std::uint8_t> inflated_state_;
+  std::vector<CellIndex> changed_;
+  std::vector<CellBox> pending_;
+  bool stale_ = false;
   int inflation_cells_ = 0;             // cells an obstacle's cost reaches (inflationReach)
   // The inflation cost of an obstacle cell at each offset (dx, dy) in [-r, r]^2, r the
   // inflation reach in cells, row-major: a cell's cost is the largest any obstacle stamps on it
   // (cost falls with distance, so that is the cost at the nearest obstacle). Built by the first
   // inflation (buildKernel): a map whose costs are never read never pays for it (a 5 m kernel
   // has 31 000 offsets to sort).
-  mutable std::vector<std::uint8_t> kernel_;
+  std::vector<std::uint8_t> kernel_;
   // The same offsets' squared distance in cells where they cost more than 0, else
   // the largest value (no obstacle).
-  mutable std::vector<std::uint32_t> kernel_distance_;
+  std::vector<std::uint32_t> kernel_distance_;
   // The kernel's non-zero offsets (the centre excluded), nearest first.
   struct KernelOffset {
     int dx = 0, dy = 0;
@@ -222,16 +226,16 @@ class Costmap {
     std::uint32_t squared = 0;  // dx^2 + dy^2
     std::uint8_t cost = 0;
   };
-  mutable std::vector<KernelOffset> offsets_by_distance_;
-  mutable std::vector<std::size_t> first_offset_from_;  // [d]: first offset with squared >= d
+  std::vector<KernelOffset> offsets_by_distance_;
+  std::vector<std::size_t> first_offset_from_;  // [d]: first offset with squared >= d
   // Per cell, the squared distance in cells to the obstacle its cost comes from (the largest
   // value if none is within the reach; 0 for a cell that is not free): the obstacle a cleared cell was
   // is known exactly, where equal costs would also name every other obstacle whose cost ties.
-  mutable std::vector<std::uint32_t> nearest_;
+  std::vector<std::uint32_t> nearest_;
   // Scratch of inflatePending(): the round in which each cell was last recomputed.
-  mutable std::vector<std::uint32_t> recomputed_in_round_;
-  mutable std::uint32_t recompute_round_ = 0;
-  mutable std::uint64_t version_ = 0;
+  std::vector<std::uint32_t> recomputed_in_round_;
+  std::uint32_t recompute_round_ = 0;
+  std::uint64_t version_ = 0;
   core::BeamDirections beams_;  // in the sensor frame
   struct Return {
     Eigen::Vector2d end;  // [m] odom frame

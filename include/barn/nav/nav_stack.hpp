@@ -138,8 +138,8 @@ class NavStack {
   bool published_view_;  // config_.local_costmap_view is "published" (read a few times a tick)
   Costmap global_;
   // The local costmap is only read by some controllers (DWA every tick, Inventec's rear check
-  // now and then, LfLH never), so its updates are queued and applied, in order, when it is read:
-  // the same map, paid for only when used. Hence mutable.
+  // now and then, LfLH never), so its updates are queued and applied (and folded in, update()),
+  // in order, when it is read: the same map, paid for only when used. Hence mutable.
   mutable Costmap local_;
   mutable std::vector<LocalUpdate> local_updates_;  // entries [0, queued) are pending; the rest keep their buffers
   mutable std::size_t local_updates_queued_ = 0;
