@@ -1,6 +1,7 @@
 #include "barn/controllers/registry.hpp"
 
 #include "barn/controllers/dwa.hpp"
+#include "barn/controllers/e2e.hpp"
 #include "barn/controllers/eband.hpp"
 #include "barn/controllers/external.hpp"
 #include "barn/controllers/global_plan_feed.hpp"
@@ -56,6 +57,23 @@ Entry policyEntry(const char* type) {
           }};
 }
 
+// The End-to-End actor (an MLP policy file, resolved against the config file's folder), loaded
+// once and shared by every episode's controller.
+Entry e2eEntry() {
+  return {"e2e", [](const core::ConfigNode& block, std::string& effective) -> ControllerFactory {
+            E2eConfig config = core::readConfig<E2eConfig>(block);
+            config.policy = resolvePolicyPath(config.policy, block.source());
+            core::Errors errors;
+            validate(config, errors, block.where());
+            errors.throwIfAny();
+            auto policy = std::make_shared<const learning::MlpPolicy>(learning::MlpPolicy::load(config.policy));
+            core::ConfigWriter writer(2);
+            config.visit(writer);
+            effective = "type: e2e\ne2e:\n" + writer.text();
+            return [config, policy] { return std::make_unique<E2eController>(config, policy); };
+          }};
+}
+
 // A controller program run as a child process: paths resolved against the config file's folder
 // (the effective config records them absolute), one process pool per factory, shared by every
 // episode's controller so each worker thread reuses its process.
@@ -85,6 +103,7 @@ const std::vector<Entry>& entries() {
       entry<RrslVfhConfig, RrslVfhController>("rrsl_vfh"),
       entry<In2botConfig, In2botController>("in2bot"),
       entry<KulfmConfig, KulfmController>("kulfm"),
+      e2eEntry(),
       externalEntry(),
   };
   return kEntries;
