@@ -5,15 +5,19 @@
 
 For each action repeat dt (0.05 and 0.2 s) it steps `--envs` sub-environments with a trivial
 policy (the constant command (0.5, 0)) on barnbench's 300 worlds for `--seconds` simulated
-seconds per sub-environment, three ways, and prints the median wall time of `--repeats` runs:
+seconds per sub-environment, and prints the median of `--repeats` runs of:
 
-  bare     the same episodes (worlds, seeds, restarts) stepped by bench::Episode alone in C++
-           threads: the simulator's own cost (no arrays, rewards, infos, no Python)
-  vec      VecEnv from a Python loop, copy=False (views) and copy=True (fresh arrays)
+  bare   the same episodes (worlds, seeds, restarts) stepped by bench::Episode alone in C++
+         (OpenMP threads, one per sub-environment's whole run): the simulator's own cost, with
+         no arrays, rewards, infos or Python
+  vec    VecEnv stepped from a Python loop, copy=False (views) and copy=True (fresh arrays)
 
-and the overhead ratio vec / bare - 1 (the goal: at most 20 %). Then the Python overhead of one
-step: Env.step and VecEnv.step with one sub-environment, each minus the bare cost of the same
-steps, on one thread. Speed is measured here, never in the tests.
+as environment steps per wall second and as process CPU time per simulated second (all
+threads; the worlds' preparation and VecEnv's construction excluded). The overhead is VecEnv's
+CPU cost per simulated second over bare's, minus 1 (the goal: at most 20 %). CPU time is the
+measure that holds on a shared machine; the wall rates move with the machine's load. Then the
+cost of one step with one sub-environment on one thread: bare, VecEnv.step and Env.step
+(Env's resets timed apart). Speed is measured here, never in the tests.
 """
 
 import argparse
@@ -31,59 +35,45 @@ WORLD_DIR = os.path.join(_core.SOURCE_DIR, "worlds")
 ACTION = (0.5, 0.0)
 
 
-def median_time(function, repeats):
-    """Median wall time of `function()`; a function that returns a number times itself."""
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        own = function()
-        times.append(own if own is not None else time.perf_counter() - start)
-    return statistics.median(times)
+def median_run(function, repeats):
+    """Medians of the (wall, cpu, simulated) that `function()` returns."""
+    runs = [function() for _ in range(repeats)]
+    return tuple(statistics.median(r[k] for r in runs) for k in range(3))
 
 
-def bare(worlds, envs, dt, threads, steps, simulated=None, seed=1):
-    """The wall seconds of the stepping (timed in C++: the worlds' preparation excluded, as
-    VecEnv's construction is excluded below)."""
-    sim, wall = _core.run_bare_episodes(worlds, WORLD_DIR, SIM_CONFIG, barnbench.default_protocol, envs, dt, 0,
-                                        threads, seed, ACTION[0], ACTION[1], steps)
-    if simulated is not None:
-        simulated.append(sim)
-    return wall
+def bare(worlds, envs, dt, threads, steps, seed=1):
+    simulated, wall, cpu = _core.run_bare_episodes(worlds, WORLD_DIR, SIM_CONFIG, barnbench.default_protocol, envs,
+                                                   dt, 0, threads, seed, ACTION[0], ACTION[1], steps)
+    return wall, cpu, simulated
 
 
-def vec_loop(worlds, envs, dt, threads, steps, copy, seed=1):
+def vec(worlds, envs, dt, threads, steps, copy, seed=1):
     env = barnbench.VecEnv(envs, worlds=worlds, dt=dt, threads=threads, copy=copy)
     actions = np.tile(ACTION, (envs, 1))
+    wall, cpu = time.perf_counter(), time.process_time()
+    env.reset(seed=seed)
+    for _ in range(steps):
+        env.step(actions)
+    return time.perf_counter() - wall, time.process_time() - cpu, float("nan")
 
-    def run():
-        env.reset(seed=seed)
-        for _ in range(steps):
-            env.step(actions)
-    return run
 
-
-def env_loop(world, dt, steps, resets):
-    """Env.step alone timed (its resets, which load the world, are timed into `resets`)."""
+def env_steps(world, dt, steps):
+    """Env.step alone timed; its resets (which load the world) apart."""
     env = barnbench.Env(world=world, dt=dt)
-
-    def run():
-        done = 0
-        seed = 0
-        stepping = 0.0
+    done, seed, stepping, resets = 0, 0, 0.0, []
+    while done < steps:
+        start = time.perf_counter()
+        env.reset(seed=seed)
+        resets.append(time.perf_counter() - start)
+        seed += 1
         while done < steps:
+            done += 1
             start = time.perf_counter()
-            env.reset(seed=seed)
-            resets.append(time.perf_counter() - start)
-            seed += 1
-            while done < steps:
-                done += 1
-                start = time.perf_counter()
-                _, _, terminated, truncated, _ = env.step(ACTION)
-                stepping += time.perf_counter() - start
-                if terminated or truncated:
-                    break
-        return stepping
-    return run
+            _, _, terminated, truncated, _ = env.step(ACTION)
+            stepping += time.perf_counter() - start
+            if terminated or truncated:
+                break
+    return stepping, statistics.median(resets), float("nan")
 
 
 def main():
@@ -92,31 +82,34 @@ def main():
     parser.add_argument("--threads", type=int, default=2, help="threads (default 2: the 2-core machine)")
     parser.add_argument("--worlds", default="all")
     parser.add_argument("--seconds", type=float, default=60.0, help="simulated seconds per sub-environment")
-    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--repeats", type=int, default=5)
     args = parser.parse_args()
     print(f"{args.envs} sub-environments, {args.threads} threads, worlds {args.worlds}, command {ACTION}, "
-          f"{args.seconds:g} simulated s each, median of {args.repeats}")
-    print(f"{'dt':>5} {'bare steps/s':>13} {'vec steps/s':>12} {'copy steps/s':>13} {'sim-s/s':>8} "
-          f"{'overhead':>9} {'with copy':>10}")
+          f"{args.seconds:g} simulated s each, median of {args.repeats}; load average "
+          f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
+    print(f"{'dt':>5} | {'steps per wall s: bare':>22} {'vec':>7} {'copy':>7} | "
+          f"{'CPU ms per sim-s: bare':>22} {'vec':>6} {'copy':>6} | {'overhead':>8} {'copy':>7}")
     for dt in (0.05, 0.2):
         steps = int(round(args.seconds / dt))
-        env_steps = steps * args.envs
-        simulated = []
-        t_bare = median_time(lambda: bare(args.worlds, args.envs, dt, args.threads, steps, simulated), args.repeats)
-        t_vec = median_time(vec_loop(args.worlds, args.envs, dt, args.threads, steps, False), args.repeats)
-        t_copy = median_time(vec_loop(args.worlds, args.envs, dt, args.threads, steps, True), args.repeats)
-        print(f"{dt:>5g} {env_steps / t_bare:>13.0f} {env_steps / t_vec:>12.0f} {env_steps / t_copy:>13.0f} "
-              f"{simulated[0] / t_vec:>8.0f} {t_vec / t_bare - 1:>8.1%} {t_copy / t_bare - 1:>9.1%}")
-    print("Python overhead of one step (one sub-environment, one thread, dt 0.05 s, world 0):")
+        n = steps * args.envs
+        b_wall, b_cpu, simulated = median_run(lambda: bare(args.worlds, args.envs, dt, args.threads, steps),
+                                              args.repeats)
+        v_wall, v_cpu, _ = median_run(lambda: vec(args.worlds, args.envs, dt, args.threads, steps, False),
+                                      args.repeats)
+        c_wall, c_cpu, _ = median_run(lambda: vec(args.worlds, args.envs, dt, args.threads, steps, True),
+                                      args.repeats)
+        ms = lambda cpu: 1e3 * cpu / simulated
+        print(f"{dt:>5g} | {n / b_wall:>22.0f} {n / v_wall:>7.0f} {n / c_wall:>7.0f} | "
+              f"{ms(b_cpu):>22.3f} {ms(v_cpu):>6.3f} {ms(c_cpu):>6.3f} | "
+              f"{v_cpu / b_cpu - 1:>8.1%} {c_cpu / b_cpu - 1:>7.1%}")
     steps = int(round(args.seconds / 0.05))
-    resets = []
-    t_bare = median_time(lambda: bare("0", 1, 0.05, 1, steps), args.repeats) / steps
-    t_env = median_time(env_loop(0, 0.05, steps, resets), args.repeats) / steps
-    t_vec = median_time(vec_loop("0", 1, 0.05, 1, steps, True), args.repeats) / steps
-    print(f"  bare step {t_bare * 1e6:.1f} us (its episodes' construction included); "
-          f"VecEnv.step {t_vec * 1e6:.1f} us (+{(t_vec - t_bare) * 1e6:.1f} us, the same episodes); "
-          f"Env.step {t_env * 1e6:.1f} us (+{(t_env - t_bare) * 1e6:.1f} us; its resets apart: "
-          f"{statistics.median(resets) * 1e3:.0f} ms each)")
+    b = median_run(lambda: bare("0", 1, 0.05, 1, steps), args.repeats)
+    v = median_run(lambda: vec("0", 1, 0.05, 1, steps, True), args.repeats)
+    e = median_run(lambda: env_steps(0, 0.05, steps), args.repeats)
+    us = lambda seconds: 1e6 * seconds / steps
+    print(f"one sub-environment, one thread, dt 0.05 s, world 0, wall time per step: bare {us(b[0]):.1f} us "
+          f"(its episodes' construction included), VecEnv.step {us(v[0]):.1f} us (+{us(v[0] - b[0]):.1f} us, the "
+          f"same episodes), Env.step {us(e[0]):.1f} us (+{us(e[0] - b[0]):.1f} us; Env.reset {e[1] * 1e3:.1f} ms)")
 
 
 if __name__ == "__main__":

@@ -4,7 +4,9 @@
 /// Each of the N sub-environments runs one episode at a time on a world drawn from a list, at
 /// an action repeat of `dt` seconds, optionally with move_base's stack beside it (a
 /// GlobalPlanFeed, as a `global_plan` block gives a controller). step() applies one (v, w) per
-/// sub-environment, advances all of them in OpenMP threads and writes the observations,
+/// sub-environment, advances all of them in worker threads (a small pool of the batch's own,
+/// see episode_batch.cpp: OpenMP's barrier stalls a step per call when the machine has more
+/// runnable threads than cores) and writes the observations,
 /// rewards and flags into arrays this object owns, row i for sub-environment i, so a caller
 /// (numpy) can read them in place. A sub-environment whose episode ended is reset at once:
 /// its row then holds the new episode's first observation, and the ended episode's last
@@ -53,7 +55,7 @@ struct EpisodeBatchConfig {
   std::optional<controllers::GlobalPlanConfig> global_plan;  // move_base's stack beside each episode
   int plan_points = 0;       // [-] with global_plan: the plan resampled at this many points (0: only its end)
   double plan_spacing = 0.25;  // [m] ... this far apart along it, from its first pose
-  int threads = 0;           // [-] OpenMP threads (0: all cores); never changes a result
+  int threads = 0;           // [-] threads stepping the batch, the caller's included (0: all cores); never changes a result
 };
 /// Checks the fields; `prefix` names them in messages.
 void validate(const EpisodeBatchConfig& config, core::Errors& errors, const std::string& prefix);
@@ -137,6 +139,7 @@ class EpisodeBatch {
 
  private:
   struct Slot;
+  class Pool;
   void startEpisode(int i);
   void writeObservation(int i, BatchObservation& out);
   void writeInfo(int i, BatchInfo& out, BatchOutcome outcome);
@@ -147,6 +150,7 @@ class EpisodeBatch {
   std::vector<core::WorldSpec> worlds_;
   std::vector<sim::ObstacleField> fields_;
   std::vector<std::unique_ptr<Slot>> slots_;
+  std::unique_ptr<Pool> pool_;
   int beams_ = 0;
   std::pair<int, int> local_shape_{0, 0}, global_shape_{0, 0};
   std::uint64_t seed_ = 0;
@@ -157,11 +161,12 @@ class EpisodeBatch {
 /// EpisodeBatch with `config` (the same worlds, seeds, dt, max_steps and threads; no stack
 /// beside them) stepped `steps` times with `action` in every sub-environment, restarted as the
 /// batch restarts them, but bench::Episode alone: no observation arrays, rewards or infos.
-/// Returns the simulated seconds stepped and the wall seconds the stepping took (the episodes'
-/// construction included, the worlds' preparation not).
+/// Returns the simulated seconds stepped and the wall and process CPU seconds the stepping took
+/// (the episodes' construction included, the worlds' preparation not).
 struct BareRun {
   double simulated = 0.0;  // [s]
   double wall = 0.0;       // [s]
+  double cpu = 0.0;        // [s] of every thread of the process
 };
 BareRun runBareEpisodes(const std::vector<core::WorldSpec>& worlds, const EpisodeBatchConfig& config, std::uint64_t seed,
                        const core::Twist& action, long steps);

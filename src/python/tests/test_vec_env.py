@@ -17,7 +17,7 @@ def test_one_sub_environment_gives_the_same_episode_as_env():
     # Sub-environment 0's first episode after reset(seed=5) is Env's episode of the seed
     # VecEnv.episode_seed(5, 0, 0) on the same world, step for step: observations, rewards,
     # flags, and at the end the final observation and outcome.
-    plan = {}
+    plan = {"send_local_costmap": True}
     vec = barnbench.VecEnv(1, worlds=[17], dt=0.1, global_plan=plan)
     env = barnbench.Env(world=17, dt=0.1, global_plan=plan)
     obs_v, infos = vec.reset(seed=5)
@@ -31,6 +31,9 @@ def test_one_sub_environment_gives_the_same_episode_as_env():
         if "global_plan" in e:  # Env's observation at the end has none; VecEnv keeps the last plan
             assert np.array_equal(v["global_plan_end"][row], e["global_plan"][-1][:2])
             assert v["global_plan_stamp"][row] == e["global_plan_stamp"]
+        if "local_costmap" in e:
+            assert np.array_equal(v["local_costmap"][row], e["local_costmap"]["costs"])
+            assert np.array_equal(v["local_costmap_origin"][row], e["local_costmap"]["origin"])
 
     same(obs_v, obs_e)
     for step in range(2000):
