@@ -3,8 +3,18 @@
 // episode bit for bit), coloured by controller state or by trial; and the stack parameters a
 // controller set during an episode (from its trajectory file).
 
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "barn/core/errors.hpp"
+#include "barn/core/text_io.hpp"
+#include "barn/viz/line_plot.hpp"
 
 #include "barn/viz/image_format.hpp"
 #include "commands.hpp"
@@ -36,6 +46,78 @@ fs::path perWorldFile(const fs::path& output, int world_id) {
   return file;
 }
 
+// A CSV file with a header row: its columns by name (values as numbers; "nan" or an empty
+// cell is NaN, which breaks a line).
+std::map<std::string, std::vector<double>> readCsvColumns(const std::string& path, std::vector<std::string>& names) {
+  std::istringstream in(core::readTextFile(path));
+  std::string line;
+  const auto split = [](const std::string& text) {
+    std::vector<std::string> cells;
+    std::string cell;
+    std::istringstream row(text);
+    while (std::getline(row, cell, ',')) cells.push_back(cell);
+    if (!text.empty() && text.back() == ',') cells.emplace_back();
+    return cells;
+  };
+  if (!std::getline(in, line) || line.empty()) throw core::InputError(path + ": empty (expected a header row of column names)");
+  if (line.back() == '\r') line.pop_back();
+  names = split(line);
+  std::map<std::string, std::vector<double>> columns;
+  for (const std::string& name : names) columns[name];
+  int number = 1;
+  while (std::getline(in, line)) {
+    ++number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty()) continue;
+    const std::vector<std::string> cells = split(line);
+    if (cells.size() != names.size())
+      throw core::InputError(path + ":" + std::to_string(number) + ": " + std::to_string(cells.size()) + " cells, the header has " +
+                             std::to_string(names.size()));
+    for (std::size_t k = 0; k < cells.size(); ++k) {
+      char* end = nullptr;
+      const double value = cells[k].empty() ? std::nan("") : std::strtod(cells[k].c_str(), &end);
+      if (!cells[k].empty() && end != cells[k].c_str() + cells[k].size())
+        throw core::InputError(path + ":" + std::to_string(number) + ": column " + names[k] + ": '" + cells[k] +
+                               "' is not a number");
+      columns[names[k]].push_back(value);
+    }
+  }
+  return columns;
+}
+
+struct CurveOptions {
+  std::string csv;
+  std::string output;
+  std::string x = "steps";
+  std::vector<std::string> y;
+  std::string title;
+  std::string y_label;
+  double y_min = std::nan("");
+  double y_max = std::nan("");
+};
+
+void renderCurve(const CurveOptions& o) {
+  std::vector<std::string> names;
+  const auto columns = readCsvColumns(o.csv, names);
+  const auto column = [&](const std::string& name) -> const std::vector<double>& {
+    const auto it = columns.find(name);
+    if (it == columns.end()) {
+      std::string known;
+      for (const std::string& n : names) known += (known.empty() ? "" : ", ") + n;
+      throw core::InputError(o.csv + ": no column '" + name + "' (columns: " + known + ")");
+    }
+    return it->second;
+  };
+  viz::LinePlot plot;
+  plot.title = o.title.empty() ? std::filesystem::path(o.csv).filename().string() : o.title;
+  plot.x_label = o.x;
+  plot.y_label = o.y_label;
+  plot.y_min = o.y_min;
+  plot.y_max = o.y_max;
+  for (const std::string& name : o.y) plot.series.push_back({name, column(o.x), column(name), {}, {}, false});
+  viz::renderLinePlot(plot, o.output);
+}
+
 }  // namespace
 
 void addPlotCommand(CLI::App& app, CommandContext& /*context*/) {
@@ -57,6 +139,25 @@ void addPlotCommand(CLI::App& app, CommandContext& /*context*/) {
     viz::imageFormatFor(options->output);  // a bad extension is refused before any reading
     renderScoreBars(options->record, options->by, options->output);
     std::printf("wrote %s\n", options->output.c_str());
+  });
+
+  auto curve_options = std::make_shared<CurveOptions>();
+  CLI::App* curve = plot->add_subcommand(
+      "curve", "Columns of a CSV file (a header row of names, then numbers) against one of them, e.g. a learning "
+               "curve written by tools/train_e2e.py");
+  curve->add_option("csv", curve_options->csv, "CSV file")->required();
+  curve->add_option("-o,--output", curve_options->output, "Image to write; .png, .pdf or .svg (the extension chooses)")
+      ->required();
+  curve->add_option("--x", curve_options->x, "Column on the x axis")->capture_default_str();
+  curve->add_option("--y", curve_options->y, "Column(s) to draw, one line each")->required()->delimiter(',');
+  curve->add_option("--title", curve_options->title, "Title (default: the file's name)");
+  curve->add_option("--y-label", curve_options->y_label, "Label of the y axis");
+  curve->add_option("--y-min", curve_options->y_min, "Bottom of the y axis (default: automatic)");
+  curve->add_option("--y-max", curve_options->y_max, "Top of the y axis (default: automatic)");
+  curve->callback([curve_options] {
+    viz::imageFormatFor(curve_options->output);
+    renderCurve(*curve_options);
+    std::printf("wrote %s\n", curve_options->output.c_str());
   });
 
   CLI::App* trajectory = plot->add_subcommand(

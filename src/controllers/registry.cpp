@@ -5,6 +5,7 @@
 #include "barn/controllers/almeria_tps.hpp"
 #include "barn/controllers/applr_dwa.hpp"
 #include "barn/controllers/dwa.hpp"
+#include "barn/controllers/e2e.hpp"
 #include "barn/controllers/eband.hpp"
 #include "barn/controllers/external.hpp"
 #include "barn/controllers/global_plan_feed.hpp"
@@ -97,6 +98,9 @@ const std::vector<Entry>& entries() {
       entry<RrslVfhConfig, RrslVfhController>("rrsl_vfh"),
       entry<In2botConfig, In2botController>("in2bot"),
       entry<KulfmConfig, KulfmController>("kulfm"),
+      sharedEntry<E2eConfig, E2eController>(
+          "e2e", kPolicyPath,
+          [](const E2eConfig& c) { return std::make_shared<const learning::MlpPolicy>(learning::MlpPolicy::load(c.policy)); }),
       entry<MecoConfig, MecoController>("meco"),
       // The PTG's collision grid, built once.
       sharedEntry<AlmeriaTpsConfig, AlmeriaTpsController>(

@@ -20,17 +20,21 @@
 #include <unistd.h>
 
 #include "barn/bench/batch.hpp"
+#include "barn/bench/episode_batch.hpp"
 #include "barn/bench/progress.hpp"
 #include "barn/bench/episode.hpp"
 #include "barn/bench/record_session.hpp"
 #include "barn/bench/results_io.hpp"
 #include "barn/bench/run_record.hpp"
 #include "barn/bench/world_selection.hpp"
+#include "barn/controllers/e2e.hpp"
 #include "barn/controllers/external_protocol.hpp"
 #include "barn/controllers/global_plan_feed.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/core/text_io.hpp"
 #include "barn/core/world_file.hpp"
+#include "barn/learning/exploration.hpp"
+#include "barn/learning/mlp_policy.hpp"
 
 namespace py = pybind11;
 using namespace barn;
@@ -38,9 +42,23 @@ using namespace barn;
 namespace {
 
 // A world given as an id (looked up in `world_dir`) or as a world file.
+// An id reads its own file (world_007.yaml) when that file holds it, which costs a millisecond
+// where reading and checking the whole set costs some 0.2 s (every Env.reset makes an episode);
+// otherwise (another naming, a missing id) the set decides, with its messages.
 core::WorldSpec loadWorld(const py::object& world, const std::string& world_dir) {
   if (py::isinstance<py::int_>(world)) {
-    const bench::LoadedWorlds loaded = bench::loadWorlds(std::to_string(world.cast<int>()), world_dir);
+    const int id = world.cast<int>();
+    const std::filesystem::path file = std::filesystem::path(world_dir) / core::worldFileName(id);
+    std::error_code ec;
+    if (id >= 0 && std::filesystem::is_regular_file(file, ec)) {
+      try {
+        core::WorldSpec spec = core::readWorldFile(file);
+        if (spec.id == id) return spec;
+      } catch (const core::InputError&) {
+        // the set's reading reports it
+      }
+    }
+    const bench::LoadedWorlds loaded = bench::loadWorlds(std::to_string(id), world_dir);
     return loaded.worlds.front();
   }
   return core::readWorldFile(py::str(world).cast<std::string>());
@@ -362,6 +380,222 @@ class PyRecord {
   std::set<std::pair<int, int>> done_;   // (world, trial) appended since begin()
 };
 
+
+// N episodes stepped together (bench::EpisodeBatch) with numpy views onto its arrays: the
+// arrays live as long as the batch, and every step overwrites them in place.
+class PyEpisodeBatch {
+ public:
+  PyEpisodeBatch(const std::string& worlds_spec, const std::string& world_dir, const std::string& sim_config,
+                 const std::string& protocol, double success_radius, bench::EpisodeBatchConfig config,
+                 const std::string& global_plan) {
+    const bench::LoadedWorlds loaded = bench::loadWorlds(worlds_spec, world_dir);
+    config.episode = loadEpisodeConfig(sim_config, protocol);
+    if (success_radius > 0.0) {
+      config.episode.success_radius = success_radius;
+      core::Errors errors("success_radius");
+      bench::validate(config.episode, errors);
+      errors.throwIfAny();
+    }
+    config.global_plan = parseGlobalPlan(global_plan);
+    batch_ = std::make_unique<bench::EpisodeBatch>(loaded.worlds, config);
+  }
+
+  void reset(const std::optional<std::uint64_t>& seed) {
+    py::gil_scoped_release release;
+    if (seed) batch_->reset(*seed);
+    else if (batch_->started()) batch_->resetNext();
+    else batch_->reset(0);
+  }
+
+  void step(const py::array_t<double, py::array::c_style | py::array::forcecast>& actions) {
+    const py::ssize_t n = batch_->size();
+    if (actions.ndim() != 2 || actions.shape(0) != n || actions.shape(1) != 2)
+      throw core::InputError("actions: an array of shape (" + std::to_string(n) + ", 2) of (v, w) (got shape " +
+                             shapeText(actions) + ")");
+    const double* data = actions.data();
+    py::gil_scoped_release release;
+    batch_->step(data);
+  }
+
+  // Views onto the arrays (valid after the first reset; the same memory for the batch's life).
+  py::dict arrays(const py::object& self) {
+    if (!batch_->started()) throw core::InputError("reset the batch first");
+    py::dict d;
+    d["observation"] = observationViews(batch_->observation, self);
+    d["final_observation"] = observationViews(batch_->final_observation, self);
+    d["info"] = infoViews(batch_->info, self);
+    d["final_info"] = infoViews(batch_->final_info, self);
+    d["reward"] = view(batch_->reward, {n()}, self);
+    d["terminated"] = boolView(batch_->terminated, self);
+    d["truncated"] = boolView(batch_->truncated, self);
+    d["ended"] = boolView(batch_->ended, self);
+    return d;
+  }
+
+  int size() const { return batch_->size(); }
+  int beams() const { return batch_->beams(); }
+  std::vector<int> worldIds() const {
+    std::vector<int> ids;
+    for (const auto& w : batch_->worlds()) ids.push_back(w.id);
+    return ids;
+  }
+  py::dict facts() const {
+    const bench::EpisodeConfig& e = batch_->config().episode;
+    py::dict d;
+    d["beams"] = e.lidar.beams;
+    d["max_linear_speed"] = e.robot.max_linear_speed;
+    d["max_angular_speed"] = e.robot.max_angular_speed;
+    d["success_radius"] = e.success_radius;
+    d["local_costmap_shape"] = py::make_tuple(batch_->localCostmapShape().first, batch_->localCostmapShape().second);
+    d["global_costmap_shape"] = py::make_tuple(batch_->globalCostmapShape().first, batch_->globalCostmapShape().second);
+    return d;
+  }
+
+ private:
+  py::ssize_t n() const { return batch_->size(); }
+  static std::string shapeText(const py::array& a) {
+    std::string text = "(";
+    for (py::ssize_t k = 0; k < a.ndim(); ++k) text += (k ? ", " : "") + std::to_string(a.shape(k));
+    return text + (a.ndim() == 1 ? ",)" : ")");
+  }
+  template <class T>
+  static py::array view(std::vector<T>& data, std::vector<py::ssize_t> shape, const py::object& self) {
+    return py::array_t<T>(shape, data.data(), self);
+  }
+  static py::array boolView(std::vector<std::uint8_t>& data, const py::object& self) {
+    return py::array(py::dtype("bool"), {static_cast<py::ssize_t>(data.size())}, {py::ssize_t{1}}, data.data(), self);
+  }
+  py::dict observationViews(bench::BatchObservation& o, const py::object& self) {
+    py::dict d;
+    d["scan"] = view(o.scan, {n(), batch_->beams()}, self);
+    d["pose"] = view(o.pose, {n(), 3}, self);
+    d["scan_pose"] = view(o.scan_pose, {n(), 3}, self);
+    d["twist"] = view(o.twist, {n(), 2}, self);
+    d["goal"] = view(o.goal, {n(), 2}, self);
+    d["time"] = view(o.time, {n()}, self);
+    if (batch_->config().global_plan) {
+      d["global_plan_end"] = view(o.plan_end, {n(), 2}, self);
+      d["global_plan_stamp"] = view(o.plan_stamp, {n()}, self);
+      if (batch_->config().plan_points > 0) d["global_plan"] = view(o.plan, {n(), batch_->config().plan_points, 3}, self);
+      const auto [lh, lw] = batch_->localCostmapShape();
+      if (lh > 0) {
+        d["local_costmap"] = view(o.local_costmap, {n(), lh, lw}, self);
+        d["local_costmap_origin"] = view(o.local_costmap_origin, {n(), 2}, self);
+      }
+      const auto [gh, gw] = batch_->globalCostmapShape();
+      if (gh > 0) {
+        d["global_costmap"] = view(o.global_costmap, {n(), gh, gw}, self);
+        d["global_costmap_origin"] = view(o.global_costmap_origin, {n(), 2}, self);
+      }
+    }
+    return d;
+  }
+  py::dict infoViews(bench::BatchInfo& info, const py::object& self) {
+    py::dict d;
+    d["outcome"] = view(info.outcome, {n()}, self);
+    d["score"] = view(info.score, {n()}, self);
+    d["actual_time"] = view(info.actual_time, {n()}, self);
+    d["world"] = view(info.world, {n()}, self);
+    d["seed"] = view(info.seed, {n()}, self);
+    d["length"] = view(info.length, {n()}, self);
+    d["episode_return"] = view(info.episode_return, {n()}, self);
+    return d;
+  }
+
+  std::unique_ptr<bench::EpisodeBatch> batch_;
+};
+
+// The End-to-End encoding from a dict of E2eEncoding's keys (missing keys: the defaults).
+controllers::E2eEncoding e2eEncoding(const py::dict& d) {
+  controllers::E2eEncoding e;
+  for (const auto& [key, value] : d) {
+    const std::string k = py::str(key);
+    if (k == "frames") e.frames = value.cast<int>();
+    else if (k == "range_clip") e.range_clip = value.cast<double>();
+    else if (k == "goal_scale") e.goal_scale = value.cast<double>();
+    else if (k == "min_v") e.min_v = value.cast<double>();
+    else if (k == "max_v") e.max_v = value.cast<double>();
+    else if (k == "min_w") e.min_w = value.cast<double>();
+    else if (k == "max_w") e.max_w = value.cast<double>();
+    else throw core::InputError("encoding: unknown key '" + k + "'");
+  }
+  core::Errors errors;
+  controllers::validate(e, errors, "encoding");
+  errors.throwIfAny();
+  return e;
+}
+
+// One e2e frame per row: scans (N x beams), odometry poses (N x 3), plan ends in the odom frame
+// (N x 2), previous actions (N x 2) -> N x (beams + 4) float32, exactly as the e2e controller
+// encodes a tick.
+py::array_t<float> e2eFrames(const py::array_t<float, py::array::c_style | py::array::forcecast>& scans,
+                             const py::array_t<double, py::array::c_style | py::array::forcecast>& poses,
+                             const py::array_t<double, py::array::c_style | py::array::forcecast>& plan_ends,
+                             const py::array_t<double, py::array::c_style | py::array::forcecast>& actions,
+                             const py::dict& encoding) {
+  const controllers::E2eEncoding e = e2eEncoding(encoding);
+  if (scans.ndim() != 2) throw core::InputError("scans: an array of shape (N, beams)");
+  const py::ssize_t n = scans.shape(0), beams = scans.shape(1);
+  const auto check = [&](const py::array& a, py::ssize_t cols, const char* name) {
+    if (a.ndim() != 2 || a.shape(0) != n || a.shape(1) != cols)
+      throw core::InputError(std::string(name) + ": an array of shape (" + std::to_string(n) + ", " +
+                             std::to_string(cols) + ")");
+  };
+  check(poses, 3, "poses");
+  check(plan_ends, 2, "plan_ends");
+  check(actions, 2, "actions");
+  const py::ssize_t size = controllers::e2eFrameSize(static_cast<int>(beams));
+  py::array_t<float> out({n, size});
+  float* o = out.mutable_data();
+  const float* s = scans.data();
+  const double* p = poses.data();
+  const double* g = plan_ends.data();
+  const double* a = actions.data();
+  for (py::ssize_t i = 0; i < n; ++i) {
+    const core::Pose2 pose{p[3 * i], p[3 * i + 1], p[3 * i + 2]};
+    controllers::encodeE2eFrame(s + i * beams, static_cast<int>(beams), pose.inverseTransform({g[2 * i], g[2 * i + 1]}),
+                                core::Twist{a[2 * i], a[2 * i + 1]}, e, o + i * size);
+  }
+  return out;
+}
+
+// An MLP policy file for Python: written from a list of (weight, bias) numpy arrays (weight
+// out x in, as torch's nn.Linear holds it) and read back for inference.
+void writeMlpPolicy(const std::string& path, const std::vector<std::pair<py::array_t<float, py::array::c_style | py::array::forcecast>,
+                                                              py::array_t<float, py::array::c_style | py::array::forcecast>>>& layers,
+                    const py::dict& header) {
+  learning::MlpPolicyInfo info;
+  std::vector<learning::MlpLayer> out;
+  for (const auto& [w, b] : layers) {
+    if (w.ndim() != 2 || b.ndim() != 1) throw core::InputError("layers: (weight (out, in), bias (out,)) pairs");
+    learning::MlpLayer layer;
+    // Row-major (out, in) into Eigen's column-major out x in.
+    layer.weight = Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+        w.data(), w.shape(0), w.shape(1));
+    layer.bias = Eigen::Map<const Eigen::VectorXf>(b.data(), b.shape(0));
+    if (info.layers.empty()) info.layers.push_back(static_cast<int>(w.shape(1)));
+    info.layers.push_back(static_cast<int>(w.shape(0)));
+    out.push_back(std::move(layer));
+  }
+  for (const auto& [key, value] : header) {
+    const std::string k = py::str(key);
+    if (k == "output") info.output = value.cast<std::string>() == "tanh" ? learning::MlpOutput::Tanh : learning::MlpOutput::Linear;
+    else if (k == "output_low") info.output_low = value.cast<std::vector<double>>();
+    else if (k == "output_high") info.output_high = value.cast<std::vector<double>>();
+    else if (k == "input") info.input = value.cast<std::string>();
+    else if (k == "output_text") info.output_text = value.cast<std::string>();
+    else if (k == "dtype") info.half = value.cast<std::string>() == "float16";
+    else if (k == "name") info.name = value.cast<std::string>();
+    else if (k == "config_hash") info.config_hash = value.cast<std::uint64_t>();
+    else if (k == "plant_hash") info.plant_hash = value.cast<std::uint64_t>();
+    else if (k == "trained") info.trained = value.cast<std::string>();
+    else if (k == "seed") info.seed = value.cast<std::uint64_t>();
+    else if (k == "steps") info.steps = value.cast<long long>();
+    else throw core::InputError("header: unknown key '" + k + "'");
+  }
+  learning::writeMlpPolicyFile(path, info, out);
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_core, m) {
@@ -441,5 +675,85 @@ PYBIND11_MODULE(_core, m) {
   m.def("merge", [](const std::vector<std::string>& shards, const std::string& out) {
         bench::mergeShardRecords(std::vector<std::filesystem::path>(shards.begin(), shards.end()), out);
       }, py::arg("shards"), py::arg("out"), "Merges the shard records of one run into `out`, as barn merge does");
+  py::class_<PyEpisodeBatch>(m, "EpisodeBatch")
+      .def(py::init([](const std::string& worlds, const std::string& world_dir, const std::string& sim_config,
+                       const std::string& protocol, int num_envs, double dt, long max_steps, const py::dict& reward,
+                       double success_radius, const std::string& global_plan, int plan_points, double plan_spacing,
+                       int threads) {
+             bench::EpisodeBatchConfig c;
+             c.num_envs = num_envs;
+             c.dt = dt;
+             c.max_steps = max_steps;
+             c.plan_points = plan_points;
+             c.plan_spacing = plan_spacing;
+             c.threads = threads;
+             for (const auto& [key, value] : reward) {
+               const std::string k = py::str(key);
+               double* field = k == "progress" ? &c.reward.progress : k == "step" ? &c.reward.step
+                             : k == "success" ? &c.reward.success : k == "collision" ? &c.reward.collision
+                             : k == "timeout" ? &c.reward.timeout : nullptr;
+               if (!field) throw core::InputError("reward: unknown key '" + k + "' (progress, step, success, collision, timeout)");
+               *field = value.cast<double>();
+             }
+             return std::make_unique<PyEpisodeBatch>(worlds, world_dir, sim_config, protocol, success_radius, c, global_plan);
+           }),
+           py::arg("worlds"), py::arg("world_dir"), py::arg("sim_config"), py::arg("protocol"), py::arg("num_envs"),
+           py::arg("dt"), py::arg("max_steps") = 0, py::arg("reward") = py::dict(), py::arg("success_radius") = 0.0,
+           py::arg("global_plan") = "", py::arg("plan_points") = 0, py::arg("plan_spacing") = 0.25, py::arg("threads") = 0)
+      .def("reset", &PyEpisodeBatch::reset, py::arg("seed") = py::none())
+      .def("step", &PyEpisodeBatch::step, py::arg("actions"))
+      .def("arrays", [](py::object self) { return self.cast<PyEpisodeBatch&>().arrays(self); })
+      .def("facts", &PyEpisodeBatch::facts)
+      .def_property_readonly("size", &PyEpisodeBatch::size)
+      .def_property_readonly("beams", &PyEpisodeBatch::beams)
+      .def_property_readonly("world_ids", &PyEpisodeBatch::worldIds);
+  m.def("run_bare_episodes",
+        [](const std::string& worlds, const std::string& world_dir, const std::string& sim_config,
+           const std::string& protocol, int num_envs, double dt, long max_steps, int threads, std::uint64_t seed,
+           double v, double w, long steps) {
+          bench::EpisodeBatchConfig c;
+          c.num_envs = num_envs;
+          c.dt = dt;
+          c.max_steps = max_steps;
+          c.threads = threads;
+          c.episode = loadEpisodeConfig(sim_config, protocol);
+          const bench::LoadedWorlds loaded = bench::loadWorlds(worlds, world_dir);
+          bench::BareRun run;
+          {
+            py::gil_scoped_release release;
+            run = bench::runBareEpisodes(loaded.worlds, c, seed, core::Twist{v, w}, steps);
+          }
+          return py::make_tuple(run.simulated, run.wall, run.cpu);
+        },
+        py::arg("worlds"), py::arg("world_dir"), py::arg("sim_config"), py::arg("protocol"), py::arg("num_envs"),
+        py::arg("dt"), py::arg("max_steps"), py::arg("threads"), py::arg("seed"), py::arg("v"), py::arg("w"),
+        py::arg("steps"), "VecEnv's episodes stepped by bench::Episode alone (the benchmark's reference): (simulated s, wall s, process CPU s)");
+  m.def("vec_episode_seed", &bench::episodeSeedOf, py::arg("seed"), py::arg("index"), py::arg("count"),
+        "The episode seed of a VecEnv sub-environment's episode `count` after reset(seed)");
+  m.def("vec_world_index", &bench::worldIndexOf, py::arg("seed"), py::arg("index"), py::arg("count"), py::arg("worlds"),
+        "The index into the world list of that episode's world");
+  m.def("plant_hash", [](const std::string& sim_config) {
+        const bench::EpisodeConfig c = loadEpisodeConfig(sim_config, "");
+        return learning::plantHash(c.robot, c.physics);
+      }, py::arg("sim_config"), "learning::plantHash of a sim config's robot and physics (what a policy trained on it records)");
+  m.def("e2e_frames", &e2eFrames, py::arg("scans"), py::arg("poses"), py::arg("plan_ends"), py::arg("actions"),
+        py::arg("encoding") = py::dict(), "The e2e controller's frame for each row, as it encodes a tick");
+  m.def("e2e_input_text", [](const py::dict& encoding) { return controllers::e2eInputText(e2eEncoding(encoding)); },
+        py::arg("encoding") = py::dict(), "The input text of an e2e actor trained on this encoding");
+  m.def("write_mlp_policy", &writeMlpPolicy, py::arg("path"), py::arg("layers"), py::arg("header"),
+        "Writes an MLP policy file (barnbench-mlp-policy) from (weight, bias) pairs");
+  py::class_<learning::MlpPolicy>(m, "MlpPolicy")
+      .def_static("load", [](const std::string& path) { return learning::MlpPolicy::load(path); }, py::arg("path"))
+      .def("forward", [](const learning::MlpPolicy& p, const py::array_t<float, py::array::c_style | py::array::forcecast>& x) {
+             if (x.ndim() != 1 || x.shape(0) != p.inputs())
+               throw core::InputError("input: a vector of " + std::to_string(p.inputs()) + " floats");
+             const Eigen::VectorXd y = p.forward(x.data());
+             return std::vector<double>(y.data(), y.data() + y.size());
+           }, py::arg("x"))
+      .def_property_readonly("inputs", &learning::MlpPolicy::inputs)
+      .def_property_readonly("outputs", &learning::MlpPolicy::outputs)
+      .def_property_readonly("input_text", [](const learning::MlpPolicy& p) { return p.info().input; })
+      .def_property_readonly("steps", [](const learning::MlpPolicy& p) { return p.info().steps; })
+      .def_property_readonly("dtype", [](const learning::MlpPolicy& p) { return p.info().half ? "float16" : "float32"; });
   m.attr("SOURCE_DIR") = BARN_SOURCE_DIR;
 }

@@ -104,6 +104,24 @@ TEST_F(BarnPlot, TrajectoryColouringIsStateOrTrial) {
   EXPECT_THAT(r.output, HasSubstr("rainbow"));
 }
 
+TEST_F(BarnPlot, ACurveDrawsNamedColumnsOfACsvAndNamesAMissingOne) {
+  const fs::path csv = *dir_ / "curve.csv";
+  writeFile(csv, "steps,success,collision\n4096,0.1,0.9\n8192,0.2,nan\n12288,0.35,0.6\n");
+  const fs::path png = *dir_ / "curve.png";
+  RunResult r = run("plot curve " + quote(csv) + " --y success,collision --y-max 1 -o " + quote(png));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(magic(png), "png");
+  EXPECT_GT(fs::file_size(png), 3000u);
+  r = run("plot curve " + quote(csv) + " --y timeout -o " + quote(*dir_ / "none.png"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("no column 'timeout' (columns: steps, success, collision)"));
+  EXPECT_FALSE(fs::exists(*dir_ / "none.png"));
+  writeFile(csv, "steps,success\n1,x\n");
+  r = run("plot curve " + quote(csv) + " --y success -o " + quote(*dir_ / "bad.png"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr(":2: column success: 'x' is not a number"));
+}
+
 TEST_F(BarnPlot, WorldRenderWritesVectorFormats) {
   for (const std::string extension : {"pdf", "svg"}) {
     const fs::path out = *dir_ / ("world." + extension);

@@ -44,7 +44,7 @@ import numpy as np
 from . import _core
 from ._core import InputError, IoError
 
-__all__ = ["Env", "run", "merge", "default_reward", "default_protocol", "InputError", "IoError"]
+__all__ = ["Env", "VecEnv", "run", "merge", "default_reward", "default_protocol", "InputError", "IoError"]
 
 _SOURCE_DIR = _core.SOURCE_DIR
 _DEFAULT_SIM_CONFIG = os.path.join(_SOURCE_DIR, "configs", "sim", "barn.yaml")
@@ -170,6 +170,137 @@ class Env:
         terminated = info["outcome"] in ("success", "collision", "error")
         truncated = info["outcome"] == "timeout"
         return obs, reward, terminated, truncated, info
+
+
+_OUTCOMES = np.array(["running", "success", "collision", "timeout", "error"])
+
+
+def _worlds_spec(worlds):
+    """A --worlds spec from a spec string or a list of world ids."""
+    if isinstance(worlds, str):
+        return worlds
+    try:
+        ids = [int(w) for w in worlds]
+    except (TypeError, ValueError):
+        raise InputError(f"worlds: a spec (all, test50, A:B[:STEP], 3,7,9, a folder) or a list of ids (got {worlds!r})")
+    if not ids or any(isinstance(w, bool) or w < 0 for w in worlds):
+        raise InputError("worlds: a non-empty list of world ids >= 0")
+    return ",".join(str(w) for w in ids)
+
+
+class VecEnv:
+    """`num_envs` BARN episodes stepped together in C++ threads, as a Gymnasium-style vector
+    environment (docs/rl.md): reset(seed=) -> (obs, infos); step(actions) -> (obs, rewards,
+    terminations, truncations, infos), every value a numpy array with one row per
+    sub-environment.
+
+    `worlds`: a --worlds spec ("all", "test50", "A:B[:STEP]", "3,7,9", a folder) or a list of
+    world ids (in `world_dir`, default the repository's worlds/); each episode's world is drawn
+    uniformly from it by a seeded sampler. Sub-environment i's k-th episode after reset(seed=S)
+    has the seed VecEnv.episode_seed(S, i, k) and its world from (S, i, k) too, so the batches do
+    not depend on `threads` (0: all cores). `dt` [s] is the action repeat; `max_steps` truncates
+    an episode after that many steps (None: the protocol's 100 s only); `success_radius` [m]
+    overrides the protocol's 1 m; `reward` a dict of the reward terms (progress, step,
+    success, collision, timeout; default Env's default_reward: 1, 0, 10, -10, 0); `global_plan`
+    a dict of the global_plan block's keys (docs/controllers.md) to run move_base's stack beside
+    every episode: then obs holds "global_plan_end" (the plan's last x, y; the goal until a plan
+    is found), "global_plan_stamp", with `plan_points` > 0 "global_plan" (points x 3: x, y, yaw
+    every `plan_spacing` m along the plan), and the costmaps the block asks for. Observations
+    are Env's keys with a leading axis. An episode that ends is reset at once: obs holds the new
+    episode's first observation, infos["final_observation"] (rows where
+    infos["_final_observation"] is set) the ended one's last, and infos["final_info"] its
+    outcome, score, world, seed, length and return. With copy=False the arrays are views onto
+    the C++ batch's memory (no copy), overwritten by the next step or reset."""
+
+    def __init__(self, num_envs, worlds="all", world_dir=None, protocol=None, sim_config=None, dt=0.05,
+                 max_steps=None, success_radius=None, reward=None, global_plan=None, plan_points=0, plan_spacing=0.25,
+                 threads=0, copy=True):
+        if isinstance(num_envs, bool) or not isinstance(num_envs, int) or num_envs < 1:
+            raise InputError(f"num_envs: an integer >= 1 (got {num_envs!r})")
+        if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0):
+            raise InputError(f"dt: must be a positive number of seconds (got {dt!r})")
+        if max_steps is not None and (isinstance(max_steps, bool) or not isinstance(max_steps, int) or max_steps < 1):
+            raise InputError(f"max_steps: None or an integer >= 1 (got {max_steps!r})")
+        if success_radius is not None and not (isinstance(success_radius, (int, float)) and success_radius > 0):
+            raise InputError(f"success_radius: None or a positive number of metres (got {success_radius!r})")
+        if reward is not None and not isinstance(reward, dict):
+            raise InputError(f"reward: a dict of reward terms (got {type(reward).__name__})")
+        if isinstance(threads, bool) or not isinstance(threads, int) or threads < 0:
+            raise InputError(f"threads: an integer >= 0, 0 for all cores (got {threads!r})")
+        if isinstance(plan_points, bool) or not isinstance(plan_points, int) or plan_points < 0:
+            raise InputError(f"plan_points: an integer >= 0 (got {plan_points!r})")
+        self.num_envs = num_envs
+        self.dt = float(dt)
+        self.copy = bool(copy)
+        self.protocol = _protocol(protocol)
+        self._batch = _core.EpisodeBatch(_worlds_spec(worlds), world_dir or _DEFAULT_WORLD_DIR,
+                                         sim_config or _DEFAULT_SIM_CONFIG, self.protocol, num_envs, self.dt,
+                                         max_steps or 0, reward or {}, float(success_radius or 0.0),
+                                         _global_plan_text(global_plan), plan_points, float(plan_spacing), threads)
+        self.world_ids = list(self._batch.world_ids)
+        self._views = None
+        facts = self._batch.facts()
+        self.single_action_high = np.array([facts["max_linear_speed"], facts["max_angular_speed"]])
+        if _gym is not None:
+            self.single_action_space = _gym.spaces.Box(-self.single_action_high, self.single_action_high,
+                                                       dtype=np.float64)
+            self.action_space = _gym.spaces.Box(np.tile(-self.single_action_high, (num_envs, 1)),
+                                                np.tile(self.single_action_high, (num_envs, 1)), dtype=np.float64)
+
+    @staticmethod
+    def episode_seed(seed, index, count):
+        """The seed of sub-environment `index`'s episode `count` (0, 1, ...) after reset(seed=seed):
+        Env(world=...).reset(seed=VecEnv.episode_seed(...)) replays it."""
+        return _core.vec_episode_seed(_seed(seed), index, count)
+
+    def reset(self, seed=None, options=None):
+        """Starts every sub-environment's next episode (episode 0 of `seed`'s streams when a seed is
+        given). Returns (obs, infos)."""
+        del options
+        self._batch.reset(None if seed is None else _seed(seed))
+        if self._views is None:
+            self._views = self._batch.arrays()
+        return self._out(self._views["observation"]), self._infos(False)
+
+    def step(self, actions):
+        """Applies actions[i] = (v, w) to sub-environment i for dt seconds."""
+        if self._views is None:
+            raise RuntimeError("call reset() before step()")
+        actions = np.asarray(actions, dtype=np.float64)
+        if actions.shape != (self.num_envs, 2):
+            raise InputError(f"actions: shape ({self.num_envs}, 2) of (v, w) (got {actions.shape})")
+        self._batch.step(actions)
+        v = self._views
+        return (self._out(v["observation"]), self._out(v["reward"]), self._out(v["terminated"]),
+                self._out(v["truncated"]), self._infos(True))
+
+    def close(self):
+        self._batch = None
+        self._views = None
+
+    def _out(self, value):
+        if isinstance(value, dict):
+            return {k: (a.copy() if self.copy else a) for k, a in value.items()}
+        return value.copy() if self.copy else value
+
+    def _infos(self, stepped):
+        v = self._views
+        info = v["info"]
+        infos = {"world": self._out(info["world"]), "seed": self._out(info["seed"]),
+                 "length": self._out(info["length"])}
+        if stepped:
+            ended = v["ended"]
+            infos["_final_observation"] = ended.copy()
+            infos["_final_info"] = ended.copy()
+            if ended.any():
+                infos["final_observation"] = self._out(v["final_observation"])
+                final = v["final_info"]
+                infos["final_info"] = {"outcome": _OUTCOMES[final["outcome"]], "score": self._out(final["score"]),
+                                       "actual_time": self._out(final["actual_time"]),
+                                       "world": self._out(final["world"]), "seed": self._out(final["seed"]),
+                                       "length": self._out(final["length"]),
+                                       "episode_return": self._out(final["episode_return"])}
+        return infos
 
 
 def _goal_distance(obs):
