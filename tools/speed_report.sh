@@ -8,6 +8,8 @@
 #
 #   tools/speed_report.sh [--against OTHER_BUILD_DIR] [BUILD_DIR] [WORLDS] [REPEATS] [SCALING_WORLDS]
 #   defaults: build, 0:300:10 (30 worlds spread over the difficulty range), 3, 0:300:3 (100)
+#   SCALING_WORLDS "none" skips the --jobs scaling; CONTROLLERS="a b c" (environment) measures
+#   those controllers instead of the main six (pure_pursuit is always measured, as the reference)
 #
 # --against: also runs each controller on another build (e.g. of the previous commit) right
 # before this one's, --jobs 1, and reports the median of the paired ratios: the way to tell
@@ -27,7 +29,9 @@ build="${1:-$here/build}"
 worlds="${2:-0:300:10}"
 repeats="${3:-3}"
 scaling_worlds="${4:-0:300:3}"
-controllers=(pure_pursuit inventec_fi inventec_mpc lflh dwa eband)
+read -r -a controllers <<<"${CONTROLLERS:-inventec_fi inventec_mpc lflh dwa eband}"
+controllers=(pure_pursuit "${controllers[@]/pure_pursuit/}")
+controllers=($(printf '%s\n' "${controllers[@]}" | grep .))
 cd "$here"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
@@ -40,7 +44,7 @@ measure() {  # controller jobs [build] [worlds]
   rm -rf "$out"
 }
 
-median() { sort -g | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
+median() { sort -g | awk '{v[NR] = $1} END {if (NR == 0) exit; print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
 
 declare -A rate ratio scaling paired
 for c in "${controllers[@]}"; do rate[$c]=""; ratio[$c]=""; scaling[$c]=""; paired[$c]=""; done
@@ -56,6 +60,7 @@ for ((r = 1; r <= repeats; ++r)); do
   done
 done
 for ((r = 1; r <= repeats; ++r)); do
+  [[ "$scaling_worlds" == "none" ]] && break
   for c in "${controllers[@]}"; do
     read -r _ wall1 < <(measure "$c" 1 "$build" "$scaling_worlds")
     read -r _ wall2 < <(measure "$c" 2 "$build" "$scaling_worlds")
@@ -72,8 +77,10 @@ echo
 for c in "${controllers[@]}"; do
   m=$(tr ' ' '\n' <<<"${rate[$c]}" | grep . | median)
   q=$(tr ' ' '\n' <<<"${ratio[$c]}" | grep . | median)
-  s=$(tr ' ' '\n' <<<"${scaling[$c]}" | grep . | median)
-  printf "%-14s %18s %16s %14s" "$c" "$m" "$(awk -v q="$q" 'BEGIN {printf "%.3f", q}')" "$(awk -v s="$s" 'BEGIN {printf "%.2f", s}')"
+  s=$(tr ' ' '\n' <<<"${scaling[$c]}" | { grep . || true; } | median)
+  sc="-"
+  [[ -n "$s" ]] && sc=$(awk -v s="$s" 'BEGIN {printf "%.2f", s}')
+  printf "%-14s %18s %16s %14s" "$c" "$m" "$(awk -v q="$q" 'BEGIN {printf "%.3f", q}')" "$sc"
   if [[ -n "$against" ]]; then
     p=$(tr ' ' '\n' <<<"${paired[$c]}" | grep . | median)
     printf " %14s" "$(awk -v p="$p" 'BEGIN {printf "%.2f", p}')"

@@ -53,4 +53,6 @@ if __name__ == "__main__":
 
     worlds = sys.argv[1] if len(sys.argv) > 1 else "0:300:30"
     out = sys.argv[2] if len(sys.argv) > 2 else "results/carrot_python"
-    print(barnbench.run(CarrotPlanner, worlds=worlds, jobs=2, out=out, global_plan={}))
+    summary = barnbench.run(CarrotPlanner, worlds=worlds, jobs=2, out=out, global_plan={})["summary"]
+    print(f"score {summary['score']:.4f}, success {summary['success_rate']:.3f}, "
+          f"collision {summary['collision_rate']:.3f}, timeout {summary['timeout_rate']:.3f}: {out}")

@@ -36,5 +36,6 @@ if __name__ == "__main__":
 
     worlds = sys.argv[1] if len(sys.argv) > 1 else "0:300:30"
     out = sys.argv[2] if len(sys.argv) > 2 else "results/gap_python"
-    summary = barnbench.run(GapFollowerController, worlds=worlds, trials=1, jobs=2, out=out)
-    print(summary)
+    summary = barnbench.run(GapFollowerController, worlds=worlds, trials=1, jobs=2, out=out)["summary"]
+    print(f"score {summary['score']:.4f}, success {summary['success_rate']:.3f}, "
+          f"collision {summary['collision_rate']:.3f}, timeout {summary['timeout_rate']:.3f}: {out}")
