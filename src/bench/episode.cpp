@@ -10,25 +10,9 @@
 
 namespace barn::bench {
 
-std::string_view toString(Outcome outcome) {
-  switch (outcome) {
-    case Outcome::Success: return "success";
-    case Outcome::Collision: return "collision";
-    case Outcome::Timeout: return "timeout";
-    case Outcome::Error: return "error";
-  }
-  return "unknown";
-}
-
 namespace {
 
-// Number of physics steps in `period`, if it is a whole number of steps.
-std::optional<long> stepsIn(double period, double dt) {
-  const double steps = period / dt;
-  const long rounded = std::lround(steps);
-  if (rounded < 1 || std::abs(steps - static_cast<double>(rounded)) > 1e-6) return std::nullopt;
-  return rounded;
-}
+std::optional<long> stepsIn(double period, double dt) { return wholeStepsIn(period, dt); }
 
 // Counts a state entry when the controller's label changes; the error if the label breaks
 // a bound (kMaxStateLabelBytes, kMaxStateLabels), else "".
@@ -133,6 +117,7 @@ Episode::Episode(const core::WorldSpec& world, const sim::ObstacleField& field, 
       config_(config),
       simulator_(field, config.robot, config.physics, core::Pose2{protocol_.start_x, protocol_.start_y, protocol_.start_yaw},
                  core::mixSeed(seed, 5)),
+      monitor_(protocol_, simulator_.dt()),
       lidar_(config.lidar, field),
       scan_seed_(core::mixSeed(seed, 1)),
       odometry_noise_(core::mixSeed(seed, 3)) {
@@ -155,9 +140,7 @@ Episode::Episode(const core::WorldSpec& world, const sim::ObstacleField& field, 
 
   const double dt = simulator_.dt();
   scan_steps_ = *stepsIn(1.0 / config.lidar.rate, dt);
-  check_steps_ = *stepsIn(protocol_.check_period, dt);
   control_steps_ = *stepsIn(controller_period, dt);
-  max_steps_ = std::lround((protocol_.timeout + 1.0) / dt);
   latency_steps_ = std::lround(config.latency.command / dt);
   previous_position_ = start_.position();
   takeScan();
@@ -225,57 +208,27 @@ void Episode::step(const core::Twist& command, std::string_view state) {
   if (latency_steps_ == 0) simulator_.command(command);
   else in_flight_.emplace_back(step_ + latency_steps_, command);
   const double dt = simulator_.dt();
-  // Physics steps up to the next control tick, the protocol applied after each.
+  // Physics steps up to the next control tick: the commands due, a step, the odometry and
+  // path length, then the benchmark's rules (ProtocolMonitor).
   for (;;) {
     while (!in_flight_.empty() && in_flight_.front().first <= step_) {
       simulator_.command(in_flight_.front().second);
       in_flight_.pop_front();
     }
     simulator_.step();
-    const long step = step_++;
+    ++step_;
     const core::Pose2 pose = simulator_.pose();
     if (drifting_) drifting_->update(pose, dt);
     result_.path_length += (pose.position() - previous_position_).norm();
     previous_position_ = pose.position();
 
-    if (simulator_.collision()) {
-      result_.outcome = Outcome::Collision;
-      result_.collision = simulator_.collision();
-      result_.actual_time = timer_start_step_ ? simulator_.time() - static_cast<double>(*timer_start_step_) * dt : 0.0;
+    if (const std::optional<Outcome> outcome =
+            monitor_.afterPhysicsStep(simulator_.time(), pose.position(), simulator_.collision().has_value())) {
+      result_.outcome = *outcome;
+      result_.actual_time = monitor_.actualTime();
+      if (*outcome == Outcome::Collision) result_.collision = simulator_.collision();
       done_ = true;
       return;
-    }
-    if (!timer_start_step_) {
-      if ((pose.position() - start_.position()).norm() >= protocol_.start_distance) {
-        timer_start_step_ = step + 1;
-      } else if (simulator_.time() >= protocol_.timeout) {
-        result_.outcome = Outcome::Timeout;  // never left the start
-        result_.actual_time = protocol_.timeout;
-        done_ = true;
-        return;
-      }
-    } else if (const long since_start = step + 1 - *timer_start_step_; since_start % check_steps_ == 0) {
-      // Whole checks since the timer started, so AT is a multiple of the check period; divided
-      // by the checks per second (10) so that 189 checks print as 18.9, not 18.900000000000002.
-      const double checks = static_cast<double>(since_start / check_steps_);
-      const double per_second = std::round(1.0 / protocol_.check_period);
-      const double elapsed = std::abs(per_second * protocol_.check_period - 1.0) < 1e-12 ? checks / per_second
-                                                                                       : checks * protocol_.check_period;
-      if (elapsed >= protocol_.timeout - 1e-9) {
-        result_.outcome = Outcome::Timeout;
-        result_.actual_time = elapsed;
-        done_ = true;
-      } else if ((pose.position() - goal_world_).norm() <= protocol_.success_radius) {
-        result_.outcome = Outcome::Success;
-        result_.actual_time = elapsed;
-        done_ = true;
-      }
-      if (since_start > max_steps_) {  // cannot happen with the rules above; a guard against a hang
-        result_.outcome = Outcome::Timeout;
-        result_.actual_time = elapsed;
-        done_ = true;
-      }
-      if (done_) return;
     }
     if (step_ % scan_steps_ == 0) takeScan();
     if (step_ % control_steps_ == 0) {

@@ -346,21 +346,11 @@ bool ElasticBand::addFrames(const std::vector<core::Pose2>& poses, bool at_front
 // ---------------------------------------------------------------------------------------------
 // EbandController (EBandPlannerROS + EBandTrajectoryCtrl on move_base)
 
-namespace {
-
-double circumscribedRadius(const std::vector<Eigen::Vector2d>& footprint) {
-  double r = 0.0;
-  for (const Eigen::Vector2d& p : footprint) r = std::max(r, p.norm());
-  return r;
-}
-
-}  // namespace
-
 EbandController::EbandController(const EbandConfig& config)
     : config_(config),
       nav_(config.nav),
       move_base_(config.recovery),
-      band_(config, circumscribedRadius(nav_.paddedFootprint())) {}
+      band_(config, config.nav.circumscribedRadius()) {}
 
 void EbandController::reset(const EpisodeInfo& info) {
   info_ = info;

@@ -71,8 +71,6 @@ void validate(const InventecConfig& c, core::Errors& errors, const std::string& 
                "must be in (0, 180]");
   errors.check(s.front_pad_x >= 0.0 && s.front_pad_y >= 0.0, prefix + ".safety.front_pad_x", "pads must be >= 0");
   errors.check(s.front_speed_gain >= 0.0, prefix + ".safety.front_speed_gain", "must be >= 0");
-  errors.check(s.rollout_length > 0.0 && s.rollout_width > 0.0, prefix + ".safety.rollout_length",
-               "the rollout rectangle must be > 0");
   errors.check(s.rollout_tolerance >= 0.0, prefix + ".safety.rollout_tolerance", "must be >= 0");
   errors.check(s.rollout_steps >= 1, prefix + ".safety.rollout_steps", "must be >= 1");
   errors.check(s.rollout_dt > 0.0, prefix + ".safety.rollout_dt", "must be > 0");

@@ -50,8 +50,8 @@ class FrontSafety : public RolloutSafety {
     rotate_.rear_width = s.rear_strip_width;
     rotate_.rear_weight = config.rear_weight;
     // The code's final-pose rollout (`_bch_safety_check`), as it computed it: beams against the
-    // L1 length of 40 points on the 0.42 x 0.33 rectangle (safety_checks.hpp).
-    final_pose_.rectangle = core::Rect::centred(s.rollout_length, s.rollout_width);
+    // L1 length of 40 points on the costmap footprint's rectangle (safety_checks.hpp).
+    final_pose_.rectangle = config.nav.footprint();
     final_pose_.tolerance = s.rollout_tolerance;
     final_pose_.dt = s.rollout_dt;
     final_pose_.steps = s.rollout_steps;

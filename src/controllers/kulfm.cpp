@@ -34,7 +34,6 @@ nav::NavStackConfig KulfmConfig::kulfmNav() {
     map->obstacle_range = 4.5;
     map->raytrace_range = 5.0;
     map->clearing = false;
-    map->inscribed_radius = 0.165;  // half the footprint's 0.33 m width, padding 0
     map->inflation_radius = 0.4;
     map->cost_scaling_factor = 10.0;
   }

@@ -11,14 +11,12 @@ namespace barn::controllers {
 
 nav::NavStackConfig LflhConfig::lflhNav() {
   nav::NavStackConfig c;
-  c.footprint_padding = 0.075;
-  c.global_costmap.inscribed_radius = 0.24;  // 0.165 + 0.075
+  c.footprint_padding = 0.075;  // team: footprint_padding 0.075 (both costmaps' inscribed radius 0.24)
   // The team's 5 m. Until 2026-11-27 cut at 1 m (cost 26 of 252) to save inflation and
   // replanning work; the tail beyond, costs 1-26 out to 2.1 m, moves the plan toward open
   // ground and changed inventec_fi's episodes toward the team's (docs/fidelity.md).
   c.global_costmap.inflation_radius = 5.0;
   c.global_costmap.cost_scaling_factor = 3.0;
-  c.local_costmap.inscribed_radius = 0.24;
   c.local_costmap.inflation_radius = 1.0;
   c.local_costmap.cost_scaling_factor = 1.0;
   // BARN updates the global costmap at 10 Hz; 5 Hz halves the replanning work (the planner
@@ -40,8 +38,6 @@ void validate(const LflhConfig& c, core::Errors& errors, const std::string& pref
   errors.check(c.hard_turn_enter_deg <= 180.0, prefix + ".hard_turn_enter_deg", "must be <= 180");
   errors.check(c.turn_gain > 0.0, prefix + ".turn_gain", "must be > 0");
   errors.check(c.backup_speed >= 0.0, prefix + ".backup_speed", "must be >= 0");
-  errors.check(c.safety_length > 0.0, prefix + ".safety_length", "must be > 0");
-  errors.check(c.safety_width > 0.0, prefix + ".safety_width", "must be > 0");
   errors.check(c.safety_tolerance >= 0.0, prefix + ".safety_tolerance", "must be >= 0");
   errors.check(c.safety_steps >= 1 && c.safety_steps <= 10000, prefix + ".safety_steps", "must be in [1, 10000]");
   errors.check(c.safety_dt > 0.0, prefix + ".safety_dt", "must be > 0");
@@ -86,7 +82,7 @@ bool nextHardTurn(bool turning, double heading_error, const LflhConfig& config) 
 core::Twist deployedCommand(const core::Twist& policy_command, double heading_error, const core::LaserScan& scan,
                             const LflhConfig& config, LflhAction* action) {
   BeamRollout check;
-  check.rectangle = core::Rect::centred(config.safety_length, config.safety_width);
+  check.rectangle = config.nav.footprint();
   check.tolerance = config.safety_tolerance;
   check.dt = config.safety_dt;
   check.steps = config.safety_steps;

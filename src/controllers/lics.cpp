@@ -13,7 +13,6 @@ nav::NavStackConfig LicsConfig::licsNav() {
     map->obstacle_range = 4.5;   // the scan source's obstacle_range (overrides the top-level 2.5)
     map->raytrace_range = 5.0;   // the scan source's raytrace_range (overrides 3.0)
     map->clearing = true;
-    map->inscribed_radius = 0.265;  // 0.165 + 0.1 padding
     map->inflation_radius = 0.30;
     map->cost_scaling_factor = 10.0;  // costmap_2d's default (their files set none)
   }

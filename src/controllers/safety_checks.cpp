@@ -144,7 +144,7 @@ std::vector<Eigen::Vector2d> inscribedCellPoints(const nav::Costmap& costmap, co
   std::vector<Eigen::Vector2d> points;
   nav::CellIndex centre;
   if (!costmap.toCell(pose.position(), centre)) return points;
-  const double inscribed_cells = costmap.config().inscribed_radius / costmap.resolution();
+  const double inscribed_cells = costmap.inscribedRadius() / costmap.resolution();
   const int span = static_cast<int>(std::ceil(reach / costmap.resolution())) + 1;
   const core::PoseFrame robot(pose);
   for (int dy = -span; dy <= span; ++dy) {

@@ -60,12 +60,12 @@ void validate(const CostmapConfig& c, core::Errors& errors, const std::string& p
                "must be > 0 and at most 10000 cells");
   errors.check(c.obstacle_range > 0.0, prefix + ".obstacle_range", "must be > 0");
   errors.check(c.raytrace_range > 0.0, prefix + ".raytrace_range", "must be > 0");
-  errors.check(c.inscribed_radius >= 0.0, prefix + ".inscribed_radius", "must be >= 0");
   errors.check(c.inflation_radius >= 0.0, prefix + ".inflation_radius", "must be >= 0");
   errors.check(c.cost_scaling_factor >= 0.0, prefix + ".cost_scaling_factor", "must be >= 0");
 }
 
-Costmap::Costmap(const CostmapConfig& config) : config_(config) {
+Costmap::Costmap(const CostmapConfig& config, double inscribed_radius)
+    : config_(config), inscribed_radius_(inscribed_radius) {
   width_ = static_cast<int>(std::lround(config.width / config.resolution));
   height_ = static_cast<int>(std::lround(config.height / config.resolution));
   origin_ = {config.origin_x, config.origin_y};
@@ -124,8 +124,8 @@ void Costmap::buildKernel() {
 std::uint8_t Costmap::inflationCostAtCells(double cells) const {
   if (cells <= 0.0) return kLethalCost;
   const double distance = cells * config_.resolution;
-  if (distance <= config_.inscribed_radius) return kInscribedCost;
-  const double factor = std::exp(-config_.cost_scaling_factor * (distance - config_.inscribed_radius));
+  if (distance <= inscribed_radius_) return kInscribedCost;
+  const double factor = std::exp(-config_.cost_scaling_factor * (distance - inscribed_radius_));
   return static_cast<std::uint8_t>(static_cast<double>(kInscribedCost - 1) * factor);
 }
 

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "barn/core/rect.hpp"
+#include "barn/nav/footprint.hpp"
 
 namespace barn::nav {
 
@@ -29,6 +30,22 @@ CostmapConfig NavStackConfig::defaultLocalCostmap() {
   return c;
 }
 
+namespace {
+double inscribedRadiusOf(const core::Rect& rect) {
+  const auto corners = rect.corners();
+  return footprintRadii(corners).inscribed;
+}
+}  // namespace
+
+double NavStackConfig::inscribedRadius(const CostmapConfig& map) const {
+  return inscribedRadiusOf(footprint().grownBy(footprint_padding + map.inscribed_padding_offset));
+}
+
+double NavStackConfig::circumscribedRadius() const {
+  const auto corners = paddedFootprint().corners();
+  return footprintRadii(corners).circumscribed;
+}
+
 NavStackConfig NavStackConfig::moveBaseWithNavFn() {
   NavStackConfig c;
   c.planner.algorithm = PlannerAlgorithm::NavFn;
@@ -41,8 +58,12 @@ void validate(const NavStackConfig& c, core::Errors& errors, const std::string& 
   validate(c.planner, errors, prefix + ".planner");
   errors.check(c.footprint_length > 0.0, prefix + ".footprint_length", "must be > 0");
   errors.check(c.footprint_width > 0.0, prefix + ".footprint_width", "must be > 0");
-  errors.check(c.footprint_padding > -0.5 * std::min(c.footprint_length, c.footprint_width), prefix + ".footprint_padding",
-               "must not shrink the footprint to nothing");
+  const double least_padding = -0.5 * std::min(c.footprint_length, c.footprint_width);
+  errors.check(c.footprint_padding > least_padding, prefix + ".footprint_padding", "must not shrink the footprint to nothing");
+  errors.check(c.footprint_padding + c.global_costmap.inscribed_padding_offset > least_padding,
+               prefix + ".global_costmap.inscribed_padding_offset", "must not shrink the footprint to nothing");
+  errors.check(c.footprint_padding + c.local_costmap.inscribed_padding_offset > least_padding,
+               prefix + ".local_costmap.inscribed_padding_offset", "must not shrink the footprint to nothing");
   errors.check(c.global_update_rate > 0.0, prefix + ".global_update_rate", "must be > 0");
   errors.check(c.local_update_rate > 0.0, prefix + ".local_update_rate", "must be > 0");
   errors.check(c.local_costmap_view == "live" || c.local_costmap_view == "published", prefix + ".local_costmap_view",
@@ -52,7 +73,8 @@ void validate(const NavStackConfig& c, core::Errors& errors, const std::string& 
 NavStack::NavStack(const NavStackConfig& config)
     : config_(config),
       published_view_(config.local_costmap_view == "published"),
-      global_(config.global_costmap), local_(config.local_costmap),
+      global_(config.global_costmap, config.inscribedRadius(config.global_costmap)),
+      local_(config.local_costmap, config.inscribedRadius(config.local_costmap)),
       global_parameters_(CostmapParameters::of(config.global_costmap)),
       local_parameters_(CostmapParameters::of(config.local_costmap)),
       global_update_rate_(config.global_update_rate), local_update_rate_(config.local_update_rate),
@@ -66,8 +88,8 @@ void NavStack::reset(const Eigen::Vector2d& goal) {
   global_update_rate_ = config_.global_update_rate;
   local_update_rate_ = config_.local_update_rate;
   planner_config_ = config_.planner;
-  global_ = Costmap(config_.global_costmap);
-  local_ = Costmap(config_.local_costmap);
+  global_ = Costmap(config_.global_costmap, config_.inscribedRadius(config_.global_costmap));
+  local_ = Costmap(config_.local_costmap, config_.inscribedRadius(config_.local_costmap));
   local_updates_queued_ = 0;
   published_updates_ = 0;
   queued_window_origin_ = local_.origin();
@@ -84,8 +106,7 @@ void NavStack::reset(const Eigen::Vector2d& goal) {
 }
 
 std::vector<Eigen::Vector2d> NavStack::paddedFootprint() const {
-  const auto corners =
-      core::Rect::centred(config_.footprint_length, config_.footprint_width).grownBy(config_.footprint_padding).corners();
+  const auto corners = config_.paddedFootprint().corners();
   return {corners.begin(), corners.end()};
 }
 

@@ -11,15 +11,12 @@
 #include <system_error>
 
 #include "barn/core/errors.hpp"
+#include "barn/core/robot_config.hpp"
 #include "barn/core/world_geometry.hpp"
 #include "stroke_font.hpp"
 
 namespace barn::viz::detail {
 namespace {
-
-// The Jackal footprint as BARN uses it for the start pose.
-constexpr double kRobotLength = 0.508;  // [m] along the heading
-constexpr double kRobotWidth = 0.430;   // [m]
 
 constexpr double kOutlineWidth = 0.025;  // [m]
 constexpr double kTitleHeight = 0.2;     // [m] font size of the title
@@ -257,7 +254,11 @@ void drawStartPose(cairo_t* cr, const core::Protocol& protocol) {
   cairo_translate(cr, start.x(), start.y());
   cairo_rotate(cr, protocol.start_yaw);  // y points up, so this is the world's CCW yaw
   setColour(cr, kInkColour);
-  cairo_rectangle(cr, -0.5 * kRobotLength, -0.5 * kRobotWidth, kRobotLength, kRobotWidth);
+  // The Jackal's planning footprint (core::RobotConfig's defaults: a world is drawn without a
+  // sim config).
+  const core::RobotConfig jackal;
+  cairo_rectangle(cr, -0.5 * jackal.footprint_length, -0.5 * jackal.footprint_width, jackal.footprint_length,
+                  jackal.footprint_width);
   cairo_move_to(cr, 0.0, 0.0);
   cairo_line_to(cr, arrow_length - head_length, 0.0);
   cairo_set_line_width(cr, kOutlineWidth);

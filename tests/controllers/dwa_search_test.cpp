@@ -75,7 +75,7 @@ TEST(DwaSearch, PrunedSearchPicksWhatScoringEverySamplePicks) {
   Lcg rng{42};
   int compared = 0, forward = 0, rotations = 0, escapes = 0;
   for (int trial = 0; trial < 300; ++trial) {
-    nav::Costmap map(c);
+    nav::Costmap map(c, config.nav.inscribedRadius(c));
     const int obstacles = static_cast<int>(rng.between(0, 60));
     for (int k = 0; k < obstacles; ++k) {
       const Eigen::Vector2d p(rng.between(-2.8, 2.8), rng.between(-2.8, 2.8));

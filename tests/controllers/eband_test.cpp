@@ -25,7 +25,7 @@ nav::Costmap emptyMap() {
   c.height = 6.0;
   c.origin_x = -3.0;
   c.origin_y = -3.0;
-  return nav::Costmap(c);
+  return nav::Costmap(c, nav::NavStackConfig{}.inscribedRadius(c));
 }
 
 // Plan poses every 2.5 cm (NavFn's half-cell steps) along the polyline, yaw 0 as NavFn's.

@@ -14,6 +14,25 @@ namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// BARN's costmaps' inscribed radius: the 0.42 x 0.33 footprint padded by 0.1, 0.33 / 2 + 0.1.
+const double kBarnInscribed = nav::NavStackConfig{}.inscribedRadius({});
+
+// The team's front check on the Jackal's planning footprint (0.508 x 0.43), as the controller
+// sets it from core::RobotConfig.
+FrontCheck jackalFrontCheck() {
+  const core::RobotConfig jackal;
+  FrontCheck check;
+  check.half_width = jackal.footprint_width / 2;    // 0.215
+  check.half_length = jackal.footprint_length / 2;  // 0.254
+  return check;
+}
+
+// The final-pose rollout on BARN's costmap footprint (0.42 x 0.33), as the controllers set it.
+BeamRollout barnBeamRollout() {
+  BeamRollout check;
+  check.rectangle = nav::NavStackConfig{}.footprint();
+  return check;
+}
 
 InventecConfig codeConfig() { return InventecConfig{}; }
 InventecConfig paperConfig() {
@@ -141,9 +160,18 @@ Eigen::Vector2d pointOf(const core::LaserScan& scan) {
   return points.at(0);
 }
 
+TEST(InventecConfig, TheTeamsCostmapsDeriveTheirInscribedRadiiFromTheFootprint) {
+  // The 0.42 x 0.33 footprint, padded by the team's 0.075 (global: 0.165 + 0.075 = 0.24) and,
+  // on the local costmap, by its own -0.08 (0.165 - 0.08 = 0.085): the values the team's
+  // costmap_2d derived, to the last bit (the runs' records depend on them).
+  const nav::NavStack nav(InventecConfig{}.nav);
+  EXPECT_EQ(nav.globalCostmap().inscribedRadius(), 0.24);
+  EXPECT_EQ(nav.localCostmap().inscribedRadius(), 0.085);
+}
+
 TEST(FrontCheck, IgnoresReturnsBeyondFortySevenDegreesEvenInsideTheBox) {
   const core::LidarConfig lidar;
-  const FrontCheck check;
+  const FrontCheck check = jackalFrontCheck();
   core::BeamDirections beams;
   // 0.25 m from the sensor at 50 deg: robot frame (0.216, 0.192), inside |y| <= 0.225, x <= 0.354.
   const core::LaserScan at50 = oneReturn(50 * kDeg, 0.25);
@@ -157,7 +185,7 @@ TEST(FrontCheck, IgnoresReturnsBeyondFortySevenDegreesEvenInsideTheBox) {
 
 TEST(FrontCheck, ReachGrowsWithSpeed) {
   const core::LidarConfig lidar;
-  const FrontCheck check;
+  const FrontCheck check = jackalFrontCheck();
   core::BeamDirections beams;
   // Straight ahead, 0.40 m from the sensor: x = 0.455 from the centre.
   const core::LaserScan ahead = oneReturn(0.0, 0.40);
@@ -174,7 +202,7 @@ TEST(FrontCheck, ReachGrowsWithSpeed) {
 
 TEST(FrontCheck, TurningRotatesTheRegionTowardTheTurn) {
   const core::LidarConfig lidar;
-  const FrontCheck check;
+  const FrontCheck check = jackalFrontCheck();
   core::BeamDirections beams;
   // A point ahead-left, just outside the straight region (|y| > 0.225): robot frame (0.30, 0.25).
   const double bx = 0.30 - lidar.mount_x, by = 0.25;
@@ -200,7 +228,7 @@ TEST(BeamRollout, ReachesPastTheCornersByTheirLOneLength) {
   const core::LidarConfig lidar = centredLidar();
   const double bearing = std::atan2(0.165, 0.21);
   const Eigen::Vector2d direction(std::cos(bearing), std::sin(bearing));
-  const BeamRollout check;
+  const BeamRollout check = barnBeamRollout();
   const core::LaserScan near = withPost(uniformScan(lidar, kInf), lidar, 0.32 * direction, 0.02);
   EXPECT_TRUE(beamRolloutHit(near, {0.0, 0.0}, check));
   core::BeamDirections beams;
@@ -210,7 +238,7 @@ TEST(BeamRollout, ReachesPastTheCornersByTheirLOneLength) {
 
 TEST(BeamRollout, WallAheadAndTheTolerance) {
   const core::LidarConfig lidar = centredLidar();
-  BeamRollout check;
+  BeamRollout check = barnBeamRollout();
   // 1 m/s for 0.2 s puts the front edge at 0.41, past a wall at 0.33; 0.1 m/s at 0.23, where the
   // corner (0.23, 0.165) reads the wall 0.406 away against |x| + |y| = 0.395: clear, but not
   // with Inventec's 0.02 tolerance.
@@ -231,7 +259,7 @@ TEST(BeamRollout, PointsOutsideTheFieldOfViewAreNotChecked) {
     const double c = std::cos(behind.angle(i));
     if (c < -1e-9) behind.ranges[i] = -0.3 / c;
   }
-  EXPECT_FALSE(beamRolloutHit(behind, {-1.0, 0.0}, BeamRollout{}));
+  EXPECT_FALSE(beamRolloutHit(behind, {-1.0, 0.0}, barnBeamRollout()));
 }
 
 TEST(MpcRollout, RolloutCatchesWhatTheCommandDrivesInto) {
@@ -340,7 +368,7 @@ TEST(SafetyChecks, ScanPointsIncludeTheMountOffset) {
 TEST(SafetyChecks, RearRegionSeesOnlyWhatIsDirectlyBehind) {
   nav::CostmapConfig c;
   c.rolling = true;
-  nav::Costmap map(c);
+  nav::Costmap map(c, kBarnInscribed);
   map.recentre({0.0, 0.0});
   map.update();
   const core::Rect body = core::Rect::centred(0.508, 0.43);
@@ -360,7 +388,7 @@ TEST(SafetyChecks, BackTrackStripIsTheCodesTenByTenCellBoxExtended) {
   // = 10 x 10 cells: its strip reaches 0.25 m to each side, past the 0.43 m robot's 0.215.
   nav::CostmapConfig c;
   c.rolling = true;
-  nav::Costmap map(c);
+  nav::Costmap map(c, kBarnInscribed);
   map.recentre({0.0, 0.0});
   map.update();
   // The robot 2 cm off the cell grid: its 0.43 m strip reaches y = 0.235, the code's 0.27, and
@@ -383,14 +411,13 @@ TEST(SafetyChecks, PublishedCostIsCostmap2dsZeroToHundredScale) {
 }
 
 // An empty rolling costmap around the origin with the team's local inflation (inscribed radius
-// 0.085 m, scaling 1), reaching `inflation_radius` (theirs: 5 m).
+// 0.085 m = 0.165 - 0.08 padding, scaling 1), reaching `inflation_radius` (theirs: 5 m).
 nav::Costmap teamLocalCostmap(double inflation_radius) {
   nav::CostmapConfig c;
   c.rolling = true;
-  c.inscribed_radius = 0.085;
   c.inflation_radius = inflation_radius;
   c.cost_scaling_factor = 1.0;
-  nav::Costmap map(c);
+  nav::Costmap map(c, 0.085);
   map.recentre({0.0, 0.0});
   map.update();
   return map;
@@ -432,7 +459,7 @@ TEST(RotateCheck, SeesTheTurnedFootprintAndOnlyTheRearHalfTheTailSwingsInto) {
   c.rolling = true;
   c.width = 4.0;
   c.height = 4.0;
-  nav::Costmap map(c);
+  nav::Costmap map(c, kBarnInscribed);
   map.recentre({0.0, 0.0});
   map.update();
   RotateCheck check;

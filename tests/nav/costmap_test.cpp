@@ -1,4 +1,5 @@
 #include "barn/nav/costmap.hpp"
+#include "barn/nav/nav_stack.hpp"
 
 #include <cmath>
 #include <limits>
@@ -22,10 +23,14 @@ core::LaserScan scanAhead(double ahead, double others = kInf) {
   return scan;
 }
 
+// BARN's costmaps' inscribed radius: the 0.42 x 0.33 footprint padded by 0.1, 0.33 / 2 + 0.1.
+const double kBarnInscribed = NavStackConfig{}.inscribedRadius(CostmapConfig{});
+// The LfLH / Inventec stack's: padding 0.075, 0.165 + 0.075.
+const double kLflhInscribed = 0.24;
+
 // The LfLH / Inventec stack's global inflation (LflhConfig::lflhNav): 5 m at scaling 3 around
 // an inscribed radius of 0.24 m; its cost reaches 0 at about 2.1 m.
 CostmapConfig withLflhInflation(CostmapConfig c) {
-  c.inscribed_radius = 0.24;
   c.inflation_radius = 5.0;
   c.cost_scaling_factor = 3.0;
   return c;
@@ -41,7 +46,7 @@ CostmapConfig smallMap() {
 }
 
 TEST(Costmap, MarksAReturnWithinObstacleRange) {
-  Costmap map(smallMap());
+  Costmap map(smallMap(), kBarnInscribed);
   map.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
   map.update();
   CellIndex cell;
@@ -52,14 +57,14 @@ TEST(Costmap, MarksAReturnWithinObstacleRange) {
 }
 
 TEST(Costmap, IgnoresReturnsBeyondObstacleRange) {
-  Costmap map(smallMap());
+  Costmap map(smallMap(), kBarnInscribed);
   map.integrateScan(scanAhead(2.7), {0.0, 0.0, 0.0}, {0.0, 0.0});  // 2.7 m > 2.5 m
   map.update();
   EXPECT_EQ(map.costAt({2.7, 0.0}), kFreeCost);
 }
 
 TEST(Costmap, RayTraceClearingRemovesAnObstacleThatMoved) {
-  Costmap map(smallMap());
+  Costmap map(smallMap(), kBarnInscribed);
   map.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
   map.update();
   ASSERT_EQ(map.costAt({1.0, 0.0}), kLethalCost);
@@ -75,7 +80,7 @@ TEST(Costmap, ASourceThatDoesNotClearKeepsAnObstacleThatMoved) {
   // freeing it; only marking happens.
   CostmapConfig c = smallMap();
   c.clearing = false;
-  Costmap map(c);
+  Costmap map(c, kBarnInscribed);
   map.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
   map.update();
   map.integrateScan(scanAhead(2.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
@@ -86,7 +91,7 @@ TEST(Costmap, ASourceThatDoesNotClearKeepsAnObstacleThatMoved) {
 
 TEST(Costmap, ABeamWithoutAReturnNeitherMarksNorClears) {
   // laser_geometry drops +inf (and range_max) beams, so nothing is traced along them.
-  Costmap map(smallMap());
+  Costmap map(smallMap(), kBarnInscribed);
   map.integrateScan(scanAhead(2.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
   map.update();
   map.integrateScan(scanAhead(kInf), {0.0, 0.0, 0.0}, {0.0, 0.0});
@@ -98,7 +103,7 @@ TEST(Costmap, ABeamWithoutAReturnNeitherMarksNorClears) {
   // With inf_is_valid a no-return beam clears the raytrace range (3 m) and marks nothing.
   CostmapConfig c = smallMap();
   c.inf_is_valid = true;
-  Costmap valid(c);
+  Costmap valid(c, kBarnInscribed);
   valid.integrateScan(scanAhead(2.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
   valid.update();
   valid.integrateScan(scanAhead(kInf), {0.0, 0.0, 0.0}, {0.0, 0.0});
@@ -109,7 +114,7 @@ TEST(Costmap, ABeamWithoutAReturnNeitherMarksNorClears) {
 TEST(Costmap, AReturnBetweenObstacleAndRaytraceRangeClearsItsOwnCell) {
   // costmap_2d clears the hit cell too and marks only returns closer than obstacle_range:
   // a return at 2.7 m (inside 3.0, beyond 2.5) frees the cell an earlier return marked.
-  Costmap map(smallMap());
+  Costmap map(smallMap(), kBarnInscribed);
   map.markObstacle({2.7, 0.0});
   map.update();
   ASSERT_EQ(map.costAt({2.7, 0.0}), kLethalCost);
@@ -124,7 +129,7 @@ TEST(Costmap, RayTraceStopsAtTheRaytraceRange) {
   CostmapConfig c = smallMap();
   c.origin_x = -3.01;
   c.width = 8.0;
-  Costmap map(c);
+  Costmap map(c, kBarnInscribed);
   map.markObstacle({2.0, 0.0});
   map.update();
   map.markObstacle({3.02, 0.0});  // cell 120: the last one cleared
@@ -140,7 +145,7 @@ TEST(Costmap, RayTraceStopsAtTheRaytraceRange) {
 
 TEST(Costmap, InflationCostFollowsTheExponentialDecay) {
   CostmapConfig c = smallMap();  // inscribed 0.265 m, inflation 0.30 m, scaling 10
-  Costmap map(c);
+  Costmap map(c, kBarnInscribed);
   // 252 exp(-10 (0.28 - 0.265)) = 252 exp(-0.15) = 216.9 -> 216
   EXPECT_EQ(map.inflationCost(0.28), 216);
   EXPECT_EQ(map.inflationCost(0.2), kInscribedCost);
@@ -153,7 +158,7 @@ TEST(Costmap, BarnInflationTableInCells) {
   // (5,1) 5.099 cells = 0.255 m -> 253; (5,2) 5.385 -> 252 exp(-10 * 0.00426) = 241.5 -> 241;
   // (4,4) 5.657 -> 210; (6,0) exactly 6 cells -> 252 exp(-0.35) = 177.6 -> 177 (not cut off
   // by rounding 6 x 0.05 above 0.30); (6,1) 6.083 cells -> beyond the radius -> 0.
-  Costmap map(smallMap());
+  Costmap map(smallMap(), kBarnInscribed);
   map.markObstacle({0.025, 0.025});
   map.update();
   CellIndex hit;
@@ -170,7 +175,7 @@ TEST(Costmap, FootprintClearingFreesEveryCellTheOutlineTouches) {
   // An obstacle at x = 0.34 lies in that cell, whose centre (0.325) is outside the polygon:
   // the rasterised outline still covers it, so it is cleared (convexFillCells). Inside cells
   // are cleared; a cell beyond the outline is not.
-  Costmap map(smallMap());
+  Costmap map(smallMap(), kBarnInscribed);
   const auto cellOf = [&](double x, double y) {
     CellIndex cell;
     EXPECT_TRUE(map.toCell({x, y}, cell));
@@ -199,10 +204,9 @@ TEST(Costmap, FootprintClearingFreesEveryCellTheOutlineTouches) {
 
 TEST(Costmap, InflatesAroundAnObstacleAtKnownDistances) {
   CostmapConfig c = smallMap();
-  c.inscribed_radius = 0.1;
   c.inflation_radius = 0.5;
   c.cost_scaling_factor = 3.0;
-  Costmap map(c);
+  Costmap map(c, 0.1);
   map.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
   map.update();
   CellIndex hit;
@@ -226,7 +230,7 @@ TEST(Costmap, AWideRadiusCostsWhatItsTableSaysAtEveryCellOutToTheRadius) {
   c.height = 12.0;
   c.origin_x = -6.0;
   c.origin_y = -6.0;
-  Costmap map(withLflhInflation(c));
+  Costmap map(withLflhInflation(c), kLflhInscribed);
   map.markObstacle({0.025, 0.025});
   map.update();
   CellIndex hit;
@@ -252,7 +256,7 @@ TEST(Costmap, NewInflationSettingsCostWhatAFreshMapWithThemCosts) {
   // with those settings from the start costs, wider and narrower than before.
   CostmapConfig c = smallMap();
   for (const auto& [radius, scaling] : {std::pair{0.6, 3.0}, std::pair{0.1, 10.0}, std::pair{0.35, 5.0}}) {
-    Costmap changed(c);
+    Costmap changed(c, kBarnInscribed);
     changed.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
     changed.update();
     changed.costAt({0.0, 0.0});  // inflated with the old settings first
@@ -261,7 +265,7 @@ TEST(Costmap, NewInflationSettingsCostWhatAFreshMapWithThemCosts) {
     CostmapConfig fresh_config = c;
     fresh_config.inflation_radius = radius;
     fresh_config.cost_scaling_factor = scaling;
-    Costmap fresh(fresh_config);
+    Costmap fresh(fresh_config, kBarnInscribed);
     fresh.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
     fresh.update();
     for (int y = 0; y < fresh.heightCells(); ++y)
@@ -272,7 +276,7 @@ TEST(Costmap, NewInflationSettingsCostWhatAFreshMapWithThemCosts) {
   // does: 2 cells of 253, then free.
   CostmapConfig narrow = c;
   narrow.inflation_radius = 0.1;
-  Costmap map(narrow);
+  Costmap map(narrow, kBarnInscribed);
   map.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
   map.update();
   CellIndex hit;
@@ -282,7 +286,7 @@ TEST(Costmap, NewInflationSettingsCostWhatAFreshMapWithThemCosts) {
 }
 
 TEST(Costmap, ClearingAnObstacleRemovesItsInflation) {
-  Costmap map(smallMap());
+  Costmap map(smallMap(), kBarnInscribed);
   map.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
   map.update();
   EXPECT_GT(map.costAt({1.0, 0.2}), kFreeCost);
@@ -311,7 +315,7 @@ std::uint8_t bruteForceCost(const Costmap& map, int x, int y) {
 // than the inflation reach from the edges (at the edge the window left, a cell keeps the cost
 // of an obstacle that left with it, as costmap_2d's copied master grid does).
 void expectIncrementalInflationEqualsInflatingFromScratch(const CostmapConfig& config, bool moves) {
-  Costmap map(config);
+  Costmap map(config, kBarnInscribed);
   core::LaserScan scan = scanAhead(1.0);
   std::uint64_t state = 12345;
   const auto uniform = [&state] {
@@ -351,7 +355,7 @@ TEST(Costmap, IncrementalInflationEqualsInflatingFromScratchWithTheLflhStacksWid
   // obstacles come and go, so most cells owe their cost to one 1-2 m away, in the tail where
   // many obstacles tie at the same low cost. What a cleared obstacle leaves must come from the
   // distances the map keeps, not from the costs. Checked every fifth step.
-  Costmap map(withLflhInflation(smallMap()));
+  Costmap map(withLflhInflation(smallMap()), kLflhInscribed);
   std::uint64_t state = 777;
   const auto uniform = [&state] {
     state = state * 6364136223846793005ULL + 1442695040888963407ULL;
@@ -410,7 +414,7 @@ TEST(Costmap, IncrementalInflationEqualsInflatingFromScratchWhenUnknownSpaceIsTr
 TEST(Costmap, RollingWindowKeepsObstaclesSeenEarlierWhileTheyStayInside) {
   CostmapConfig c;
   c.rolling = true;  // 10 x 10 m around the robot
-  Costmap map(c);
+  Costmap map(c, kBarnInscribed);
   map.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
   map.update();
   // The robot drives 3 m away, facing away: the LiDAR no longer sees the obstacle.
@@ -430,7 +434,7 @@ TEST(Costmap, RollingWindowMovesByWholeCellsOnceTheRobotIsACellFromTheCentre) {
   // window back and forth.
   CostmapConfig c;
   c.rolling = true;  // 10 x 10 m at 0.05 m
-  Costmap map(c);
+  Costmap map(c, kBarnInscribed);
   const auto expectOrigin = [&](const Eigen::Vector2d& position, double x, double y) {
     const Eigen::Vector2d predicted = map.windowOriginFor(map.origin(), position);
     map.recentre(position);
@@ -450,7 +454,7 @@ TEST(Costmap, RollingWindowMovesByWholeCellsOnceTheRobotIsACellFromTheCentre) {
 TEST(Costmap, TracksUnknownSpaceWhenAsked) {
   CostmapConfig c = smallMap();
   c.track_unknown = true;
-  Costmap map(c);
+  Costmap map(c, kBarnInscribed);
   EXPECT_EQ(map.costAt({2.0, 2.0}), kUnknownCost);
   map.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
   map.update();
@@ -459,7 +463,7 @@ TEST(Costmap, TracksUnknownSpaceWhenAsked) {
 }
 
 TEST(Costmap, ClearOutsideForgetsDistantObstacles) {
-  Costmap map(smallMap());
+  Costmap map(smallMap(), kBarnInscribed);
   map.integrateScan(scanAhead(2.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
   map.update();
   map.clearOutside({0.0, 0.0}, 1.5);
@@ -469,7 +473,7 @@ TEST(Costmap, ClearOutsideForgetsDistantObstacles) {
 
 TEST(Costmap, ResetForgetsEverythingUntilTheNextScan) {
   // costmap_2d's resetLayers (eband's answer to a plan it cannot turn into a band).
-  Costmap map(smallMap());
+  Costmap map(smallMap(), kBarnInscribed);
   map.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
   map.update();
   ASSERT_EQ(map.costAt({1.0, 0.0}), kLethalCost);
@@ -484,7 +488,7 @@ TEST(Costmap, ResetForgetsEverythingUntilTheNextScan) {
   // The next scan marks and inflates as on a fresh map.
   map.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
   map.update();
-  Costmap fresh(smallMap());
+  Costmap fresh(smallMap(), kBarnInscribed);
   fresh.integrateScan(scanAhead(1.0), {0.0, 0.0, 0.0}, {0.0, 0.0});
   fresh.update();
   for (int y = 0; y < map.heightCells(); ++y)

@@ -122,12 +122,11 @@ std::vector<CellIndex> bruteForceDescent(const GlobalPlanner& planner, const Cos
 }
 
 // A map of 1 m cells whose inflation (scaling 1) makes costs vary from cell to cell.
-CostmapConfig inflatedMapConfig(int width, int height, double inscribed_radius, double inflation_radius) {
+CostmapConfig inflatedMapConfig(int width, int height, double inflation_radius) {
   CostmapConfig c;
   c.resolution = 1.0;
   c.width = width;
   c.height = height;
-  c.inscribed_radius = inscribed_radius;
   c.inflation_radius = inflation_radius;
   c.cost_scaling_factor = 1.0;
   return c;
@@ -149,7 +148,7 @@ std::vector<CellIndex> expectedPath(const GlobalPlanner& planner, const Costmap&
 
 // Such a map with random obstacles.
 Costmap randomInflatedMap(core::Rng& rng, int width, int height, double obstacle_fraction) {
-  Costmap map(inflatedMapConfig(width, height, 0.0, 2.5));
+  Costmap map(inflatedMapConfig(width, height, 2.5), 0.0);
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x)
       if (rng.uniform01() < obstacle_fraction) map.markObstacle({x + 0.5, y + 0.5});
@@ -215,7 +214,7 @@ TEST(GlobalPlanner, NavFnReusesAPlanOnlyWhenItWouldComputeTheSame) {
   c.origin_x = c.origin_y = 0.0;
   c.inflation_radius = 1.5;
   c.cost_scaling_factor = 3.0;
-  Costmap map(c);
+  Costmap map(c, 0.0);
   for (int k = 0; k < 40; ++k) map.markObstacle({5.0 + rng.uniform01() * 28.0, 1.0 + rng.uniform01() * 28.0});
   GlobalPlanner planner(config);
   const Eigen::Vector2d goal(36.5, 15.3);
@@ -254,7 +253,7 @@ TEST(GlobalPlanner, RepairedFieldGivesTheExhaustivePathAfterMapChangesAndMoves) 
   // the path and cost an exhaustive search gives on the map as it is then.
   core::Rng rng(5);
   for (int trial = 0; trial < 12; ++trial) {
-    Costmap map(inflatedMapConfig(14, 10, trial % 2 == 0 ? 0.0 : 1.0, 2.5));
+    Costmap map(inflatedMapConfig(14, 10, 2.5), trial % 2 == 0 ? 0.0 : 1.0);
     GlobalPlanner planner({});
     const CellIndex goal{13, static_cast<int>(rng.uniform01() * 10)};
     CellIndex start{0, static_cast<int>(rng.uniform01() * 10)};
@@ -283,7 +282,7 @@ TEST(GlobalPlanner, NewSearchKeepsTheFieldBeyondTheChangesAndGivesTheExhaustiveP
   core::Rng rng(11);
   std::size_t kept_expanded = 0, new_expanded = 0;
   for (int trial = 0; trial < 8; ++trial) {
-    Costmap map(inflatedMapConfig(24, 40, trial % 2 == 0 ? 0.0 : 1.0, 3.5));
+    Costmap map(inflatedMapConfig(24, 40, 3.5), trial % 2 == 0 ? 0.0 : 1.0);
     GlobalPlanner planner({});
     const CellIndex goal{static_cast<int>(rng.uniform01() * 24), 39};
     CellIndex start{static_cast<int>(rng.uniform01() * 24), 0};
@@ -327,10 +326,9 @@ TEST(GlobalPlanner, KeptFieldPlansAsAFreshOneWhileARobotRevealsAnObstacleField) 
     config.height = 15.0;
     config.origin_x = -3.0;
     config.origin_y = -2.0;
-    config.inscribed_radius = 0.24;
     config.inflation_radius = 5.0;
     config.cost_scaling_factor = 3.0;
-    Costmap map(config);
+    Costmap map(config, 0.24);
     std::vector<Eigen::Vector2d> cylinders;
     while (cylinders.size() < 70) {
       const Eigen::Vector2d c(-2.25 + 4.5 * rng.uniform01(), 1.5 + 6.0 * rng.uniform01());
@@ -432,10 +430,9 @@ TEST(GlobalPlanner, PrefersCheapCellsOverShortOnes) {
   c.height = 3.0;
   c.origin_x = 0.0;
   c.origin_y = 0.0;
-  c.inscribed_radius = 0.5;
   c.inflation_radius = 1.2;
   c.cost_scaling_factor = 0.5;
-  Costmap map(c);
+  Costmap map(c, 0.5);
   GlobalPlanner planner({});
   const Plan plan = planner.plan(map, {0.5, 1.5}, {4.5, 1.5});
   ASSERT_TRUE(plan.found);

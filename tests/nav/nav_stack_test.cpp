@@ -1,5 +1,7 @@
 #include "barn/nav/nav_stack.hpp"
 
+#include <array>
+
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -7,6 +9,8 @@
 #include <string>
 
 #include <gtest/gtest.h>
+
+#include "barn/nav/footprint.hpp"
 
 namespace barn::nav {
 namespace {
@@ -32,6 +36,74 @@ Path pathAfter(NavStack& nav, const core::LaserScan& scan) {
   nav.reset({0.0, 5.0});
   nav.update(0.0, scan, robot, robot);
   return nav.path();
+}
+
+TEST(FootprintRadii, InscribedIsTheNearestEdgeAndCircumscribedTheFarthestVertex) {
+  // BARN's 0.42 x 0.33 footprint padded by 0.1: corners (+-0.31, +-0.265). The nearest edges
+  // are the sides at y = +-0.265; the corners are sqrt(0.31^2 + 0.265^2) = 0.4078 away.
+  const auto corners = core::Rect::centred(0.42, 0.33).grownBy(0.1).corners();
+  const FootprintRadii barn = footprintRadii(corners);
+  EXPECT_DOUBLE_EQ(barn.inscribed, 0.265);
+  EXPECT_NEAR(barn.circumscribed, 0.40783, 1e-5);
+  // A triangle (1, 0), (-1, 1), (-1, -1): the edge from (1, 0) to (-1, 1) passes the centre at
+  // |1 * 1 - 0 * (-2)| / sqrt(2^2 + 1^2) = 1 / sqrt(5) = 0.4472, nearer than the back edge
+  // (x = -1, 1 away); the far vertices are sqrt(2) away.
+  const std::array<Eigen::Vector2d, 3> triangle = {Eigen::Vector2d(1.0, 0.0), Eigen::Vector2d(-1.0, 1.0),
+                                                   Eigen::Vector2d(-1.0, -1.0)};
+  const FootprintRadii tri = footprintRadii(triangle);
+  EXPECT_NEAR(tri.inscribed, 1.0 / std::sqrt(5.0), 1e-12);
+  EXPECT_NEAR(tri.circumscribed, std::sqrt(2.0), 1e-12);
+  // An edge whose nearest point to the centre is its end: the segment (1, 1) - (2, 1) alone
+  // (a degenerate two-vertex polygon) is sqrt(2) away at (1, 1).
+  const std::array<Eigen::Vector2d, 2> segment = {Eigen::Vector2d(1.0, 1.0), Eigen::Vector2d(2.0, 1.0)};
+  EXPECT_NEAR(footprintRadii(segment).inscribed, std::sqrt(2.0), 1e-12);
+}
+
+TEST(NavStack, ChangingThePaddingChangesEveryNumberDerivedFromTheFootprint) {
+  // The 0.42 x 0.33 footprint padded by p: the costmaps' inscribed radius 0.165 + p, the
+  // padded corners (+-(0.21 + p), +-(0.165 + p)), the circumscribed radius
+  // hypot(0.21 + p, 0.165 + p); and each costmap costs 253 out to its inscribed radius.
+  // p = 0.1: 0.265, hypot(0.31, 0.265) = 0.4078; p = 0.2: 0.365, hypot(0.41, 0.365) = 0.5489.
+  for (const auto& [padding, inscribed, circumscribed] :
+       {std::array{0.1, 0.265, 0.40783}, std::array{0.2, 0.365, 0.54893}}) {
+    NavStackConfig config;
+    config.footprint_padding = padding;
+    config.global_costmap.inflation_radius = config.local_costmap.inflation_radius = 1.0;
+    const NavStack nav(config);
+    for (const Costmap* map : {&nav.globalCostmap(), &nav.localCostmap()}) {
+      EXPECT_NEAR(map->inscribedRadius(), inscribed, 1e-12) << "padding " << padding;
+      // Cell distances: 0.05 m cells, so 0.25 m (5 cells) and 0.35 m (7) are inside, and the
+      // next cell beyond the radius costs 252 exp(-10 (d - r)) < 253.
+      EXPECT_EQ(map->inflationCost(inscribed - 0.01), kInscribedCost) << "padding " << padding;
+      EXPECT_LT(map->inflationCost(inscribed + 0.01), kInscribedCost) << "padding " << padding;
+      EXPECT_GT(map->inflationCost(inscribed + 0.01), kFreeCost) << "padding " << padding;
+    }
+    EXPECT_NEAR(config.circumscribedRadius(), circumscribed, 1e-5);
+    const std::vector<Eigen::Vector2d> corners = nav.paddedFootprint();
+    ASSERT_EQ(corners.size(), 4u);
+    EXPECT_NEAR(corners[0].x(), 0.21 + padding, 1e-12);  // front left
+    EXPECT_NEAR(corners[0].y(), 0.165 + padding, 1e-12);
+  }
+}
+
+TEST(NavStack, AnInscribedPaddingOffsetMovesOnlyItsOwnCostmapsRadius) {
+  // Inventec's local costmap: the stack padded by 0.075, the local map's own padding -0.08,
+  // so its inscribed radius is 0.165 - 0.08 = 0.085 while the global map keeps 0.165 + 0.075;
+  // the footprint the stack clears stays padded by 0.075 (front left corner 0.285, 0.24).
+  NavStackConfig config;
+  config.footprint_padding = 0.075;
+  config.local_costmap.inscribed_padding_offset = -0.08 - 0.075;
+  const NavStack nav(config);
+  EXPECT_NEAR(nav.globalCostmap().inscribedRadius(), 0.24, 1e-12);
+  EXPECT_NEAR(nav.localCostmap().inscribedRadius(), 0.085, 1e-12);
+  EXPECT_NEAR(nav.paddedFootprint()[0].x(), 0.285, 1e-12);
+  EXPECT_NEAR(nav.paddedFootprint()[0].y(), 0.24, 1e-12);
+  // An offset that would shrink the footprint to nothing (0.075 - 0.3 < -0.165) is refused.
+  config.local_costmap.inscribed_padding_offset = -0.3;
+  core::Errors errors;
+  validate(config, errors, "nav");
+  ASSERT_EQ(errors.messages().size(), 1u);
+  EXPECT_NE(errors.messages().front().find("nav.local_costmap.inscribed_padding_offset"), std::string::npos);
 }
 
 TEST(NavStack, ResetForgetsThePreviousEpisodesPlans) {
@@ -70,7 +142,7 @@ TEST(NavStack, ThePathRunsFromTheRobotToTheGoalAroundTheWallItSaw) {
   EXPECT_LE(path.front().norm(), half_diagonal);
   EXPECT_LE((path.back() - Eigen::Vector2d(0.0, 5.0)).norm(), half_diagonal);
   // No point of the path is within the padded footprint's inscribed radius of the wall.
-  const double inscribed = NavStackConfig{}.global_costmap.inscribed_radius;
+  const double inscribed = NavStack({}).globalCostmap().inscribedRadius();
   const core::Pose2 robot{0.0, 0.0, std::numbers::pi / 2};
   double closest = std::numeric_limits<double>::infinity();
   for (const Eigen::Vector2d& p : path)

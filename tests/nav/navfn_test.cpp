@@ -19,10 +19,9 @@ Costmap emptyMap(int width, int height, double resolution = 1.0, bool track_unkn
   c.height = height * resolution;
   c.origin_x = 0.0;
   c.origin_y = 0.0;
-  c.inscribed_radius = 0.0;
   c.inflation_radius = 0.0;
   c.track_unknown = track_unknown;
-  return Costmap(c);
+  return Costmap(c, 0.0);
 }
 
 PlannerConfig navfnConfig(bool allow_unknown = false) {
@@ -171,7 +170,7 @@ TEST(NavFnPlan, HalfCellOffsetOfRosMapToWorld) {
   c.height = 4.0;
   c.origin_x = -1.0;
   c.origin_y = -2.0;
-  const Costmap map(c);
+  const Costmap map(c, 0.0);
   GlobalPlanner planner(navfnConfig());
   const Plan plan = planner.plan(map, {0.01, 0.01}, {0.51, 1.01});
   ASSERT_TRUE(plan.found);

@@ -17,9 +17,8 @@ inline Costmap pictureMap(const std::vector<std::string>& rows) {
   c.height = static_cast<double>(rows.size());
   c.origin_x = 0.0;
   c.origin_y = 0.0;
-  c.inscribed_radius = 0.0;
   c.inflation_radius = 0.0;
-  Costmap map(c);
+  Costmap map(c, 0.0);
   for (std::size_t r = 0; r < rows.size(); ++r)
     for (std::size_t col = 0; col < rows[r].size(); ++col)
       if (rows[r][col] == '#')

@@ -605,10 +605,9 @@ Costmap inflatedMap() {
   c.width = 12.0;
   c.height = 10.0;
   c.origin_x = c.origin_y = 0.0;
-  c.inscribed_radius = 0.5;
   c.inflation_radius = 3.0;
   c.cost_scaling_factor = 1.0;
-  Costmap map(c);
+  Costmap map(c, 0.5);
   map.markObstacle(centre(5, 4));
   map.update();
   return map;

@@ -110,7 +110,7 @@ void BM_CostmapUpdate(benchmark::State& state) {
     const core::Pose2 pose = f.poses[k < f.poses.size() ? k : 2 * f.poses.size() - 1 - k];
     drive.emplace_back(caster.scan(pose, 0.0, &noise), core::Pose2{pose.x - odom_origin.x(), pose.y - odom_origin.y(), pose.yaw});
   }
-  nav::Costmap costmap(local ? nav::NavStackConfig::defaultLocalCostmap() : nav::NavStackConfig::defaultGlobalCostmap());
+  nav::Costmap costmap(local ? nav::NavStackConfig::defaultLocalCostmap() : nav::NavStackConfig::defaultGlobalCostmap(), nav::NavStackConfig{}.inscribedRadius({}));
   std::size_t i = 0;
   long cost_sum = 0;
   for (auto _ : state) {
@@ -132,12 +132,11 @@ nav::Costmap worldCostmap(int world_id, bool lflh_inflation) {
                                                     std::to_string(world_id) + ".yaml");
   const sim::ObstacleField field = sim::ObstacleField::fromWorld(world);
   nav::CostmapConfig config = nav::NavStackConfig::defaultGlobalCostmap();
-  if (lflh_inflation) {  // the LfLH / Inventec inflation (LflhConfig::lflhNav; cost 0 past 2.1 m)
-    config.inscribed_radius = 0.24;
+  if (lflh_inflation) {  // the LfLH / Inventec inflation (LflhConfig::lflhNav: inscribed radius 0.165 + 0.075; cost 0 past 2.1 m)
     config.inflation_radius = 5.0;
     config.cost_scaling_factor = 3.0;
   }
-  nav::Costmap costmap(config);
+  nav::Costmap costmap(config, lflh_inflation ? 0.24 : nav::NavStackConfig{}.inscribedRadius(config));
   const Eigen::Vector2d odom_origin(-2.0, 3.0);
   for (const auto& c : field.centres) costmap.markObstacle(c - odom_origin);
   costmap.update();

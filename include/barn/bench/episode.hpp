@@ -2,11 +2,9 @@
 /// One BARN episode as the official run.py runs it: spawn at the protocol's start, drive
 /// until success, collision or timeout, and score.
 ///
-/// Protocol (the official harness, run.py): the timer starts when the robot is first 0.1 m from
-/// the start; the status is checked every 0.1 s of simulated time after that; success when the
-/// robot centre is within 1 m of the goal; timeout at 100 s; any contact is a collision (here
-/// detected at physics rate and ending the episode at once). AT is the elapsed time at the
-/// check that ends the episode. A robot that never moves 0.1 m times out after `timeout` s.
+/// The rules that end an episode and time it (run.py's timer, 0.1 s status checks, success
+/// radius, collision, timeout) are bench::ProtocolMonitor's (protocol_monitor.hpp); an
+/// Episode runs the latency queue and the physics and asks the monitor after every step.
 
 #include <cstdint>
 #include <deque>
@@ -16,6 +14,7 @@
 #include <vector>
 
 #include "barn/bench/odometry_drift.hpp"
+#include "barn/bench/protocol_monitor.hpp"
 #include "barn/controllers/controller.hpp"
 #include "barn/core/config.hpp"
 #include "barn/core/protocol.hpp"
@@ -90,14 +89,6 @@ void checkControllerFits(const controllers::Controller& controller, const Episod
 /// `config`'s robot and physics (learning::plantHash): such a policy steers as if the robot
 /// moved like the one it learned on. "" when the plants agree or the policy does not say.
 std::string plantMismatch(const controllers::Controller& controller, const EpisodeConfig& config);
-
-enum class Outcome {
-  Success,    ///< reached the goal radius before the timeout, without contact
-  Collision,  ///< a robot fixture touched a cylinder
-  Timeout,    ///< 100 s elapsed (or the robot never left the start)
-  Error,      ///< the controller threw or returned a non-finite command
-};
-std::string_view toString(Outcome outcome);
 
 /// Bounds on a controller's state labels (stateLabel(), an external program's "state", a
 /// Python controller's third value), kept by every episode whichever route the controller
@@ -185,6 +176,7 @@ class Episode {
   core::Protocol protocol_;
   EpisodeConfig config_;
   sim::Simulator simulator_;
+  ProtocolMonitor monitor_;  // run.py's rules, asked after every physics step
   sim::LidarCaster lidar_;
   std::uint64_t scan_seed_;  // scan k's noise stream is mixSeed(scan_seed_, k)
   core::FastNoise odometry_noise_;
@@ -195,9 +187,7 @@ class Episode {
   controllers::EpisodeInfo info_;
   const core::WorldSpec* world_;
   long scan_steps_ = 1;
-  long check_steps_ = 1;
   long control_steps_ = 1;
-  long max_steps_ = 0;
   long latency_steps_ = 0;
   std::deque<std::pair<long, core::Twist>> in_flight_;  // (step it takes effect, command)
   long step_ = 0;  // physics steps taken
@@ -213,7 +203,6 @@ class Episode {
   controllers::Observation observation_;
   core::Pose2 tick_pose_;
   core::Pose2 odomPose() const;  // the odometry estimate now, before any white noise
-  std::optional<long> timer_start_step_;
   Eigen::Vector2d previous_position_;
   bool done_ = false;
   std::string last_state_;

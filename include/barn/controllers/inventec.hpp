@@ -67,8 +67,8 @@ struct InventecSafetyConfig {
   double front_pad_y = 0.1;        // [m] code: front_pad_y_m, minimum reach past the front edge
   double front_speed_gain = 0.25;  // [s] code: linear_v_gain
   double front_rotate_gain = 0.2;  // [s] code: rotate_w_gain
-  double rollout_length = 0.42;    // [m] code: the final-pose rectangle 0.42 x 0.33
-  double rollout_width = 0.33;     // [m]
+  // The final-pose rollout tests the stack's unpadded footprint, nav.footprint() (code: the
+  // same 0.42 x 0.33 rectangle).
   double rollout_tolerance = 0.02; // [m] code: safety.dist_tolerance
   int rollout_steps = 20;          // code: safety.step
   double rollout_dt = 0.01;        // [s] code: safety.dt
@@ -96,7 +96,7 @@ struct InventecSafetyConfig {
   template <class V> void visit(V& v) {
     v("type", type); v("front_angle_deg", front_angle_deg); v("front_pad_x", front_pad_x);
     v("front_pad_y", front_pad_y); v("front_speed_gain", front_speed_gain); v("front_rotate_gain", front_rotate_gain);
-    v("rollout_length", rollout_length); v("rollout_width", rollout_width); v("rollout_tolerance", rollout_tolerance);
+    v("rollout_tolerance", rollout_tolerance);
     v("rollout_steps", rollout_steps); v("rollout_dt", rollout_dt); v("mpc_steps", mpc_steps); v("mpc_dt", mpc_dt);
     v("mpc_offset", mpc_offset); v("mpc_costmap_turns", mpc_costmap_turns); v("fi_offset", fi_offset); v("ring", ring);
     v("ring_front", ring_front); v("ring_edge", ring_edge); v("rotate_check", rotate_check); v("rear_strip_centre", rear_strip_centre);
@@ -160,8 +160,9 @@ struct InventecConfig {
     nav::NavStackConfig c = LflhConfig::lflhNav();
     c.global_update_rate = 10.0;
     // The team's local costmap, which only the rear checks read: footprint padding -0.08 m
-    // (inscribed radius 0.165 - 0.08), inflation radius 5 m, cost scaling 1.
-    c.local_costmap.inscribed_radius = 0.085;
+    // (team: local_costmap_params; inscribed radius 0.165 - 0.08), inflation radius 5 m, cost
+    // scaling 1. Only its inflation sees the -0.08: its footprint clearing keeps the stack's.
+    c.local_costmap.inscribed_padding_offset = -0.08 - c.footprint_padding;
     c.local_costmap.inflation_radius = 5.0;
     c.local_costmap.cost_scaling_factor = 1.0;
     // The simulation code subscribed to the local costmap topic alone, not to its partial

@@ -41,8 +41,8 @@ struct LflhConfig {
   double hard_turn_exit_deg = 10.0;   // published deployment: ... until |heading error| < pi/18
   double turn_gain = 2.0;        // [1/s] published deployment: w = 2 * heading error (hard turn and fallback turn)
   double backup_speed = 0.2;     // [m/s] published deployment: v = -0.2, w = 0 when the turn is unsafe too
-  double safety_length = 0.42;   // [m] published deployment: the check's 0.42 x 0.33 rectangle (along x)
-  double safety_width = 0.33;    // [m] published deployment
+  // The safety check tests the stack's unpadded footprint, nav.footprint() (published
+  // deployment: the same 0.42 x 0.33 rectangle).
   double safety_tolerance = 0.0; // [m] published deployment: tolerance 0.0 (Inventec's code: 0.02)
   int safety_steps = 20;         // published deployment: 20 Euler steps ...
   double safety_dt = 0.01;       // [s] published deployment: ... of 0.01 s, final pose only
@@ -52,7 +52,7 @@ struct LflhConfig {
     v("policy", policy); v("rate", rate); v("local_goal_distance", local_goal_distance); v("max_speed", max_speed);
     v("max_turn_rate", max_turn_rate); v("range_clip", range_clip); v("deployed", deployed); v("hard_turn_enter_deg", hard_turn_enter_deg);
     v("hard_turn_exit_deg", hard_turn_exit_deg); v("turn_gain", turn_gain); v("backup_speed", backup_speed);
-    v("safety_length", safety_length); v("safety_width", safety_width); v("safety_tolerance", safety_tolerance);
+    v("safety_tolerance", safety_tolerance);
     v("safety_steps", safety_steps); v("safety_dt", safety_dt); v("nav", nav);
   }
 

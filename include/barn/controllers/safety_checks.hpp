@@ -45,7 +45,7 @@ bool rolloutHit(const std::vector<Eigen::Vector2d>& points, const core::Rect& fo
 /// diagonals, so returns up to that far beyond the rectangle's corners trip the check: the
 /// code's test reaches well past the rectangle a point-in-rectangle test would check.
 struct BeamRollout {
-  core::Rect rectangle = core::Rect::centred(0.42, 0.33);  // [m] code: 0.42 x 0.33 test points
+  core::Rect rectangle;      // [m] the costmap footprint (nav::NavStackConfig::footprint(); code: 0.42 x 0.33)
   int points_per_side = 10;  // code: 10 points per side (40 points)
   double tolerance = 0.0;    // [m] Inventec: 0.02 (safety.dist_tolerance); LfLH: 0.0
   double dt = 0.01;          // [s] code: safety.dt
@@ -60,8 +60,8 @@ bool beamRolloutHit(const core::LaserScan& scan, const core::Twist& command, con
 /// ignored, however close.
 struct FrontCheck {
   double front_angle = 47.0 * std::numbers::pi / 180.0;  // [rad] code: lidar.front_angle 47 deg
-  double half_width = 0.215;   // [m] code: 0.43 / 2
-  double half_length = 0.254;  // [m] code: 0.508 / 2
+  double half_width = 0.0;     // [m] half core::RobotConfig::footprint_width (code: 0.43 / 2)
+  double half_length = 0.0;    // [m] half core::RobotConfig::footprint_length (code: 0.508 / 2)
   double pad_x = 0.01;         // [m] code: front_pad_x_m (lateral, each side)
   double pad_front = 0.1;      // [m] code: front_pad_y_m (the minimum reach past the front edge)
   double speed_gain = 0.25;    // [s] code: linear_v_gain

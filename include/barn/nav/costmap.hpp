@@ -45,14 +45,19 @@ struct CostmapConfig {
   bool clearing = true;             // the scan clears along its rays (costmap_2d observation source `clearing`)
   bool inf_is_valid = false;        // a beam without a return clears (it never does in BARN)
   bool track_unknown = false;       // unseen cells are unknown (255) rather than free
-  double inscribed_radius = 0.265;  // [m] 0.42 x 0.33 footprint + 0.1 padding: 0.165 + 0.1
+  // The inscribed radius is no setting: nav::NavStack derives it from the footprint (see
+  // NavStackConfig::inscribedRadius). ROS sets footprint_padding per costmap; this is the
+  // difference of this map's from the stack's, seen by its inflation only (the footprint
+  // clearing and the move_base checks use the stack's padding).
+  double inscribed_padding_offset = 0.0;  // [m] our choice: 0, the stack's padding
   double inflation_radius = 0.30;   // [m]
   double cost_scaling_factor = 10.0;  // [1/m] costmap_2d default
 
   template <class V> void visit(V& v) {
     v("resolution", resolution); v("width", width); v("height", height); v("origin_x", origin_x);
     v("origin_y", origin_y); v("rolling", rolling); v("obstacle_range", obstacle_range);
-    v("raytrace_range", raytrace_range); v("clearing", clearing); v("inf_is_valid", inf_is_valid); v("track_unknown", track_unknown); v("inscribed_radius", inscribed_radius);
+    v("raytrace_range", raytrace_range); v("clearing", clearing); v("inf_is_valid", inf_is_valid); v("track_unknown", track_unknown);
+    v("inscribed_padding_offset", inscribed_padding_offset);
     v("inflation_radius", inflation_radius); v("cost_scaling_factor", cost_scaling_factor);
   }
 };
@@ -68,7 +73,9 @@ struct CellIndex {
 
 class Costmap {
  public:
-  explicit Costmap(const CostmapConfig& config);
+  /// `inscribed_radius` [m]: the radius of the robot's padded footprint (nav/footprint.hpp),
+  /// within which of an obstacle a cell costs 253.
+  Costmap(const CostmapConfig& config, double inscribed_radius);
 
   /// Marks the returns of `scan` taken from `sensor_pose` (odom frame) and clears the cells
   /// its rays cross; then brings the inflation up to date. A rolling map first re-centres on
@@ -115,6 +122,7 @@ class Costmap {
   int heightCells() const { return height_; }
   double resolution() const { return config_.resolution; }
   const CostmapConfig& config() const { return config_; }
+  double inscribedRadius() const { return inscribed_radius_; }  // [m]
   Eigen::Vector2d origin() const { return origin_; }  // [m] odom frame, lower-left corner
 
   bool inBounds(int x, int y) const { return x >= 0 && y >= 0 && x < width_ && y < height_; }
@@ -196,6 +204,7 @@ class Costmap {
   void clearLine(CellIndex from, CellIndex stop, double max_cells);
 
   CostmapConfig config_;
+  double inscribed_radius_ = 0.0;  // [m]
   int width_ = 0;
   int height_ = 0;
   Eigen::Vector2d origin_;

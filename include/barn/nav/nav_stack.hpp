@@ -10,16 +10,20 @@
 #include <string_view>
 #include <vector>
 
+#include "barn/core/rect.hpp"
 #include "barn/nav/costmap.hpp"
 #include "barn/nav/global_planner.hpp"
 #include "barn/nav/path_tools.hpp"
 
 namespace barn::nav {
 
+/// The footprint and its padding are defined here once; every number derived from them (the
+/// costmaps' inscribed radius, the padded corners, E-Band's circumscribed radius, the checks'
+/// rectangles) is computed from them, as costmap_2d derives them from its footprint.
 struct NavStackConfig {
-  double footprint_length = 0.42;   // [m] BARN's costmap footprint 0.42 x 0.33 (x by y)
-  double footprint_width = 0.33;    // [m]
-  double footprint_padding = 0.1;   // [m] added on every side
+  double footprint_length = 0.42;   // [m] BARN's costmap footprint 0.42 x 0.33 (x by y), the organisers'
+  double footprint_width = 0.33;    // [m]   costmap_common_params.yaml
+  double footprint_padding = 0.1;   // [m] added on every side (BARN's costmap_common_params.yaml)
   bool footprint_clearing = true;   // free the cells under the padded footprint (costmap_2d)
   CostmapConfig global_costmap = defaultGlobalCostmap();
   CostmapConfig local_costmap = defaultLocalCostmap();
@@ -40,6 +44,17 @@ struct NavStackConfig {
     v("global_update_rate", global_update_rate); v("local_update_rate", local_update_rate);
     v("local_costmap_view", local_costmap_view); v("planner", planner);
   }
+
+  /// The footprint rectangle in the robot frame, without padding.
+  core::Rect footprint() const { return core::Rect::centred(footprint_length, footprint_width); }
+  /// The footprint grown by footprint_padding: what both costmaps clear under the robot and the
+  /// move_base checks (DWA, rotate recovery) test.
+  core::Rect paddedFootprint() const { return footprint().grownBy(footprint_padding); }
+  /// The inscribed radius of `map` (global_costmap or local_costmap): that of the footprint
+  /// padded by footprint_padding + map.inscribed_padding_offset (footprintRadii).
+  double inscribedRadius(const CostmapConfig& map) const;
+  /// The circumscribed radius of paddedFootprint() (footprintRadii).
+  double circumscribedRadius() const;
 
   /// BARN's corridor in the odom frame (start at the origin, goal 10 m ahead): 6 x 15 m.
   static CostmapConfig defaultGlobalCostmap();
