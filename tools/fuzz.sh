@@ -6,13 +6,14 @@
 # input is saved as build-fuzz/findings/<target>/crash-* (or oom-, timeout-, leak-) and
 # `build-fuzz/tests/fuzz/fuzz_<target> FILE` replays it.
 # Usage: tools/fuzz.sh [SECONDS] [TARGET...]
-#   targets: world_file npy policy config controller_config manifest episodes (default all)
+#   targets: world_file npy policy config controller_config manifest episodes external_answer
+#            (default all)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-5}"
 [ $# -gt 0 ] && shift
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(world_file npy policy config controller_config manifest episodes)
+[ ${#targets[@]} -eq 0 ] && targets=(world_file npy policy config controller_config manifest episodes external_answer)
 
 # Debian's clang brings libFuzzer and the sanitizer runtimes.
 if ! command -v clang++ >/dev/null 2>&1; then
@@ -57,6 +58,7 @@ seeds() {
     controller_config) ls configs/controllers/*.yaml examples/external/*.yaml tests/fuzz/seeds/controller_config/*.yaml ;;
     manifest) ls results/baseline/*/manifest.yaml tests/fuzz/seeds/manifest/*.yaml ;;
     episodes) ls results/baseline/*/episodes.csv tests/fuzz/seeds/episodes/*.csv ;;
+    external_answer) ls tests/fuzz/seeds/external_answer/*.json ;;
   esac
 }
 # Dictionaries of the formats' tokens (tests/fuzz/*.dict).
@@ -71,6 +73,7 @@ dict() {
 max_len() {
   case "$1" in
     policy) echo 8192 ;;
+    external_answer) echo 4096 ;;
     *) echo 16384 ;;
   esac
 }

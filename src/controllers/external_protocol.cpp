@@ -39,9 +39,7 @@ Json costGrid(const CostGrid& grid) {
 using Scalar = std::variant<std::nullptr_t, bool, double, std::string>;
 
 struct AnswerReader : nlohmann::json_sax<Json> {
-  static constexpr std::size_t kMaxMembers = 8;     // more than any answer has
-  static constexpr std::size_t kMaxParams = 64;     // parameters set in one answer
-  static constexpr std::size_t kMaxKeyBytes = 128;  // a member or parameter name
+  static constexpr std::size_t kMaxMembers = 8;  // more than any answer has
 
   std::vector<std::pair<std::string, Scalar>> members;
   std::vector<std::pair<std::string, double>> params;
@@ -75,7 +73,7 @@ struct AnswerReader : nlohmann::json_sax<Json> {
   }
   bool end_array() override { return true; }
   bool key(string_t& name) override {
-    if (name.size() > kMaxKeyBytes) return fail("a member name is longer than 128 bytes");
+    if (name.size() > kMaxNameBytes) return fail("a member name is longer than 128 bytes");
     if (in_params_) {
       if (params.size() == kMaxParams) return fail("more than 64 parameters in \"params\"");
       for (const auto& p : params)
@@ -113,10 +111,15 @@ struct AnswerReader : nlohmann::json_sax<Json> {
     return false;
   }
   // nlohmann's message without its "[json.exception.parse_error.101] parse error at line 1,
-  // column 5: " prefix.
+  // column 5: " prefix, cut to kShownReason: it ends with the token last read ("last read:
+  // '...'"), which is as long as the answer for an unterminated string or a number of many
+  // digits.
   static std::string shortReason(std::string what) {
+    constexpr std::size_t kShownReason = 200;  // [characters]
     const std::size_t colon = what.find(": ", what.find("column"));
-    return colon == std::string::npos ? what : what.substr(colon + 2);
+    if (colon != std::string::npos) what.erase(0, colon + 2);
+    if (what.size() > kShownReason) what = what.substr(0, kShownReason) + "...";
+    return what;
   }
 
   int depth_ = 0;

@@ -7,6 +7,7 @@
 #include <pybind11/stl.h>
 
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <algorithm>
@@ -17,6 +18,7 @@
 #include <set>
 #include <tuple>
 #include <utility>
+#include <vector>
 #include <unistd.h>
 
 #include "barn/bench/batch.hpp"
@@ -187,16 +189,22 @@ class PyEpisode {
     return d;
   }
 
-  // Applies the command and any stack parameters (`params`: {key: value}; an unknown key or a
-  // bad value ends the episode as an error naming it, as in every other route).
-  void step(double v, double w, const std::string& state, const std::optional<py::dict>& params) {
-    if (params && !params->empty()) {
-      if (!feed_) {
+  // Applies the command and any stack parameters (`params`: {key: value}). Parameters out of
+  // the external protocol's bounds (paramsProblem), an unknown key or a bad value end the
+  // episode as an error naming the key or the count, as in every other route.
+  void step(double v, double w, const std::string& state, const py::object& params) {
+    if (!params.is_none()) {
+      std::vector<std::pair<std::string, double>> checked;
+      if (const std::string problem = paramsProblem(params, checked); !problem.empty()) {
+        episode_->fail("controller's params: " + problem);
+        return;
+      }
+      if (!checked.empty() && !feed_) {
         episode_->fail("controller threw: params given, but the run has no global_plan block whose parameters they could set");
         return;
       }
       try {
-        for (const auto& [key, value] : *params) feed_->set(py::str(key).cast<std::string>(), value.cast<double>());
+        for (const auto& [key, value] : checked) feed_->set(key, value);
       } catch (const std::exception& e) {
         episode_->fail(std::string("controller threw: ") + e.what());
         return;
@@ -249,6 +257,54 @@ class PyEpisode {
   void arriveAtTick() {
     fed_ = episode_->observation();
     if (feed_ && !episode_->done()) feed_->update(fed_);
+  }
+
+  // Python's text of `value` for a message, cut to a few dozen characters.
+  static std::string shown(const py::handle& value) {
+    constexpr std::size_t kShown = 60;  // [characters]
+    std::string text;
+    try {
+      text = py::repr(value).cast<std::string>();
+    } catch (const py::error_already_set&) {
+      text = "<" + std::string(Py_TYPE(value.ptr())->tp_name) + ">";
+    }
+    return text.size() > kShown ? text.substr(0, kShown) + "..." : text;
+  }
+
+  // The stack parameters of one command checked as the external protocol checks its "params"
+  // member (external_protocol.hpp): a dict of at most kMaxParams entries, each a str key of at
+  // most kMaxNameBytes bytes and a finite number (not a bool). Fills `checked` in the dict's
+  // order and returns "", or returns what is wrong, naming the key or the count.
+  static std::string paramsProblem(const py::object& params, std::vector<std::pair<std::string, double>>& checked) {
+    namespace ext = controllers::external;
+    if (!py::isinstance<py::dict>(params))
+      return "a dict {key: number} (got " + std::string(Py_TYPE(params.ptr())->tp_name) + ")";
+    const py::dict dict = params.cast<py::dict>();
+    if (dict.size() > ext::kMaxParams)
+      return "more than " + std::to_string(ext::kMaxParams) + " parameters in one command (" +
+             std::to_string(dict.size()) + ")";
+    for (const auto& [key, value] : dict) {
+      if (!py::isinstance<py::str>(key))
+        return "the key " + shown(key) + " is not a string (" + std::string(Py_TYPE(key.ptr())->tp_name) + ")";
+      std::string name;
+      try {
+        name = key.cast<std::string>();
+      } catch (const std::exception&) {  // a lone surrogate has no UTF-8
+        return "the key " + shown(key) + " is not valid text";
+      }
+      if (name.size() > ext::kMaxNameBytes)
+        return "the key " + shown(key) + " is longer than " + std::to_string(ext::kMaxNameBytes) + " bytes";
+      double number = std::numeric_limits<double>::quiet_NaN();
+      if (!py::isinstance<py::bool_>(value)) {
+        try {
+          number = value.cast<double>();
+        } catch (const py::cast_error&) {  // not a number, or an int beyond a double's range
+        }
+      }
+      if (!std::isfinite(number)) return name + ": must be a finite number (got " + shown(value) + ")";
+      checked.emplace_back(std::move(name), number);
+    }
+    return "";
   }
 
   // A costmap as a dict of numpy values; the same dict object while its version is unchanged,

@@ -349,6 +349,22 @@ TEST(ExternalProtocol, AnswersAreParsedAsStrictJson) {
               ::testing::ThrowsMessage<external::ProtocolError>(HasSubstr("too many members")));
 }
 
+TEST(ExternalProtocol, ARefusalQuotesAtMostAFewHundredCharactersOfAHugeToken) {
+  // The parser's reason ends with the token it last read: an unterminated string or a number of
+  // 100000 digits is that long. The message (an episode's error cell) quotes the answer up to
+  // 200 characters and the reason up to 200: with the fixed text, well under 600 bytes.
+  const std::string huge(100000, '7');
+  for (const std::string& bad : {"{\"v\": \"" + huge, "{\"v\": 1" + huge + ", \"w\": 0}"}) {
+    try {
+      external::readCommandAnswer(bad);
+      ADD_FAILURE() << "accepted";
+    } catch (const external::ProtocolError& e) {
+      EXPECT_LT(std::string(e.what()).size(), 600u) << std::string(e.what()).substr(0, 300);
+      EXPECT_THAT(e.what(), HasSubstr("malformed answer at byte"));
+    }
+  }
+}
+
 TEST(ExternalProtocol, AnswersAreCheckedStrictly) {
   EXPECT_NO_THROW(external::readResetAnswer(R"({"ok": true})"));
   EXPECT_THAT([] { external::readResetAnswer(R"({"ok": false, "error": "no GPU"})"); },

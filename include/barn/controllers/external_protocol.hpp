@@ -6,6 +6,7 @@
 /// reads back as the same double, so a program sees exactly the doubles a built-in controller
 /// would. Pure functions: the process handling is in child_process.hpp.
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <stdexcept>
@@ -20,6 +21,12 @@
 namespace barn::controllers::external {
 
 inline constexpr int kProtocolVersion = 1;
+
+/// What one command may set, in every route (the external protocol's "params" member, a Python
+/// controller's dict, Env.step's params): at most kMaxParams parameters, each named in at most
+/// kMaxNameBytes bytes. Our bounds, well above the stack's settable keys (docs/controllers.md).
+inline constexpr std::size_t kMaxParams = 64;
+inline constexpr std::size_t kMaxNameBytes = 128;  // [bytes] a member or parameter name
 
 /// An answer that is not what protocol v1 allows; the message says what is wrong.
 class ProtocolError : public std::runtime_error {

@@ -87,6 +87,12 @@ def _global_plan_text(global_plan):
     return json.dumps(global_plan)
 
 
+def _flag(value, name):
+    if not isinstance(value, (bool, np.bool_)):
+        raise InputError(f"{name}: True or False (got {value!r})")
+    return bool(value)
+
+
 def _seed(seed, name="seed"):
     if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed < 2**64:
         raise InputError(f"{name}: an integer in [0, 2^64 - 1] (got {seed!r})")
@@ -160,7 +166,10 @@ class Env:
             raise RuntimeError("call reset() before step()")
         if self._episode.done:
             raise RuntimeError("the episode has ended; call reset() before step()")
-        v, w = (float(a) for a in action)
+        try:
+            v, w = (float(a) for a in action)
+        except (TypeError, ValueError):
+            raise InputError(f"action: (v, w), two numbers (got {action!r})") from None
         self._episode.step(v, w, "", params)
         obs = self._episode.observation()
         info = self._episode.result()
@@ -337,7 +346,9 @@ def run(controller, worlds="test50", world_dir=None, trials=1, jobs=2, seed=0, p
     The record is journaled as episodes finish, as barn run does: after an interruption
     (Ctrl-C, a killed job) `run(controller, out=DIR, resume=True)` runs only what is left (the
     experiment's settings come from the record). `shard=(k, n)` runs every n-th episode from
-    the k-th (barn run --shard k/n); merge() puts the shards together."""
+    the k-th (barn run --shard k/n); merge() puts the shards together. An argument that does
+    not apply to the controller given (`config` with a class; `params`, `global_plan`,
+    `episode_timeout` with a built-in name) is refused, not ignored."""
     if out is None:
         raise InputError("out: a folder for the record is required")
     shard_index, shard_count = _shard(shard)
@@ -347,15 +358,28 @@ def run(controller, worlds="test50", world_dir=None, trials=1, jobs=2, seed=0, p
     if isinstance(trials, bool) or not isinstance(trials, int) or trials < 1:
         raise InputError(f"trials: an integer >= 1 (got {trials!r})")
     _seed(seed)
+    resume, trajectories, progress = (_flag(resume, "resume"), _flag(trajectories, "trajectories"),
+                                      _flag(progress, "progress"))
+    if isinstance(episode_timeout, bool) or not (isinstance(episode_timeout, (int, float))
+                                                 and math.isfinite(episode_timeout) and episode_timeout > 0):
+        raise InputError(f"episode_timeout: a positive number of seconds (got {episode_timeout!r})")
     if isinstance(controller, str):
+        # What only a Python class takes is refused, not ignored: a built-in's are in its config.
+        for name, value in (("params", params), ("global_plan", global_plan)):
+            if value is not None:
+                raise InputError(f"{name}: for a Python class; the built-in {controller!r} reads its own from its "
+                                 "config (config=FILE)")
+        if episode_timeout != DEFAULT_EPISODE_TIMEOUT:
+            raise InputError(f"episode_timeout: for a Python class; the built-in {controller!r} has none")
         return _run_builtin(controller, worlds, world_dir, trials, jobs, seed, protocol, out, sim_config, config, resume,
                             shard_index, shard_count, trajectories)
     if not isinstance(controller, type):
         raise InputError("controller: a built-in name or a class with reset(info) and act(obs)")
+    if config is not None:
+        raise InputError("config: a controller config file, for a built-in name; a Python class takes params= "
+                         "and global_plan=")
     if params is not None and not isinstance(params, dict):
         raise InputError(f"params: a dict of keyword arguments for the controller (got {type(params).__name__})")
-    if not (isinstance(episode_timeout, (int, float)) and episode_timeout > 0):
-        raise InputError(f"episode_timeout: a positive number of seconds (got {episode_timeout!r})")
     return _run_python(controller, params or {}, worlds, world_dir or _DEFAULT_WORLD_DIR, trials, jobs, seed,
                        None if resume else _protocol(protocol), out, sim_config or _DEFAULT_SIM_CONFIG, resume,
                        shard_index, shard_count, global_plan, trajectories, float(episode_timeout), progress)
@@ -364,6 +388,8 @@ def run(controller, worlds="test50", world_dir=None, trials=1, jobs=2, seed=0, p
 def merge(shards, out):
     """Merges the shard records of one run (run(..., shard=(k, n)) or barn run --shard) into
     `out`, the record a single run writes, as `barn merge` does; returns its summary."""
+    if isinstance(shards, (str, os.PathLike)):
+        raise InputError(f"shards: a list of shard record folders (got {shards!r})")
     _core.merge([str(s) for s in shards], str(out))
     with open(os.path.join(out, "summary.json")) as f:
         return json.load(f)

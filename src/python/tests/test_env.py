@@ -125,6 +125,64 @@ def test_a_failing_python_controller_fails_only_its_own_episodes(tmp_path):
     assert "controller threw: no map" in rows[2] and rows[1].split(",")[3] == "timeout"
 
 
+def test_wrong_arguments_are_input_errors_naming_the_argument_before_any_record_is_made(tmp_path):
+    # The arguments the 2026-11-27 audit found raising pybind11's or multiprocessing's own errors,
+    # or blaming configs/sim/barn.yaml for a bad protocol argument.
+    with pytest.raises(barnbench.InputError, match="world: 100000000000000000000 is not a world id"):
+        barnbench.Env(world=10**20)
+    with pytest.raises(barnbench.InputError, match=r"world: an id or a world file \(got 3.5\)"):
+        barnbench.Env(world=3.5)
+    with pytest.raises(barnbench.InputError, match="^protocol: 'x' is not one of"):
+        barnbench.Env(world=0, protocol="x")
+    env = barnbench.Env(world=0)
+    for seed in (-1, 2**64, 1.5, True):
+        with pytest.raises(barnbench.InputError, match=r"seed: an integer in \[0, 2\^64 - 1\]"):
+            env.reset(seed=seed)
+    out = tmp_path / "r"
+    for bad, match in [({"jobs": -1}, "jobs: a number of worker processes"), ({"seed": -1}, "seed: an integer"),
+                       ({"seed": 2**64}, "seed: an integer"), ({"protocol": "x"}, "^protocol: 'x' is not one of"),
+                       ({"trials": 0}, "trials: an integer >= 1")]:
+        for controller in (StraightTwin, "straight"):
+            with pytest.raises(barnbench.InputError, match=match):
+                barnbench.run(controller, worlds="0", out=str(out), **bad)
+            assert not out.exists(), bad  # refused before the record was begun: no resume needed
+    # Flags are booleans (a string raised pybind11's TypeError from a worker, or after the record
+    # was begun), and what does not apply to the controller given is refused, not ignored.
+    config = os.path.join(barnbench._SOURCE_DIR, "configs", "controllers", "straight.yaml")
+    for controller, bad, match in [
+            (StraightTwin, {"trajectories": "yes"}, r"trajectories: True or False \(got 'yes'\)"),
+            (StraightTwin, {"progress": "no"}, r"progress: True or False \(got 'no'\)"),
+            ("straight", {"resume": 1}, r"resume: True or False \(got 1\)"),
+            (StraightTwin, {"episode_timeout": math.inf}, "episode_timeout: a positive number of seconds"),
+            (StraightTwin, {"config": config}, "config: a controller config file, for a built-in name"),
+            ("straight", {"params": {"speed": 1.0}}, "params: for a Python class"),
+            ("straight", {"global_plan": {}}, "global_plan: for a Python class"),
+            ("straight", {"episode_timeout": 5}, "episode_timeout: for a Python class")]:
+        with pytest.raises(barnbench.InputError, match=match):
+            barnbench.run(controller, worlds="0", out=str(out), **bad)
+        assert not out.exists(), bad
+    env.reset(seed=1)
+    for action in (0.5, (0.5,), ("x", 0.0)):
+        with pytest.raises(barnbench.InputError, match=r"action: \(v, w\), two numbers"):
+            env.step(action)
+    with pytest.raises(barnbench.InputError, match="shards: a list of shard record folders"):
+        barnbench.merge(str(tmp_path / "shard_1"), out=str(tmp_path / "m"))
+    # jobs=0 is one worker per core, as barn run --jobs 0.
+    assert barnbench.run(StraightTwin, worlds="0", jobs=0, out=str(out))["summary"]["episodes"] == 1
+
+
+def test_a_builtin_run_whose_episodes_errored_returns_its_summary_and_says_so(tmp_path, capfd):
+    # An external program that exits at once: every episode ends as `error`, barn run exits 1 with
+    # a complete record, and run() returns its summary (not barn's stdout as an exception).
+    config = tmp_path / "dies.yaml"
+    config.write_text('type: external\nexternal:\n  command: [python3, -c, "import sys; sys.exit(3)"]\n')
+    summary = barnbench.run("dies", worlds="0,100", jobs=1, out=str(tmp_path / "r"), config=str(config))
+    assert summary["summary"]["episodes"] == 2 and summary["summary"]["error_rate"] == 1.0
+    assert "barnbench.run: dies: some episodes ended in error" in capfd.readouterr().err
+    rows = (tmp_path / "r" / "episodes.csv").read_text().splitlines()
+    assert len(rows) == 3 and all(",error," in row for row in rows[1:])
+
+
 def test_the_gap_follower_in_python_as_an_external_program_and_in_cpp_gives_one_record(tmp_path):
     # The same controller three ways: a Python class in barnbench.run's worker processes, the
     # same Python code as barn's `external` program (JSON lines over a pipe), and its C++ port

@@ -2,6 +2,7 @@
 Python records' bookkeeping (constructor parameters, source digest, progress, trajectories),
 and the Python route's promise that a crashing or hanging controller fails one episode only."""
 
+import math
 import os
 import signal
 import subprocess
@@ -72,6 +73,67 @@ def test_a_parameter_set_while_running_with_a_bad_key_ends_the_episode_naming_it
     assert "global_costmap.inflation_radiu: not a settable parameter" in info["error"]
     with pytest.raises(RuntimeError, match="ended"):
         env.step((0.0, 0.0))  # no repeated terminal reward after the end
+
+
+def _ended_by(params):
+    """The error of an Env episode (with a global_plan block) given `params` at its first step."""
+    env = barnbench.Env(world=0, global_plan={})
+    env.reset(seed=1)
+    _, _, terminated, _, info = env.step((0.0, 0.0), params=params)
+    assert terminated and info["outcome"] == "error", params
+    return info["error"]
+
+
+def test_env_params_out_of_the_protocols_bounds_end_the_episode_naming_the_key_or_count():
+    # The external protocol's bounds: at most 64 parameters, str keys of at most 128 bytes,
+    # finite numbers. 65 keys are refused by their count before any key is looked at.
+    many = {f"k{i}": 0.5 for i in range(65)}
+    assert "more than 64 parameters in one command (65)" in _ended_by(many)
+    assert "the key 5 is not a string (int)" in _ended_by({5: 0.5})
+    assert "the key ('planner', 'rate') is not a string (tuple)" in _ended_by({("planner", "rate"): 0.5})
+    assert "is longer than 128 bytes" in _ended_by({"k" * 129: 0.5})
+    assert "is not valid text" in _ended_by({"planner.rate\ud800": 1.0})
+    assert "global_costmap.inflation_radius: must be a finite number (got nan)" in _ended_by(
+        {"global_costmap.inflation_radius": float("nan")})
+    assert "planner.rate: must be a finite number (got inf)" in _ended_by({"planner.rate": math.inf})
+    assert "planner.rate: must be a finite number (got '2')" in _ended_by({"planner.rate": "2"})
+    assert "planner.rate: must be a finite number (got True)" in _ended_by({"planner.rate": True})
+    assert "planner.rate: must be a finite number (got 1000000" in _ended_by({"planner.rate": 10**400})
+    assert "a dict {key: number} (got list)" in _ended_by([("planner.rate", 2.0)])
+    # Inside the bounds: numpy numbers are numbers, an empty dict sets nothing.
+    env = barnbench.Env(world=0, global_plan={})
+    env.reset(seed=1)
+    _, _, terminated, _, info = env.step((0.0, 0.0), params={"planner.rate": np.float32(2.0)})
+    assert not terminated and info["outcome"] == "running"
+    _, _, terminated, _, _ = env.step((0.0, 0.0), params={})
+    assert not terminated
+
+
+class SendsParams(CarrotPlanner):
+    """CarrotPlanner whose first command carries `params` (a class attribute the test sets)."""
+
+    params = None
+
+    def act(self, obs):
+        v, w = super().act(obs)
+        return {"v": v, "w": w, "params": type(self).params}
+
+
+@pytest.mark.parametrize("params,reason", [
+    ({f"planner.rate{i}": 1.0 for i in range(65)}, "more than 64 parameters in one command (65)"),
+    ({7: 1.0}, "the key 7 is not a string (int)"),
+    ({"planner.rate": float("nan")}, "planner.rate: must be a finite number (got nan)"),
+    ({"planner.rat": 1.0}, "planner.rat: not a settable parameter"),
+    ("planner.rate=1", "a dict {key: number} (got str)"),
+])
+def test_a_python_controllers_params_out_of_bounds_fail_its_episode_naming_the_key_or_count(
+        tmp_path, monkeypatch, params, reason):
+    monkeypatch.setattr(SendsParams, "params", params)
+    summary = barnbench.run(SendsParams, worlds="0,100", jobs=1, out=str(tmp_path / "r"), global_plan={})
+    rows = (tmp_path / "r" / "episodes.csv").read_text().splitlines()
+    assert len(rows) == 3 and summary["summary"]["episodes"] == 2
+    for row in rows[1:]:
+        assert ",error," in row and reason in row, row
 
 
 def test_bad_global_plan_blocks_name_the_key():
