@@ -82,8 +82,9 @@ def main(work, official_trials, test50_trials):
         rates = f"{s['success_rate']:.3f} / {s['collision_rate']:.3f} / {s['timeout_rate']:.3f}"
         k = "k = 2" if protocol_of(work, "official_" + controller) == "barn2024" else "k = 4"
         test = f"{test50['summary']['score']:.4f}" if test50 else "–"
+        time = "–" if s["avg_success_time_s"] is None else f"{s['avg_success_time_s']:.1f}"  # no success
         lines.append(f"| {system} | {edition} | {published} | `{controller}` | {s['score']:.4f} ({k}) | {rates} | "
-                     f"{s['avg_success_time_s']:.1f} | {test} | {note} |")
+                     f"{time} | {test} | {note} |")
     path = "docs/leaderboard.md"
     text = open(path).read()
     begin, end = "<!-- generated:begin -->", "<!-- generated:end -->"
