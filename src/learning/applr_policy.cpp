@@ -194,11 +194,8 @@ ApplrPolicy ApplrPolicy::parse(const std::string& file, const std::string& sourc
   const std::string where = source_name + ": ";
   const auto fail = [&](const std::string& message) { throw core::InputError(where + message); };
 
-  header::HeaderLines lines = header::splitHeader(file, kFormat, "an APPLR policy file", where);
-  header::checkKeys(lines, headerKeys(), where);
   ApplrHeader fields;
-  header::HeaderReader reader(lines.values, where);
-  fields.visit(reader);
+  header::HeaderLines lines = header::readHeader(file, kFormat, "an APPLR policy file", headerKeys(), where, fields);
 
   ApplrPolicyInfo info;
   info.beams = fields.beams;

@@ -220,11 +220,8 @@ MlpPolicy MlpPolicy::load(const std::filesystem::path& path) { return parse(core
 MlpPolicy MlpPolicy::parse(const std::string& file, const std::string& source_name) {
   const std::string where = source_name + ": ";
   const auto fail = [&](const std::string& message) { throw core::InputError(where + message); };
-  header::HeaderLines lines = header::splitHeader(file, kFormat, "an MLP policy file", where);
-  header::checkKeys(lines, headerKeys(), where);
   MlpHeader fields;
-  header::HeaderReader reader(lines.values, where);
-  fields.visit(reader);
+  header::HeaderLines lines = header::readHeader(file, kFormat, "an MLP policy file", headerKeys(), where, fields);
 
   MlpPolicyInfo info;
   bool ok = false;

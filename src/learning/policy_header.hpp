@@ -129,6 +129,19 @@ HeaderLines splitHeader(const std::string& file, const std::string& magic, const
 /// `keys` missing.
 void checkKeys(const HeaderLines& lines, const std::vector<std::string>& keys, const std::string& where);
 
+/// A policy file's header read into `fields` (a struct with visit()): the magic line, no
+/// unknown or missing key (`keys`), every value converted; InputError prefixed by `where`
+/// otherwise. Returns the split lines, whose payload_offset says where the weights begin.
+template <class Fields>
+HeaderLines readHeader(const std::string& file, const std::string& magic, const std::string& what,
+                       const std::vector<std::string>& keys, const std::string& where, Fields& fields) {
+  HeaderLines lines = splitHeader(file, magic, what, where);
+  checkKeys(lines, keys, where);
+  HeaderReader reader(lines.values, where);
+  fields.visit(reader);
+  return lines;
+}
+
 /// Appends `count` floats as little-endian float32.
 void appendFloats(std::string& out, const float* data, std::size_t count);
 /// Reads `count` little-endian float32 from `in` into `data`; true if all are finite.

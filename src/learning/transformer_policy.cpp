@@ -111,11 +111,8 @@ TransformerPolicy TransformerPolicy::parse(const std::string& file, const std::s
   const std::string where = source_name + ": ";
   const auto fail = [&](const std::string& message) { throw core::InputError(where + message); };
 
-  header::HeaderLines lines = header::splitHeader(file, kFormat, "a transformer policy file", where);
-  header::checkKeys(lines, headerKeys(), where);
   TransformerHeader fields;
-  header::HeaderReader reader(lines.values, where);
-  fields.visit(reader);
+  header::HeaderLines lines = header::readHeader(file, kFormat, "a transformer policy file", headerKeys(), where, fields);
 
   TransformerPolicyInfo info;
   info.shape = fields.shape;
