@@ -289,7 +289,7 @@ core::Twist InventecController::backTrackCommand(const SafetyScene& scene, Inven
   const bool stalled = reverse_ticks_ >= 2 && reversed <= reversed_ + 1e-4;
   in.backtrack_done = far_enough || stalled;
   in.rear_blocked = config_.backtrack_roi &&
-                    rearRegionBlocked(nav_.localCostmap(), pose, rearStrip(roi_box_, config_.roi_depth), config_.rear_weight);
+                    rearRegionBlocked(nav_.localObstacleLayer(), pose, rearStrip(roi_box_, config_.roi_depth), config_.rear_weight);
   reversed_ = reversed;
   ++reverse_ticks_;
   return {-config_.backtrack_speed, 0.0};

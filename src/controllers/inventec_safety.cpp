@@ -78,7 +78,7 @@ class FrontSafety : public RolloutSafety {
 
  private:
   bool rotateCheckFires(const SafetyScene& scene, const core::Twist& turn) const {
-    return rotate_check_ && rotateCheckHit(scene.points, scene.nav.localCostmap(), scene.pose, turn.angular, rotate_);
+    return rotate_check_ && rotateCheckHit(scene.points, scene.nav.localObstacleLayer(), scene.pose, turn.angular, rotate_);
   }
 
   core::LidarConfig lidar_;
@@ -107,7 +107,7 @@ class MpcSafety : public RolloutSafety {
     if (!costmap_turns_) return rolloutHit(scene.points, body_, turn, dt_, steps_);
     // Only cells the rolled-out footprint can reach: its farthest corner, plus the drive.
     const double reach = body_.farthestCornerDistance() + std::abs(turn.linear) * dt_ * steps_;
-    return rolloutHit(inscribedCellPoints(scene.nav.localCostmap(), scene.pose, reach), body_, turn, dt_, steps_);
+    return rolloutHit(inscribedCellPoints(scene.nav.localObstacleLayer(), scene.pose, reach), body_, turn, dt_, steps_);
   }
 
  private:

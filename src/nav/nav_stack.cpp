@@ -166,27 +166,29 @@ void NavStack::applyLocalUpdate(const LocalUpdate& update) const {
   if (config_.footprint_clearing) local_.clearPolygon(footprintAt(update.robot_pose));
 }
 
-void NavStack::applyLocalUpdates(std::size_t count) const {
-  if (count == 0) return;
-  for (std::size_t i = 0; i < count; ++i) applyLocalUpdate(local_updates_[i]);
-  // The rest move to the front; the entries keep their scan buffers for reuse.
-  std::rotate(local_updates_.begin(), local_updates_.begin() + static_cast<std::ptrdiff_t>(count),
-              local_updates_.begin() + static_cast<std::ptrdiff_t>(local_updates_queued_));
-  local_updates_queued_ -= count;
-  published_updates_ -= std::min(published_updates_, count);
-  local_.update();
+void NavStack::applyLocalUpdates(std::size_t count, Fold fold) const {
+  if (count > 0) {
+    for (std::size_t i = 0; i < count; ++i) applyLocalUpdate(local_updates_[i]);
+    // The rest move to the front; the entries keep their scan buffers for reuse.
+    std::rotate(local_updates_.begin(), local_updates_.begin() + static_cast<std::ptrdiff_t>(count),
+                local_updates_.begin() + static_cast<std::ptrdiff_t>(local_updates_queued_));
+    local_updates_queued_ -= count;
+    published_updates_ -= std::min(published_updates_, count);
+  }
+  // Also with nothing new applied: an obstacles-only read may have left changes unfolded.
+  if (fold == Fold::Costs) local_.update();
 }
 
 void NavStack::clearCostmapsOutside(const Eigen::Vector2d& centre, double keep) {
   global_.clearOutside(centre, keep);
   global_.update();
-  applyLocalUpdates(local_updates_queued_);
+  applyLocalUpdates(local_updates_queued_, Fold::Costs);
   local_.clearOutside(centre, keep);
   local_.update();
 }
 
 void NavStack::resetLocalCostmap() {
-  applyLocalUpdates(local_updates_queued_);
+  applyLocalUpdates(local_updates_queued_, Fold::Costs);
   local_.reset();
   local_.update();
 }

@@ -1,5 +1,6 @@
 #include "barn/nav/nav_stack.hpp"
 
+#include <algorithm>
 #include <array>
 
 #include <cmath>
@@ -210,6 +211,34 @@ TEST(NavStack, ThePublishedLocalCostmapIsTheMapOfTheWindowsLastMove) {
   step(0.10, moved);
   EXPECT_GT(wallMarked(published, moved), 20);
   EXPECT_EQ(wallMarked(published, moved), wallMarked(live, moved));
+}
+
+TEST(NavStack, TheObstacleLayerShowsTheLocalMapsObstaclesWithoutFoldingItsInflation) {
+  // Two stacks see the same wall 1 m ahead; one is read through the obstacle layer first.
+  NavStack layer_first({}), costs_only({});
+  const core::Pose2 robot{0.0, 0.0, std::numbers::pi / 2};
+  core::LaserScan wall = wallScan(-0.45, 0.45, 1.0);
+  for (NavStack* nav : {&layer_first, &costs_only}) {
+    nav->reset({0.0, 5.0});
+    nav->update(0.0, wall, robot, robot);
+  }
+  const Costmap& layer = layer_first.localObstacleLayer();
+  int marked = 0;
+  for (const Eigen::Vector2d& w : wallPoints(wall, robot)) {
+    CellIndex cell;
+    ASSERT_TRUE(layer.toCell(w, cell));
+    EXPECT_EQ(layer.isObstacle(cell.x, cell.y), costs_only.localCostmap().isObstacle(cell.x, cell.y));
+    marked += layer.isObstacle(cell.x, cell.y);
+  }
+  EXPECT_GT(marked, 20);
+  // The wall's inflation is not folded in: its costs may not be read...
+  EXPECT_THROW(static_cast<void>(layer.costs()), std::logic_error);
+  // ...until the map is read as a costmap, which folds it in: the same costs as the other's.
+  const Costmap& folded = layer_first.localCostmap();
+  const std::size_t cells = static_cast<std::size_t>(folded.widthCells()) * static_cast<std::size_t>(folded.heightCells());
+  const std::uint8_t* a = folded.costs();
+  const std::uint8_t* b = costs_only.localCostmap().costs();
+  EXPECT_TRUE(std::equal(a, a + cells, b));
 }
 
 TEST(NavStack, RejectsAnUnknownLocalCostmapView) {

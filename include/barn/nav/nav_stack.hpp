@@ -107,7 +107,15 @@ class NavStack {
   /// The local costmap as the config's local_costmap_view sees it: up to date, or as of the
   /// last update that moved the window (see local_updates_).
   const Costmap& localCostmap() const {
-    applyLocalUpdates(published_view_ ? published_updates_ : local_updates_queued_);
+    applyLocalUpdates(published_view_ ? published_updates_ : local_updates_queued_, Fold::Costs);
+    return local_;
+  }
+  /// The same map's obstacle layer only (isObstacle, isUnknown), without folding the inflation
+  /// in: for checks that read obstacles alone (Inventec's rear and rotate checks), which would
+  /// otherwise pay for an inflation nobody reads (half of inventec_fi's time). Its costs are
+  /// not brought up to date: reading them throws, as for any map with changes not folded in.
+  const Costmap& localObstacleLayer() const {
+    applyLocalUpdates(published_view_ ? published_updates_ : local_updates_queued_, Fold::ObstaclesOnly);
     return local_;
   }
   /// move_base's clearing recoveries: both costmaps forget obstacles farther than `keep`
@@ -146,7 +154,8 @@ class NavStack {
     core::Pose2 robot_pose;
   };
   /// Applies the first `count` queued updates, in order; the rest stay queued.
-  void applyLocalUpdates(std::size_t count) const;
+  enum class Fold { Costs, ObstaclesOnly };  // whether applying updates also folds the inflation in
+  void applyLocalUpdates(std::size_t count, Fold fold) const;
   void applyLocalUpdate(const LocalUpdate& update) const;
 
   NavStackConfig config_;
