@@ -12,6 +12,20 @@ namespace barn::bench {
 
 namespace {
 
+// The episode seed's independent streams, one per consumer. The numbers are part of every
+// record (changing one changes the episodes), so they are fixed here, once.
+enum class EpisodeStream : std::uint64_t {
+  ScanNoise = 1,      // the LiDAR's noise: scan k draws from mixSeed(this stream, k)
+  Controller = 2,     // the controller's own randomness (EpisodeInfo::seed)
+  OdometryNoise = 3,  // white noise on the odometry
+  OdometryDrift = 4,  // the per-episode wheel-scale, turn-rate and gyro-bias errors
+  TurnSlip = 5,       // the simulator's random turn slip
+};
+
+std::uint64_t streamSeed(std::uint64_t episode_seed, EpisodeStream stream) {
+  return core::mixSeed(episode_seed, static_cast<std::uint64_t>(stream));
+}
+
 std::optional<long> stepsIn(double period, double dt) { return wholeStepsIn(period, dt); }
 
 // Counts a state entry when the controller's label changes; the error if the label breaks
@@ -116,16 +130,16 @@ Episode::Episode(const core::WorldSpec& world, const sim::ObstacleField& field, 
     : protocol_(episodeProtocol(config)),
       config_(config),
       simulator_(field, config.robot, config.physics, core::Pose2{protocol_.start_x, protocol_.start_y, protocol_.start_yaw},
-                 core::mixSeed(seed, 5)),
+                 streamSeed(seed, EpisodeStream::TurnSlip)),
       monitor_(protocol_, simulator_.dt()),
       lidar_(config.lidar, field),
-      scan_seed_(core::mixSeed(seed, 1)),
-      odometry_noise_(core::mixSeed(seed, 3)) {
+      scan_seed_(streamSeed(seed, EpisodeStream::ScanNoise)),
+      odometry_noise_(streamSeed(seed, EpisodeStream::OdometryNoise)) {
   checkControllerPeriod(controller_period, config);
   start_ = {protocol_.start_x, protocol_.start_y, protocol_.start_yaw};
   odom_origin_ = protocol_.start();  // odom = world shifted to the start
   goal_world_ = protocol_.goal();
-  if (config.odometry.drift.enabled()) drifting_.emplace(config.odometry.drift, start_, core::mixSeed(seed, 4));
+  if (config.odometry.drift.enabled()) drifting_.emplace(config.odometry.drift, start_, streamSeed(seed, EpisodeStream::OdometryDrift));
   result_.world_id = world.id;
   result_.seed = seed;
   result_.optimal_time = core::optimalTime(world.path, protocol_);
@@ -133,7 +147,7 @@ Episode::Episode(const core::WorldSpec& world, const sim::ObstacleField& field, 
   info_.start = {0.0, 0.0, protocol_.start_yaw};
   info_.goal = goal_world_ - odom_origin_;
   info_.goal_tolerance = protocol_.success_radius;
-  info_.seed = core::mixSeed(seed, 2);
+  info_.seed = streamSeed(seed, EpisodeStream::Controller);
   info_.lidar = config.lidar;
   info_.robot = config.robot;
   world_ = &world;
