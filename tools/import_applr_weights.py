@@ -38,7 +38,7 @@ except ImportError:  # an interpreter without numpy (Debian's /usr/bin/python3 h
     sys.exit("import_applr_weights: needs numpy: run it with /usr/bin/python3 (apt-get install python3-numpy)")
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from import_lics_weights import fnv1a64, format_number  # noqa: E402 - the shared number and digest writers
+from import_lics_weights import fnv1a64, format_number, state_dict_arrays  # noqa: E402 - shared with that importer
 
 # The published actor: 720 ranges + the goal angle, 2 x 512 hidden units (config.yaml
 # hidden_layer_size, num_layers), the seven parameters of param_list with the ranges of
@@ -176,14 +176,7 @@ def read_state_dict(path):
         except Exception as e:  # noqa: BLE001 - pickle and torch raise many kinds for a file they cannot read
             message = str(e).splitlines()[0] if str(e) else type(e).__name__
             raise ImportError_("%s: cannot be read as a state_dict: %s" % (path, message)) from None
-    if not isinstance(state, dict):
-        raise ImportError_("%s holds a %s, not a state_dict" % (path, type(state).__name__))
-    arrays = {}
-    for key, value in state.items():
-        if not hasattr(value, "detach"):
-            raise ImportError_("%s: %s is not a tensor" % (path, key))
-        arrays[str(key)] = value.detach().cpu().numpy()
-    return arrays
+    return state_dict_arrays(state, path, ImportError_)
 
 
 def main(argv=None):

@@ -212,12 +212,18 @@ def read_state_dict(path):
     except Exception as e:  # noqa: BLE001 - torch raises many kinds for a file it cannot read
         raise ImportError_("%s: torch cannot read it as a state_dict: %s" % (path, str(e).splitlines()[0] if str(e) else e)) \
             from None
+    return state_dict_arrays(state, path, ImportError_)
+
+
+def state_dict_arrays(state, path, error):
+    """A loaded state_dict's tensors as numpy arrays by key; `error` (naming `path`) if `state`
+    is not a dict of tensors. Shared by the weight importers."""
     if not isinstance(state, dict):
-        raise ImportError_("%s holds a %s, not a state_dict" % (path, type(state).__name__))
+        raise error("%s holds a %s, not a state_dict" % (path, type(state).__name__))
     arrays = {}
     for key, value in state.items():
         if not hasattr(value, "detach"):
-            raise ImportError_("%s: %s is not a tensor" % (path, key))
+            raise error("%s: %s is not a tensor" % (path, key))
         arrays[str(key)] = value.detach().cpu().numpy()
     return arrays
 
