@@ -550,7 +550,9 @@ TEST_F(ReliabilityExternal, AControllerFloodingStateLabelsFailsOnlyItsEpisodes) 
 TEST_F(ReliabilityExternal, AnExtraAnswerLineFailsItsOwnEpisode) {
   // The program answers observation 3 twice: that episode fails (it would otherwise go on with
   // every command one tick late), and the next one runs normally on a fresh process.
-  // (Only once, marked by a file: the next episode's fresh process answers normally.)
+  // (Only once, marked by a file: the next episode's fresh process answers normally.) Both
+  // lines go out in one write, so they reach barn together: a line written later, after barn
+  // has sent the next message, cannot be told from the next answer (docs/external_controller.md).
   const fs::path config = external("twice", "import json, os, sys\n"
                                             "n = 0\n"
                                             "for line in sys.stdin:\n"
@@ -560,10 +562,10 @@ TEST_F(ReliabilityExternal, AnExtraAnswerLineFailsItsOwnEpisode) {
                                             "        continue\n"
                                             "    n += 1\n"
                                             "    answer = json.dumps({'v': 0.5, 'w': 0.0, 'state': 'obs%d' % n})\n"
-                                            "    print(answer, flush=True)\n"
                                             "    if n == 3 and not os.path.exists('twice.done'):\n"
                                             "        open('twice.done', 'w').close()\n"
-                                            "        print(answer, flush=True)\n");
+                                            "        answer += '\\n' + answer\n"
+                                            "    print(answer, flush=True)\n");
   const fs::path out = dir_ / "tw";
   const RunResult r = run("run --controller t --config " + quote(config) + " --worlds 2:4 --jobs 1 --out " + quote(out));
   EXPECT_EQ(r.exit_code, 1) << r.output;
