@@ -25,16 +25,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct RunOptions {
-  std::string controller;
-  std::string config;
-  std::string sim_config;
-  std::string worlds = "all";
-  std::string world_dir;
-  int trials = 1;
-  std::string protocol;
-  int jobs = 0;
-  std::uint64_t seed = 0;
+struct RunOptions : ExperimentOptions {
   std::string out;
   std::string shard;
   std::string resume;
@@ -75,7 +66,7 @@ std::vector<std::string> controllerNames() {
 
 // The controller config: --config FILE, else configs/controllers/NAME.yaml, else the type NAME
 // with its defaults; an unknown NAME lists the known ones.
-core::ConfigNode controllerConfig(const RunOptions& options) {
+core::ConfigNode controllerConfig(const ExperimentOptions& options) {
   checkControllerName(options.controller);
   const fs::path file = controllerConfigFile(options.controller, options.config);
   if (!file.empty()) return core::ConfigNode::parseFile(file);
@@ -177,10 +168,25 @@ fs::path controllerConfigFile(const std::string& controller, const std::string& 
 }
 
 core::ConfigNode controllerConfigFor(const std::string& controller, const std::string& config_file) {
-  RunOptions options;
+  ExperimentOptions options;
   options.controller = controller;
   options.config = config_file;
   return controllerConfig(options);
+}
+
+void addExperimentOptions(CLI::App* cmd, ExperimentOptions& options) {
+  cmd->add_option("--controller", options.controller, "Controller: a name in configs/controllers/ or a type");
+  cmd->add_option("--config", options.config, "Controller config file (default configs/controllers/NAME.yaml)");
+  cmd->add_option("--sim-config", options.sim_config,
+                  "Robot, LiDAR, physics and protocol config (default configs/sim/barn.yaml)");
+  cmd->add_option("--worlds", options.worlds, "all, test50, A:B[:STEP], 3,7,9, or a folder of world files")
+      ->capture_default_str();
+  cmd->add_option("--world-dir", options.world_dir,
+                  "Folder the ids of --worlds refer to (default worlds/; e.g. one written by barn import-barn)");
+  cmd->add_option("--trials", options.trials, "Trials per world")->check(CLI::Range(1, 100000))->capture_default_str();
+  cmd->add_option("--protocol", options.protocol, "barn2023 or barn2024 (overrides the sim config)");
+  cmd->add_option("--jobs", options.jobs, "Threads (0 = all cores)")->check(CLI::Range(0, 4096))->capture_default_str();
+  cmd->add_option("--seed", options.seed, "Run seed (LiDAR noise and controller randomness)")->capture_default_str()->check(kUnsigned);
 }
 
 bench::EpisodeConfig episodeConfigFor(const std::string& sim_config, const std::string& protocol) {
@@ -201,18 +207,7 @@ bench::EpisodeConfig episodeConfigFor(const std::string& sim_config, const std::
 void addRunCommand(CLI::App& app, CommandContext& context) {
   auto options = std::make_shared<RunOptions>();
   CLI::App* cmd = app.add_subcommand("run", "Run a controller on worlds x trials in parallel and score it as BARN does");
-  cmd->add_option("--controller", options->controller, "Controller: a name in configs/controllers/ or a type");
-  cmd->add_option("--config", options->config, "Controller config file (default configs/controllers/NAME.yaml)");
-  cmd->add_option("--sim-config", options->sim_config,
-                  "Robot, LiDAR, physics and protocol config (default configs/sim/barn.yaml)");
-  cmd->add_option("--worlds", options->worlds, "all, test50, A:B[:STEP], 3,7,9, or a folder of world files")
-      ->capture_default_str();
-  cmd->add_option("--world-dir", options->world_dir,
-                  "Folder the ids of --worlds refer to (default worlds/; e.g. one written by barn import-barn)");
-  cmd->add_option("--trials", options->trials, "Trials per world")->check(CLI::Range(1, 100000))->capture_default_str();
-  cmd->add_option("--protocol", options->protocol, "barn2023 or barn2024 (overrides the sim config)");
-  cmd->add_option("--jobs", options->jobs, "Threads (0 = all cores)")->check(CLI::Range(0, 4096))->capture_default_str();
-  cmd->add_option("--seed", options->seed, "Run seed (LiDAR noise and controller randomness)")->capture_default_str()->check(kUnsigned);
+  addExperimentOptions(cmd, *options);
   cmd->add_option("--out", options->out, "Record folder (default results/<controller>)");
   cmd->add_option("--shard", options->shard, "Run shard K of N (every N-th episode from K); combine with barn merge");
   cmd->add_option("--resume", options->resume, "Finish the interrupted run in this record folder");

@@ -27,17 +27,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct SweepOptions {
-  std::string controller;
-  std::string config;
-  std::string sim_config;
+struct SweepOptions : ExperimentOptions {
   std::vector<std::string> params;
-  std::string worlds = "test50";
-  std::string world_dir;
-  int trials = 1;
-  std::string protocol;
-  int jobs = 0;
-  std::uint64_t seed = 0;
   std::string out;
   std::string resume;
   std::string shard;
@@ -190,17 +181,10 @@ void writeSweepResults(const SweepSessions& sweep, const std::string& config, co
 void addSweepCommand(CLI::App& app, CommandContext& context) {
   auto options = std::make_shared<SweepOptions>();
   CLI::App* cmd = app.add_subcommand("sweep", "Run a controller over a grid of config values, all cells in one pool");
-  cmd->add_option("--controller", options->controller, "Controller: a name in configs/controllers/ or a type");
-  cmd->add_option("--config", options->config, "Controller config file (default configs/controllers/NAME.yaml)");
-  cmd->add_option("--sim-config", options->sim_config, "Simulation config (default configs/sim/barn.yaml)");
+  options->worlds = "test50";  // a sweep runs every cell: a smaller default set than barn run's
+  addExperimentOptions(cmd, *options);
   cmd->add_option("--param", options->params,
                   "KEY=V1,V2,... (repeatable): a controller config key, relative to its type block, and its values");
-  cmd->add_option("--worlds", options->worlds, "all, test50, A:B[:STEP], 3,7,9 or a folder")->capture_default_str();
-  cmd->add_option("--world-dir", options->world_dir, "Folder the ids of --worlds refer to (default worlds/)");
-  cmd->add_option("--trials", options->trials, "Trials per world")->check(CLI::Range(1, 100000))->capture_default_str();
-  cmd->add_option("--protocol", options->protocol, "barn2023 or barn2024");
-  cmd->add_option("--jobs", options->jobs, "Threads (0 = all cores)")->check(CLI::Range(0, 4096));
-  cmd->add_option("--seed", options->seed, "Run seed")->capture_default_str()->check(kUnsigned);
   cmd->add_option("--out", options->out, "Sweep folder (default results/sweep_<controller>)");
   cmd->add_option("--resume", options->resume, "Finish an interrupted sweep in this folder");
   cmd->add_option("--stop-after", options->stop_after, "Stop after this many episodes, as Ctrl-C would")->check(kUnsigned);

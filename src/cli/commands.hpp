@@ -69,6 +69,24 @@ void addCompareCommand(CLI::App& app, CommandContext& context);
 void addExportWorldsCommand(CLI::App& app, CommandContext& context);
 void addConfigCommand(CLI::App& app, CommandContext& context);
 
+/// What `barn run` and `barn sweep` both ask: the controller, the simulation, the worlds and
+/// the trials. Each command's options struct derives from it and adds its own.
+struct ExperimentOptions {
+  std::string controller;
+  std::string config;
+  std::string sim_config;
+  std::string worlds = "all";
+  std::string world_dir;
+  int trials = 1;
+  std::string protocol;
+  int jobs = 0;
+  std::uint64_t seed = 0;
+};
+
+/// Adds --controller, --config, --sim-config, --worlds, --world-dir, --trials, --protocol,
+/// --jobs and --seed to `cmd`, bound to `options` (whose values are the defaults shown).
+void addExperimentOptions(CLI::App* cmd, ExperimentOptions& options);
+
 /// How a run session executes.
 struct SessionOptions {
   int jobs = 0;                 // threads; 0 = all cores
