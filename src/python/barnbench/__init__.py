@@ -451,41 +451,19 @@ class _Spec:
         self.trajectories = trajectories
         self.period = float(getattr(controller_class, "period", 0.05))
 
-    def episode(self, world, seed, period=None):
-        return _core.Episode.from_record_config(world, self.world_dir, self.episode_config, seed,
-                                                self.period if period is None else period, self.global_plan_text,
-                                                self.trajectories)
-
     def failed_row(self, world, trial, seed, reason):
         """The row of an episode its worker could not finish (crashed or hung)."""
-        episode = self.episode(world, seed)
+        episode = _core.Episode.from_record_config(world, self.world_dir, self.episode_config, seed, self.period,
+                                                   self.global_plan_text, self.trajectories)
         episode.fail(reason)
         return episode.csv_row(trial), (episode.trajectory_csv() if self.trajectories else None)
 
 
-def _command(answer):
-    if isinstance(answer, dict):
-        unknown = set(answer) - {"v", "w", "state", "params"}
-        if unknown:
-            raise ValueError(f"unknown keys in the command: {', '.join(sorted(unknown))}")
-        return float(answer["v"]), float(answer["w"]), str(answer.get("state", "")), answer.get("params")
-    return float(answer[0]), float(answer[1]), str(answer[2]) if len(answer) > 2 else "", None
-
-
 def _run_episode(controller, spec, world, trial, seed):
-    episode = spec.episode(world, seed, float(getattr(controller, "period", spec.period)))
-    try:
-        controller.reset(episode.info())
-    except BaseException as e:  # a failing controller ends its own episode only
-        episode.fail(f"controller reset threw: {_describe(e)}")
-    while not episode.done:
-        try:
-            v, w, state, params = _command(controller.act(episode.observation(full_precision=True)))
-        except BaseException as e:
-            episode.fail(f"controller threw: {_describe(e)}")
-            break
-        episode.step(v, w, state, params)
-    return episode.csv_row(trial), (episode.trajectory_csv() if spec.trajectories else None)
+    """One episode in bench's loop (bench::runEpisode, as barn run runs it), calling the
+    controller back for reset and every act; what it raises ends the episode as an error."""
+    return _core.run_episode(controller, world, spec.world_dir, spec.episode_config, seed, trial,
+                             spec.global_plan_text, spec.trajectories)
 
 
 def _describe(error):

@@ -125,6 +125,31 @@ def test_a_failing_python_controller_fails_only_its_own_episodes(tmp_path):
     assert "controller threw: no map" in rows[2] and rows[1].split(",")[3] == "timeout"
 
 
+class AnswersBadly:
+    """Answers each world's first tick with something that is not a command."""
+
+    answers = {0: None, 100: ("fast", 0.0), 200: {"v": 1.0}, 250: {"v": 1.0, "w": 0.0, "speed": 2, "mode": 1}}
+
+    def reset(self, info):
+        self.answer = AnswersBadly.answers[info["world"]]
+
+    def act(self, obs):
+        return self.answer
+
+
+def test_a_python_controllers_bad_answers_end_its_episodes_with_pythons_own_messages(tmp_path):
+    # The C++ loop reads an answer as Python's float(), [] and len() read it, so each error row
+    # says what Python says: None[0], float("fast"), {"v": 1.0}["w"] (a KeyError's text is the
+    # key's repr), and the unknown keys sorted.
+    barnbench.run(AnswersBadly, worlds="0,100,200,250", jobs=1, out=str(tmp_path / "r"))
+    rows = (tmp_path / "r" / "episodes.csv").read_text().splitlines()[1:]
+    errors = [row.split(",", 13)[13] for row in rows]
+    assert errors == ["controller threw: 'NoneType' object is not subscriptable",
+                      "controller threw: could not convert string to float: 'fast'",
+                      "controller threw: 'w'",
+                      "controller threw: unknown keys in the command: mode; speed"]
+
+
 def test_wrong_arguments_are_input_errors_naming_the_argument_before_any_record_is_made(tmp_path):
     # The arguments the 2026-11-27 audit found raising pybind11's or multiprocessing's own errors,
     # or blaming configs/sim/barn.yaml for a bad protocol argument.
