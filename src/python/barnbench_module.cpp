@@ -11,11 +11,18 @@
 #include <memory>
 #include <optional>
 #include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdio>
+#include <exception>
+#include <mutex>
 #include <cmath>
 #include <cerrno>
 #include <cstring>
 #include <string>
 #include <set>
+#include <thread>
 #include <stdexcept>
 #include <tuple>
 #include <utility>
@@ -33,6 +40,7 @@
 #include "barn/controllers/e2e.hpp"
 #include "barn/controllers/external_protocol.hpp"
 #include "barn/controllers/global_plan_feed.hpp"
+#include "barn/controllers/registry.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/core/text_io.hpp"
 #include "barn/core/world_file.hpp"
@@ -477,6 +485,37 @@ py::tuple runPythonEpisode(const py::object& controller, const py::object& world
   return py::make_tuple(bench::episodeCsvRow(result), trajectory);
 }
 
+// A built-in controller for barnbench.run(NAME, config=FILE): its config (FILE, else
+// configs/controllers/NAME.yaml, else the type NAME with its defaults, as barn run
+// --controller NAME reads it), checked against the episode config as barn run checks it before
+// a record is made. Returns its effective config, as the manifest records it.
+std::string builtinController(const std::string& name, const std::string& config_file, const std::string& sim_config,
+                            const std::string& protocol) {
+  // The name picks configs/controllers/NAME.yaml: a path would read any file as a config.
+  if (name.empty() || name.find('/') != std::string::npos || name == "." || name == ".." || name.front() == '-')
+    throw core::InputError("controller: '" + name + "' is a name (of configs/controllers/NAME.yaml or a controller "
+                           "type), not a path; give a config file with config=FILE");
+  const std::filesystem::path configs = std::filesystem::path(BARN_SOURCE_DIR) / "configs" / "controllers";
+  std::filesystem::path file = config_file;
+  if (file.empty() && std::filesystem::exists(configs / (name + ".yaml"))) file = configs / (name + ".yaml");
+  const std::vector<std::string> types = controllers::controllerTypes();
+  if (file.empty() && std::find(types.begin(), types.end(), name) == types.end()) {
+    std::set<std::string> known(types.begin(), types.end());
+    std::error_code ec;
+    for (const auto& entry : std::filesystem::directory_iterator(configs, ec))
+      if (entry.path().extension() == ".yaml") known.insert(entry.path().stem().string());
+    std::string list;
+    for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+    throw core::InputError("controller: '" + name + "' is not a built-in controller (known: " + list + "; or config=FILE)");
+  }
+  const core::ConfigNode node =
+      file.empty() ? core::ConfigNode::parseString("type: " + name, "controller " + name) : core::ConfigNode::parseFile(file);
+  const bench::EpisodeConfig episode = loadEpisodeConfig(sim_config, protocol);
+  const controllers::PreparedController prepared = controllers::prepareController(node);
+  bench::checkControllerFits(*prepared.factory(), episode);
+  return prepared.effective_config;
+}
+
 // A run record written from Python through bench's record life (record_session.hpp), so it
 // is created, journaled, resumed and completed exactly as `barn run` does it. Python runs the
 // pending episodes (in processes) and hands back each one's episodes.csv row as it finishes.
@@ -550,6 +589,85 @@ class PyRecord {
     if (progress_) progress_->update(r.outcome == bench::Outcome::Success, r.sim_time);
     r.trajectory.clear();  // written; the record's rows do not keep it
     finished_.push_back(std::move(r));
+  }
+
+  // Runs the pending episodes of a record of a C++ controller (its manifest's controller
+  // config, made as barn run --resume makes it) in `threads` threads of bench's batch,
+  // journaling each as it ends: what barn run does, in this process. Ctrl-C (Python's
+  // KeyboardInterrupt) starts no new episode; the running ones finish and are kept, then the
+  // KeyboardInterrupt is raised (finish() leaves the record to resume). A controller trained on
+  // another plant is warned of on stderr, as barn run warns.
+  void runController(int threads) {
+    if (!journal_) throw core::InputError("record: begin() first");
+    const bench::RunManifest& m = session_.manifest;
+    bench::BatchSpec batch;
+    batch.worlds = session_.worlds;
+    batch.trials = m.trials;
+    batch.seed = m.seed;
+    batch.episode = parseEpisodeConfig(m.episode_config);
+    batch.make_controller =
+        controllers::makeControllerFactory(core::ConfigNode::parseString(m.controller_config, "record controller_config"));
+    batch.record_trajectories = m.trajectories;
+    batch.selected = pending_;
+    try {
+      if (const std::string warning = bench::plantMismatch(*batch.make_controller(), batch.episode); !warning.empty())
+        std::fprintf(stderr, "warning: %s: %s\n", m.controller.c_str(), warning.c_str());
+    } catch (const std::exception&) {
+      // A controller that cannot be made (its policy file gone) fails every episode, as in barn run.
+    }
+
+    std::atomic<bool> stop{false};
+    std::string journal_error;  // the first failed journal write: the run stops there
+    std::vector<bench::EpisodeResult> results;
+    std::exception_ptr failure;
+    std::mutex mutex;
+    std::condition_variable ended;
+    bool done = false;
+    std::optional<py::error_already_set> interrupt;
+    {
+      py::gil_scoped_release release;
+      std::thread runner([&] {
+        try {
+          results = bench::runBatch(batch, {threads, &stop}, [&](const bench::EpisodeResult& r, std::size_t, std::size_t) {
+            if (journal_error.empty() && !journal_->append(r)) {
+              journal_error = journal_->error();
+              stop.store(true);  // nothing more can be kept: start no new episode
+            }
+            if (progress_) progress_->update(r.outcome == bench::Outcome::Success, r.sim_time);
+          });
+        } catch (...) {
+          failure = std::current_exception();
+        }
+        const std::lock_guard<std::mutex> lock(mutex);
+        done = true;
+        ended.notify_one();
+      });
+      // Python sees a Ctrl-C only when it checks its signals, holding the GIL.
+      std::unique_lock<std::mutex> lock(mutex);
+      constexpr std::chrono::milliseconds kSignalCheck{100};
+      while (!ended.wait_for(lock, kSignalCheck, [&] { return done; })) {
+        if (interrupt) continue;
+        lock.unlock();
+        {
+          py::gil_scoped_acquire gil;
+          if (PyErr_CheckSignals() != 0) {
+            interrupt.emplace();  // takes the KeyboardInterrupt, to raise once the batch has stopped
+            stop.store(true);
+          }
+        }
+        lock.lock();
+      }
+      lock.unlock();
+      runner.join();
+    }
+    for (bench::EpisodeResult& r : results) {
+      r.trajectory.clear();  // written; the record's rows do not keep it
+      finished_.push_back(std::move(r));
+    }
+    if (failure) std::rethrow_exception(failure);
+    if (interrupt) throw std::move(*interrupt);
+    if (!journal_error.empty())
+      throw core::IoError(journal_error + " (the episodes journaled before it are kept; resume=True when the disk has room)");
   }
 
   // True if the record is complete now; else it is left to resume.
@@ -831,6 +949,8 @@ PYBIND11_MODULE(_core, m) {
         py::arg("record_trajectory") = false,
         "Runs one episode of a Python controller (reset(info), act(obs), optional period) through "
         "bench::runEpisode, barn run's loop: (its episodes.csv row, its trajectory CSV or None)");
+  m.def("builtin_controller", &builtinController, py::arg("name"), py::arg("config_file"), py::arg("sim_config"),
+        py::arg("protocol"), "A built-in controller's effective config, checked as barn run checks it");
   m.def("select_worlds", [](const std::string& spec, const std::string& world_dir) {
     const bench::LoadedWorlds loaded = bench::loadWorlds(spec, world_dir);
     std::vector<int> ids;
@@ -863,6 +983,8 @@ PYBIND11_MODULE(_core, m) {
            "Writes the manifest and the journal of earlier rows; progress lines on stderr")
       .def("append", &PyRecord::append, py::arg("row"), py::arg("trajectory") = py::none(),
            "Journals a finished episode's csv_row() (and keeps its trajectory_csv())")
+      .def("run_controller", &PyRecord::runController, py::arg("threads"),
+           "Runs the pending episodes of a built-in controller's record in C++ threads, as barn run does")
       .def("finish", &PyRecord::finish, py::arg("wall_time_s"),
            "Completes the record (True) or leaves it to resume (False)")
       .def_property_readonly("dir", &PyRecord::dir)
