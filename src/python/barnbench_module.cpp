@@ -11,11 +11,19 @@
 #include <memory>
 #include <optional>
 #include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdio>
+#include <exception>
+#include <mutex>
 #include <cmath>
 #include <cerrno>
 #include <cstring>
 #include <string>
 #include <set>
+#include <thread>
+#include <stdexcept>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -32,6 +40,7 @@
 #include "barn/controllers/e2e.hpp"
 #include "barn/controllers/external_protocol.hpp"
 #include "barn/controllers/global_plan_feed.hpp"
+#include "barn/controllers/registry.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/core/text_io.hpp"
 #include "barn/core/world_file.hpp"
@@ -121,6 +130,127 @@ bench::EpisodeConfig parseEpisodeConfig(const std::string& yaml) {
   return bench::validatedEpisodeConfig(core::ConfigNode::parseString(yaml, "record episode_config"), "record episode_config");
 }
 
+// ---------------------------------------------------------------------------------------------
+// A Python controller's side of an episode, for Env (PyEpisode) and run_episode (PyController)
+// alike: the observation and reset dicts it is handed and the stack parameters it may send.
+
+// A costmap as a dict of numpy values; the same dict object while its version is unchanged,
+// so an unchanged map costs nothing.
+struct CachedCostmap {
+  std::optional<std::uint64_t> version;
+  py::dict dict;
+};
+
+py::dict costmapDict(const controllers::CostGrid& grid, CachedCostmap& cache) {
+  if (cache.version == grid.version) return cache.dict;
+  py::array_t<std::uint8_t> costs({static_cast<py::ssize_t>(grid.height), static_cast<py::ssize_t>(grid.width)});
+  std::copy_n(grid.costs, static_cast<std::size_t>(grid.width) * static_cast<std::size_t>(grid.height), costs.mutable_data());
+  py::dict d;
+  d["costs"] = costs;
+  d["origin"] = py::array_t<double>(2, std::array<double, 2>{grid.origin.x(), grid.origin.y()}.data());
+  d["resolution"] = grid.resolution;
+  d["version"] = grid.version;
+  cache = {grid.version, d};
+  return d;
+}
+
+// A tick's observation as a dict of numpy values; the scan as float32 (the Gymnasium
+// convention) or, with `full_precision`, as the doubles every other route gives a controller.
+py::dict observationDict(const controllers::Observation& o, bool full_precision, CachedCostmap& local_costmap,
+                         CachedCostmap& global_costmap) {
+  const std::vector<double>& ranges = o.scan->ranges;
+  py::dict d;
+  if (full_precision) {
+    d["scan"] = py::array_t<double>(static_cast<py::ssize_t>(ranges.size()), ranges.data());
+  } else {
+    py::array_t<float> scan(static_cast<py::ssize_t>(ranges.size()));
+    float* out = scan.mutable_data();
+    for (std::size_t i = 0; i < ranges.size(); ++i) out[i] = static_cast<float>(ranges[i]);
+    d["scan"] = scan;
+  }
+  d["pose"] = py::array_t<double>(3, std::array<double, 3>{o.odom_pose.x, o.odom_pose.y, o.odom_pose.yaw}.data());
+  d["scan_pose"] = py::array_t<double>(
+      3, std::array<double, 3>{o.scan_odom_pose.x, o.scan_odom_pose.y, o.scan_odom_pose.yaw}.data());
+  d["twist"] = py::array_t<double>(2, std::array<double, 2>{o.odom_twist.linear, o.odom_twist.angular}.data());
+  d["goal"] = py::array_t<double>(2, std::array<double, 2>{o.goal.x(), o.goal.y()}.data());
+  d["time"] = o.time;
+  if (o.global_plan) {
+    const std::vector<core::Pose2>& poses = o.global_plan->poses;
+    py::array_t<double> plan({static_cast<py::ssize_t>(poses.size()), py::ssize_t{3}});
+    double* out = plan.mutable_data();
+    for (const core::Pose2& p : poses) {
+      *out++ = p.x;
+      *out++ = p.y;
+      *out++ = p.yaw;
+    }
+    d["global_plan"] = plan;
+    d["global_plan_stamp"] = o.global_plan->stamp;
+  }
+  if (o.local_costmap) d["local_costmap"] = costmapDict(*o.local_costmap, local_costmap);
+  if (o.global_costmap) d["global_costmap"] = costmapDict(*o.global_costmap, global_costmap);
+  return d;
+}
+
+// What a controller is told before the first tick: the fields of the external protocol's
+// reset message (docs/external_controller.md), so every route tells the same, and the world's
+// id and optimal time.
+py::dict infoDict(const controllers::EpisodeInfo& info, double period, int world_id, double optimal_time) {
+  py::dict d = py::module_::import("json").attr("loads")(controllers::external::resetMessage(info, period));
+  d.attr("pop")("type");
+  d.attr("pop")("protocol");
+  d["world"] = world_id;
+  d["optimal_time"] = optimal_time;
+  return d;
+}
+
+// Python's text of `value` for a message, cut to a few dozen characters.
+std::string shown(const py::handle& value) {
+  constexpr std::size_t kShown = 60;  // [characters]
+  std::string text;
+  try {
+    text = py::repr(value).cast<std::string>();
+  } catch (const py::error_already_set&) {
+    text = "<" + std::string(Py_TYPE(value.ptr())->tp_name) + ">";
+  }
+  return text.size() > kShown ? text.substr(0, kShown) + "..." : text;
+}
+
+// The stack parameters of one command checked as the external protocol checks its "params"
+// member (external_protocol.hpp): a dict of at most kMaxParams entries, each a str key of at
+// most kMaxNameBytes bytes and a finite number (not a bool). Fills `checked` in the dict's
+// order and returns "", or returns what is wrong, naming the key or the count.
+std::string paramsProblem(const py::object& params, std::vector<std::pair<std::string, double>>& checked) {
+  namespace ext = controllers::external;
+  if (!py::isinstance<py::dict>(params))
+    return "a dict {key: number} (got " + std::string(Py_TYPE(params.ptr())->tp_name) + ")";
+  const py::dict dict = params.cast<py::dict>();
+  if (dict.size() > ext::kMaxParams)
+    return "more than " + std::to_string(ext::kMaxParams) + " parameters in one command (" +
+           std::to_string(dict.size()) + ")";
+  for (const auto& [key, value] : dict) {
+    if (!py::isinstance<py::str>(key))
+      return "the key " + shown(key) + " is not a string (" + std::string(Py_TYPE(key.ptr())->tp_name) + ")";
+    std::string name;
+    try {
+      name = key.cast<std::string>();
+    } catch (const std::exception&) {  // a lone surrogate has no UTF-8
+      return "the key " + shown(key) + " is not valid text";
+    }
+    if (name.size() > ext::kMaxNameBytes)
+      return "the key " + shown(key) + " is longer than " + std::to_string(ext::kMaxNameBytes) + " bytes";
+    double number = std::numeric_limits<double>::quiet_NaN();
+    if (!py::isinstance<py::bool_>(value)) {
+      try {
+        number = value.cast<double>();
+      } catch (const py::cast_error&) {  // not a number, or an int beyond a double's range
+      }
+    }
+    if (!std::isfinite(number)) return name + ": must be a finite number (got " + shown(value) + ")";
+    checked.emplace_back(std::move(name), number);
+  }
+  return "";
+}
+
 // One episode Python steps. The obstacle field lives here, as long as the episode that
 // refers to it.
 class PyEpisode {
@@ -140,54 +270,14 @@ class PyEpisode {
     arriveAtTick();
   }
 
-  // The tick's observation; the scan as float32 (the Gymnasium convention) or, with
-  // `full_precision`, as the doubles every other route gives a controller.
+  // The tick's observation (observationDict): the scan as float32 (the Gymnasium convention)
+  // or, with `full_precision`, as the doubles every other route gives a controller.
   py::dict observation(bool full_precision) {
-    const controllers::Observation& o = fed_;
-    const std::vector<double>& ranges = o.scan->ranges;
-    py::dict d;
-    if (full_precision) {
-      d["scan"] = py::array_t<double>(static_cast<py::ssize_t>(ranges.size()), ranges.data());
-    } else {
-      py::array_t<float> scan(static_cast<py::ssize_t>(ranges.size()));
-      float* out = scan.mutable_data();
-      for (std::size_t i = 0; i < ranges.size(); ++i) out[i] = static_cast<float>(ranges[i]);
-      d["scan"] = scan;
-    }
-    d["pose"] = py::array_t<double>(3, std::array<double, 3>{o.odom_pose.x, o.odom_pose.y, o.odom_pose.yaw}.data());
-    d["scan_pose"] = py::array_t<double>(
-        3, std::array<double, 3>{o.scan_odom_pose.x, o.scan_odom_pose.y, o.scan_odom_pose.yaw}.data());
-    d["twist"] = py::array_t<double>(2, std::array<double, 2>{o.odom_twist.linear, o.odom_twist.angular}.data());
-    d["goal"] = py::array_t<double>(2, std::array<double, 2>{o.goal.x(), o.goal.y()}.data());
-    d["time"] = o.time;
-    if (o.global_plan) {
-      const std::vector<core::Pose2>& poses = o.global_plan->poses;
-      py::array_t<double> plan({static_cast<py::ssize_t>(poses.size()), py::ssize_t{3}});
-      double* out = plan.mutable_data();
-      for (const core::Pose2& p : poses) {
-        *out++ = p.x;
-        *out++ = p.y;
-        *out++ = p.yaw;
-      }
-      d["global_plan"] = plan;
-      d["global_plan_stamp"] = o.global_plan->stamp;
-    }
-    if (o.local_costmap) d["local_costmap"] = costmapDict(*o.local_costmap, local_costmap_);
-    if (o.global_costmap) d["global_costmap"] = costmapDict(*o.global_costmap, global_costmap_);
-    return d;
+    return observationDict(fed_, full_precision, local_costmap_, global_costmap_);
   }
 
-  // What a controller is told before the first tick: the fields of the external protocol's
-  // reset message (docs/external_controller.md), so every route tells the same.
-  py::dict info() const {
-    py::dict d = py::module_::import("json").attr("loads")(
-        controllers::external::resetMessage(episode_->info(), dt_));
-    d.attr("pop")("type");
-    d.attr("pop")("protocol");
-    d["world"] = world_.id;
-    d["optimal_time"] = episode_->result().optimal_time;
-    return d;
-  }
+  // What a controller is told before the first tick (infoDict).
+  py::dict info() const { return infoDict(episode_->info(), dt_, world_.id, episode_->result().optimal_time); }
 
   // Applies the command and any stack parameters (`params`: {key: value}). Parameters out of
   // the external protocol's bounds (paramsProblem), an unknown key or a bad value end the
@@ -259,73 +349,6 @@ class PyEpisode {
     if (feed_ && !episode_->done()) feed_->update(fed_);
   }
 
-  // Python's text of `value` for a message, cut to a few dozen characters.
-  static std::string shown(const py::handle& value) {
-    constexpr std::size_t kShown = 60;  // [characters]
-    std::string text;
-    try {
-      text = py::repr(value).cast<std::string>();
-    } catch (const py::error_already_set&) {
-      text = "<" + std::string(Py_TYPE(value.ptr())->tp_name) + ">";
-    }
-    return text.size() > kShown ? text.substr(0, kShown) + "..." : text;
-  }
-
-  // The stack parameters of one command checked as the external protocol checks its "params"
-  // member (external_protocol.hpp): a dict of at most kMaxParams entries, each a str key of at
-  // most kMaxNameBytes bytes and a finite number (not a bool). Fills `checked` in the dict's
-  // order and returns "", or returns what is wrong, naming the key or the count.
-  static std::string paramsProblem(const py::object& params, std::vector<std::pair<std::string, double>>& checked) {
-    namespace ext = controllers::external;
-    if (!py::isinstance<py::dict>(params))
-      return "a dict {key: number} (got " + std::string(Py_TYPE(params.ptr())->tp_name) + ")";
-    const py::dict dict = params.cast<py::dict>();
-    if (dict.size() > ext::kMaxParams)
-      return "more than " + std::to_string(ext::kMaxParams) + " parameters in one command (" +
-             std::to_string(dict.size()) + ")";
-    for (const auto& [key, value] : dict) {
-      if (!py::isinstance<py::str>(key))
-        return "the key " + shown(key) + " is not a string (" + std::string(Py_TYPE(key.ptr())->tp_name) + ")";
-      std::string name;
-      try {
-        name = key.cast<std::string>();
-      } catch (const std::exception&) {  // a lone surrogate has no UTF-8
-        return "the key " + shown(key) + " is not valid text";
-      }
-      if (name.size() > ext::kMaxNameBytes)
-        return "the key " + shown(key) + " is longer than " + std::to_string(ext::kMaxNameBytes) + " bytes";
-      double number = std::numeric_limits<double>::quiet_NaN();
-      if (!py::isinstance<py::bool_>(value)) {
-        try {
-          number = value.cast<double>();
-        } catch (const py::cast_error&) {  // not a number, or an int beyond a double's range
-        }
-      }
-      if (!std::isfinite(number)) return name + ": must be a finite number (got " + shown(value) + ")";
-      checked.emplace_back(std::move(name), number);
-    }
-    return "";
-  }
-
-  // A costmap as a dict of numpy values; the same dict object while its version is unchanged,
-  // so an unchanged map costs nothing.
-  struct CachedCostmap {
-    std::optional<std::uint64_t> version;
-    py::dict dict;
-  };
-  static py::dict costmapDict(const controllers::CostGrid& grid, CachedCostmap& cache) {
-    if (cache.version == grid.version) return cache.dict;
-    py::array_t<std::uint8_t> costs({static_cast<py::ssize_t>(grid.height), static_cast<py::ssize_t>(grid.width)});
-    std::copy_n(grid.costs, static_cast<std::size_t>(grid.width) * static_cast<std::size_t>(grid.height), costs.mutable_data());
-    py::dict d;
-    d["costs"] = costs;
-    d["origin"] = py::array_t<double>(2, std::array<double, 2>{grid.origin.x(), grid.origin.y()}.data());
-    d["resolution"] = grid.resolution;
-    d["version"] = grid.version;
-    cache = {grid.version, d};
-    return d;
-  }
-
   core::WorldSpec world_;
   std::unique_ptr<sim::ObstacleField> field_;
   bench::EpisodeConfig config_;
@@ -337,6 +360,161 @@ class PyEpisode {
   CachedCostmap local_costmap_, global_costmap_;
   std::vector<bench::TrajectorySample> trajectory_;
 };
+
+// What a Python exception says in an error row: its text, with its type's name when that is
+// all there is or when it is an exit (SystemExit: 3, KeyboardInterrupt: ).
+std::string describe(const py::error_already_set& error) {
+  const py::object value = error.value();
+  std::string text;
+  try {
+    text = static_cast<std::string>(py::str(value));
+  } catch (const py::error_already_set&) {  // its str() raised too
+    text = "<unprintable " + std::string(Py_TYPE(value.ptr())->tp_name) + ">";
+  }
+  if (text.empty() || error.matches(PyExc_SystemExit) || error.matches(PyExc_KeyboardInterrupt))
+    text = static_cast<std::string>(py::str(py::type::handle_of(value).attr("__name__"))) + ": " + text;
+  return text;
+}
+
+// A Python controller as bench's controller, so bench::runEpisode (the loop of barn run)
+// runs it: reset(info) with infoDict's dict, act(obs) with observationDict's (the scan as
+// doubles), answering (v, w), (v, w, state) or {"v", "w", optional "state", optional
+// "params": {key: value}}. What the Python object raises becomes a std::runtime_error with
+// describe()'s text, so the episode ends as an error naming it. The loop runs without the
+// GIL; each call into Python takes it. It is made, and dies, with the GIL held.
+class PyController : public controllers::Controller {
+ public:
+  PyController(py::object controller, double period, int world_id, double optimal_time)
+      : controller_(std::move(controller)), period_(period), world_id_(world_id), optimal_time_(optimal_time) {}
+  void reset(const controllers::EpisodeInfo& info) override {
+    std::string failure;
+    {
+      py::gil_scoped_acquire gil;
+      try {
+        local_costmap_ = {};
+        global_costmap_ = {};
+        state_.clear();
+        controller_.attr("reset")(infoDict(info, period_, world_id_, optimal_time_));
+        return;
+      } catch (const py::error_already_set& e) {
+        failure = describe(e);
+      }
+    }
+    throw std::runtime_error(failure);
+  }
+
+  core::Twist act(const controllers::Observation& observation) override {
+    std::string failure;
+    {
+      py::gil_scoped_acquire gil;
+      try {
+        const py::object answer =
+            controller_.attr("act")(observationDict(observation, true, local_costmap_, global_costmap_));
+        return command(answer, observation);
+      } catch (const py::error_already_set& e) {
+        failure = describe(e);
+      }
+    }
+    throw std::runtime_error(failure);
+  }
+
+  double period() const override { return period_; }
+  std::string_view stateLabel() const override { return state_; }
+
+ private:
+  // The answer read as Python reads it (float(), str(), the same messages on bad values);
+  // its stack parameters checked (paramsProblem) and set.
+  core::Twist command(const py::object& answer, const controllers::Observation& observation) {
+    py::object params = py::none();
+    double v = 0.0, w = 0.0;
+    if (py::isinstance<py::dict>(answer)) {
+      const py::object unknown = py::set(answer).attr("__sub__")(py::set(py::make_tuple("v", "w", "state", "params")));
+      if (py::len(unknown) > 0) {
+        const py::object names = py::str(", ").attr("join")(py::module_::import("builtins").attr("sorted")(unknown));
+        throw std::runtime_error("unknown keys in the command: " + static_cast<std::string>(py::str(names)));
+      }
+      v = py::float_(answer[py::str("v")]).cast<double>();
+      w = py::float_(answer[py::str("w")]).cast<double>();
+      state_ = static_cast<std::string>(py::str(answer.attr("get")("state", "")));
+      params = answer.attr("get")("params");
+    } else {
+      v = py::float_(answer[py::int_(0)]).cast<double>();
+      w = py::float_(answer[py::int_(1)]).cast<double>();
+      state_ = py::len(answer) > 2 ? static_cast<std::string>(py::str(answer[py::int_(2)])) : std::string();
+    }
+    if (!params.is_none()) {
+      std::vector<std::pair<std::string, double>> checked;
+      if (const std::string problem = paramsProblem(params, checked); !problem.empty())
+        throw std::runtime_error("params: " + problem);
+      if (!checked.empty() && !observation.stack_parameters)
+        throw std::runtime_error("params given, but the run has no global_plan block whose parameters they could set");
+      for (const auto& [key, value] : checked) observation.stack_parameters->set(key, value);
+    }
+    return {v, w};
+  }
+
+  py::object controller_;
+  double period_;  // [s]
+  int world_id_;
+  double optimal_time_;  // [s]
+  std::string state_;    // the last answer's state label
+  CachedCostmap local_costmap_, global_costmap_;
+};
+
+// One episode of a Python controller through bench::runEpisode: (the episodes.csv row barn
+// run writes for it as trial `trial`, its trajectory CSV or None).
+py::tuple runPythonEpisode(const py::object& controller, const py::object& world, const std::string& world_dir,
+                           const std::string& episode_config, std::uint64_t seed, int trial,
+                           const std::string& global_plan, bool record_trajectory) {
+  const core::WorldSpec spec = loadWorld(world, world_dir);
+  const sim::ObstacleField field = sim::ObstacleField::fromWorld(spec);
+  const bench::EpisodeConfig config = parseEpisodeConfig(episode_config);
+  const double period = py::float_(py::getattr(controller, "period", py::float_(0.05))).cast<double>();
+  std::unique_ptr<controllers::Controller> adapter = std::make_unique<PyController>(
+      controller, period, spec.id, core::optimalTime(spec.path, bench::episodeProtocol(config)));
+  if (const auto plan = parseGlobalPlan(global_plan))
+    adapter = std::make_unique<controllers::GlobalPlanFedController>(*plan, std::move(adapter));
+  bench::EpisodeResult result;
+  {
+    py::gil_scoped_release release;
+    result = bench::runEpisode(spec, field, *adapter, config, seed, record_trajectory);
+  }
+  result.trial = trial;
+  py::object trajectory = py::none();
+  if (record_trajectory) trajectory = py::str(bench::trajectoryCsv(result));
+  return py::make_tuple(bench::episodeCsvRow(result), trajectory);
+}
+
+// A built-in controller for barnbench.run(NAME, config=FILE): its config (FILE, else
+// configs/controllers/NAME.yaml, else the type NAME with its defaults, as barn run
+// --controller NAME reads it), checked against the episode config as barn run checks it before
+// a record is made. Returns its effective config, as the manifest records it.
+std::string builtinController(const std::string& name, const std::string& config_file, const std::string& sim_config,
+                            const std::string& protocol) {
+  // The name picks configs/controllers/NAME.yaml: a path would read any file as a config.
+  if (name.empty() || name.find('/') != std::string::npos || name == "." || name == ".." || name.front() == '-')
+    throw core::InputError("controller: '" + name + "' is a name (of configs/controllers/NAME.yaml or a controller "
+                           "type), not a path; give a config file with config=FILE");
+  const std::filesystem::path configs = std::filesystem::path(BARN_SOURCE_DIR) / "configs" / "controllers";
+  std::filesystem::path file = config_file;
+  if (file.empty() && std::filesystem::exists(configs / (name + ".yaml"))) file = configs / (name + ".yaml");
+  const std::vector<std::string> types = controllers::controllerTypes();
+  if (file.empty() && std::find(types.begin(), types.end(), name) == types.end()) {
+    std::set<std::string> known(types.begin(), types.end());
+    std::error_code ec;
+    for (const auto& entry : std::filesystem::directory_iterator(configs, ec))
+      if (entry.path().extension() == ".yaml") known.insert(entry.path().stem().string());
+    std::string list;
+    for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+    throw core::InputError("controller: '" + name + "' is not a built-in controller (known: " + list + "; or config=FILE)");
+  }
+  const core::ConfigNode node =
+      file.empty() ? core::ConfigNode::parseString("type: " + name, "controller " + name) : core::ConfigNode::parseFile(file);
+  const bench::EpisodeConfig episode = loadEpisodeConfig(sim_config, protocol);
+  const controllers::PreparedController prepared = controllers::prepareController(node);
+  bench::checkControllerFits(*prepared.factory(), episode);
+  return prepared.effective_config;
+}
 
 // A run record written from Python through bench's record life (record_session.hpp), so it
 // is created, journaled, resumed and completed exactly as `barn run` does it. Python runs the
@@ -411,6 +589,85 @@ class PyRecord {
     if (progress_) progress_->update(r.outcome == bench::Outcome::Success, r.sim_time);
     r.trajectory.clear();  // written; the record's rows do not keep it
     finished_.push_back(std::move(r));
+  }
+
+  // Runs the pending episodes of a record of a C++ controller (its manifest's controller
+  // config, made as barn run --resume makes it) in `threads` threads of bench's batch,
+  // journaling each as it ends: what barn run does, in this process. Ctrl-C (Python's
+  // KeyboardInterrupt) starts no new episode; the running ones finish and are kept, then the
+  // KeyboardInterrupt is raised (finish() leaves the record to resume). A controller trained on
+  // another plant is warned of on stderr, as barn run warns.
+  void runController(int threads) {
+    if (!journal_) throw core::InputError("record: begin() first");
+    const bench::RunManifest& m = session_.manifest;
+    bench::BatchSpec batch;
+    batch.worlds = session_.worlds;
+    batch.trials = m.trials;
+    batch.seed = m.seed;
+    batch.episode = parseEpisodeConfig(m.episode_config);
+    batch.make_controller =
+        controllers::makeControllerFactory(core::ConfigNode::parseString(m.controller_config, "record controller_config"));
+    batch.record_trajectories = m.trajectories;
+    batch.selected = pending_;
+    try {
+      if (const std::string warning = bench::plantMismatch(*batch.make_controller(), batch.episode); !warning.empty())
+        std::fprintf(stderr, "warning: %s: %s\n", m.controller.c_str(), warning.c_str());
+    } catch (const std::exception&) {
+      // A controller that cannot be made (its policy file gone) fails every episode, as in barn run.
+    }
+
+    std::atomic<bool> stop{false};
+    std::string journal_error;  // the first failed journal write: the run stops there
+    std::vector<bench::EpisodeResult> results;
+    std::exception_ptr failure;
+    std::mutex mutex;
+    std::condition_variable ended;
+    bool done = false;
+    std::optional<py::error_already_set> interrupt;
+    {
+      py::gil_scoped_release release;
+      std::thread runner([&] {
+        try {
+          results = bench::runBatch(batch, {threads, &stop}, [&](const bench::EpisodeResult& r, std::size_t, std::size_t) {
+            if (journal_error.empty() && !journal_->append(r)) {
+              journal_error = journal_->error();
+              stop.store(true);  // nothing more can be kept: start no new episode
+            }
+            if (progress_) progress_->update(r.outcome == bench::Outcome::Success, r.sim_time);
+          });
+        } catch (...) {
+          failure = std::current_exception();
+        }
+        const std::lock_guard<std::mutex> lock(mutex);
+        done = true;
+        ended.notify_one();
+      });
+      // Python sees a Ctrl-C only when it checks its signals, holding the GIL.
+      std::unique_lock<std::mutex> lock(mutex);
+      constexpr std::chrono::milliseconds kSignalCheck{100};
+      while (!ended.wait_for(lock, kSignalCheck, [&] { return done; })) {
+        if (interrupt) continue;
+        lock.unlock();
+        {
+          py::gil_scoped_acquire gil;
+          if (PyErr_CheckSignals() != 0) {
+            interrupt.emplace();  // takes the KeyboardInterrupt, to raise once the batch has stopped
+            stop.store(true);
+          }
+        }
+        lock.lock();
+      }
+      lock.unlock();
+      runner.join();
+    }
+    for (bench::EpisodeResult& r : results) {
+      r.trajectory.clear();  // written; the record's rows do not keep it
+      finished_.push_back(std::move(r));
+    }
+    if (failure) std::rethrow_exception(failure);
+    if (interrupt) throw std::move(*interrupt);
+    if (!journal_error.empty())
+      throw core::IoError(journal_error + " (the episodes journaled before it are kept; resume=True when the disk has room)");
   }
 
   // True if the record is complete now; else it is left to resume.
@@ -687,6 +944,13 @@ PYBIND11_MODULE(_core, m) {
       .def("result", &PyEpisode::result)
       .def("csv_row", &PyEpisode::csvRow, py::arg("trial"));
 
+  m.def("run_episode", &runPythonEpisode, py::arg("controller"), py::arg("world"), py::arg("world_dir"),
+        py::arg("episode_config"), py::arg("seed"), py::arg("trial"), py::arg("global_plan") = "",
+        py::arg("record_trajectory") = false,
+        "Runs one episode of a Python controller (reset(info), act(obs), optional period) through "
+        "bench::runEpisode, barn run's loop: (its episodes.csv row, its trajectory CSV or None)");
+  m.def("builtin_controller", &builtinController, py::arg("name"), py::arg("config_file"), py::arg("sim_config"),
+        py::arg("protocol"), "A built-in controller's effective config, checked as barn run checks it");
   m.def("select_worlds", [](const std::string& spec, const std::string& world_dir) {
     const bench::LoadedWorlds loaded = bench::loadWorlds(spec, world_dir);
     std::vector<int> ids;
@@ -719,6 +983,8 @@ PYBIND11_MODULE(_core, m) {
            "Writes the manifest and the journal of earlier rows; progress lines on stderr")
       .def("append", &PyRecord::append, py::arg("row"), py::arg("trajectory") = py::none(),
            "Journals a finished episode's csv_row() (and keeps its trajectory_csv())")
+      .def("run_controller", &PyRecord::runController, py::arg("threads"),
+           "Runs the pending episodes of a built-in controller's record in C++ threads, as barn run does")
       .def("finish", &PyRecord::finish, py::arg("wall_time_s"),
            "Completes the record (True) or leaves it to resume (False)")
       .def_property_readonly("dir", &PyRecord::dir)

@@ -35,7 +35,6 @@ import multiprocessing
 import multiprocessing.connection
 import os
 import signal
-import subprocess
 import sys
 import time
 
@@ -316,23 +315,20 @@ def _goal_distance(obs):
     return float(np.hypot(*(obs["goal"] - obs["pose"][:2])))
 
 
-def _barn_binary():
-    here = os.path.dirname(os.path.abspath(__file__))
-    return os.path.join(here, os.pardir, os.pardir, "barn")
-
-
 def run(controller, worlds="test50", world_dir=None, trials=1, jobs=2, seed=0, protocol=None, out=None,
         sim_config=None, config=None, resume=False, shard=None, params=None, global_plan=None, trajectories=False,
         episode_timeout=DEFAULT_EPISODE_TIMEOUT, progress=True):
     """Scores `controller` on `worlds` x `trials` and writes the experiment record to `out`.
 
-    `controller` is a built-in name ("dwa", "inventec_fi", ...: run by `barn run`, the same
-    record) or a Python class with reset(info) and act(obs) -> (v, w), (v, w, state label) or a
-    dict {"v", "w", optional "state", optional "params": {key: value}} (stack parameters to set,
-    with a global_plan block), and an optional `period` [s] (default 0.05). One instance per
-    worker process, made as `controller(**params)`, reset every episode. `info` holds what the
-    external protocol's reset message holds (docs/external_controller.md); `obs` is Env's
-    observation with the scan as float64, the exact doubles C++ and external controllers see.
+    `controller` is a built-in name ("dwa", "inventec_fi", ...: run in this process by barn run's
+    C++ batch, the same record) or a Python class with reset(info) and act(obs) -> (v, w),
+    (v, w, state label) or a dict {"v", "w", optional "state", optional "params": {key: value}}
+    (stack parameters to set, with a global_plan block), and an optional `period` [s] (default
+    0.05). One instance per worker process, made as `controller(**params)`, reset every episode;
+    each episode runs in barn run's episode loop (C++), which calls the instance. `info` holds
+    what the external protocol's reset message holds (docs/external_controller.md); `obs` is
+    Env's observation with the scan as float64, the exact doubles C++ and external controllers
+    see.
     `global_plan`: a dict of the global_plan block's keys (docs/controllers.md): move_base's
     plan (and costmaps) in every observation. `protocol`: barn2023 or barn2024, default
     barnbench.default_protocol. `config` is a controller config file for a built-in run (barn
@@ -371,8 +367,9 @@ def run(controller, worlds="test50", world_dir=None, trials=1, jobs=2, seed=0, p
                                  "config (config=FILE)")
         if episode_timeout != DEFAULT_EPISODE_TIMEOUT:
             raise InputError(f"episode_timeout: for a Python class; the built-in {controller!r} has none")
-        return _run_builtin(controller, worlds, world_dir, trials, jobs, seed, protocol, out, sim_config, config, resume,
-                            shard_index, shard_count, trajectories)
+        return _run_builtin(controller, worlds, world_dir or _DEFAULT_WORLD_DIR, trials, jobs, seed, _protocol(protocol),
+                            out, sim_config or _DEFAULT_SIM_CONFIG, config, resume, shard_index, shard_count, trajectories,
+                            progress)
     if not isinstance(controller, type):
         raise InputError("controller: a built-in name or a class with reset(info) and act(obs)")
     if config is not None:
@@ -408,31 +405,39 @@ def _shard(shard):
 
 
 def _run_builtin(name, worlds, world_dir, trials, jobs, seed, protocol, out, sim_config, config, resume, shard_index,
-                 shard_count, trajectories):
+                 shard_count, trajectories, progress):
+    """A built-in controller's run in this process: the record as barn run makes it, its episodes
+    in bench's C++ batch (record.run_controller), the same record bytes."""
     if resume:
-        command = [_barn_binary(), "run", "--resume", str(out), "--jobs", str(jobs)]
+        record = _core.Record.open(str(out))
+        if record.controller != name:
+            raise InputError(f"{out}: a record of {record.controller}, not of {name}")
     else:
-        command = [_barn_binary(), "run", "--controller", name, "--worlds", str(worlds), "--trials", str(trials),
-                   "--jobs", str(jobs), "--seed", str(seed), "--protocol", _protocol(protocol), "--out", str(out)]
-        if world_dir:
-            command += ["--world-dir", str(world_dir)]
-        if sim_config:
-            command += ["--sim-config", str(sim_config)]
-        if config:
-            command += ["--config", str(config)]
-        if shard_count:
-            command += ["--shard", f"{shard_index}/{shard_count}"]
-        if trajectories:
-            command += ["--trajectories"]
-    done = subprocess.run(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-    summary_file = os.path.join(out, "summary.json")
-    # Exit 1 with a complete record: some episodes ended in error (listed in episodes.csv).
-    if done.returncode == 1 and os.path.exists(summary_file):
+        config_text = _core.builtin_controller(name, str(config or ""), sim_config, protocol)
+        record = _core.Record.create(str(out), name, config_text, str(worlds), str(world_dir), sim_config, protocol,
+                                     trials, seed, shard_index, shard_count, bool(trajectories))
+    ran = not record.complete
+    if ran:
+        _run_record(record, out, jobs, progress, lambda: record.run_controller(jobs))
+    with open(os.path.join(out, "summary.json")) as f:  # a shard's covers its episodes only
+        summary = json.load(f)
+    if ran and summary["summary"]["error_rate"] > 0:  # barn run exits 1 for this
         print(f"barnbench.run: {name}: some episodes ended in error (see {out}/episodes.csv)", file=sys.stderr)
-    elif done.returncode != 0:
-        raise InputError(done.stderr.strip() or f"barn run exited with {done.returncode}")
-    with open(summary_file) as f:
-        return json.load(f)
+    return summary
+
+
+def _run_record(record, out, jobs, progress, run_pending):
+    """Runs a record's pending episodes (`run_pending()` appends them) and completes it; an
+    interruption leaves it to resume."""
+    record.begin(jobs, progress)
+    started = time.monotonic()
+    complete = False
+    try:
+        run_pending()
+    finally:  # an interruption leaves a record to resume
+        complete = record.finish(time.monotonic() - started)
+    if not complete:
+        raise InputError(f"{out}: not complete; finish it with run(..., out={str(out)!r}, resume=True)")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -451,41 +456,19 @@ class _Spec:
         self.trajectories = trajectories
         self.period = float(getattr(controller_class, "period", 0.05))
 
-    def episode(self, world, seed, period=None):
-        return _core.Episode.from_record_config(world, self.world_dir, self.episode_config, seed,
-                                                self.period if period is None else period, self.global_plan_text,
-                                                self.trajectories)
-
     def failed_row(self, world, trial, seed, reason):
         """The row of an episode its worker could not finish (crashed or hung)."""
-        episode = self.episode(world, seed)
+        episode = _core.Episode.from_record_config(world, self.world_dir, self.episode_config, seed, self.period,
+                                                   self.global_plan_text, self.trajectories)
         episode.fail(reason)
         return episode.csv_row(trial), (episode.trajectory_csv() if self.trajectories else None)
 
 
-def _command(answer):
-    if isinstance(answer, dict):
-        unknown = set(answer) - {"v", "w", "state", "params"}
-        if unknown:
-            raise ValueError(f"unknown keys in the command: {', '.join(sorted(unknown))}")
-        return float(answer["v"]), float(answer["w"]), str(answer.get("state", "")), answer.get("params")
-    return float(answer[0]), float(answer[1]), str(answer[2]) if len(answer) > 2 else "", None
-
-
 def _run_episode(controller, spec, world, trial, seed):
-    episode = spec.episode(world, seed, float(getattr(controller, "period", spec.period)))
-    try:
-        controller.reset(episode.info())
-    except BaseException as e:  # a failing controller ends its own episode only
-        episode.fail(f"controller reset threw: {_describe(e)}")
-    while not episode.done:
-        try:
-            v, w, state, params = _command(controller.act(episode.observation(full_precision=True)))
-        except BaseException as e:
-            episode.fail(f"controller threw: {_describe(e)}")
-            break
-        episode.step(v, w, state, params)
-    return episode.csv_row(trial), (episode.trajectory_csv() if spec.trajectories else None)
+    """One episode in bench's loop (bench::runEpisode, as barn run runs it), calling the
+    controller back for reset and every act; what it raises ends the episode as an error."""
+    return _core.run_episode(controller, world, spec.world_dir, spec.episode_config, seed, trial,
+                             spec.global_plan_text, spec.trajectories)
 
 
 def _describe(error):
@@ -645,14 +628,6 @@ def _run_python(controller_class, params, worlds, world_dir, trials, jobs, seed,
     if not record.complete:
         spec = _Spec(controller_class, params, record.worlds_folder, record.episode_config, plan_text, trajectories)
         tasks = record.pending()
-        record.begin(jobs, progress)
-        started = time.monotonic()
-        complete = False
-        try:
-            _run_workers(spec, tasks, jobs, record, timeout)
-        finally:  # an interruption leaves a record to resume
-            complete = record.finish(time.monotonic() - started)
-        if not complete:
-            raise InputError(f"{out}: not complete; finish it with run(..., out={str(out)!r}, resume=True)")
+        _run_record(record, out, jobs, progress, lambda: _run_workers(spec, tasks, jobs, record, timeout))
     with open(os.path.join(out, "summary.json")) as f:  # a shard's covers its episodes only
         return json.load(f)

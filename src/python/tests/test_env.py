@@ -5,12 +5,16 @@ import os
 import signal
 import subprocess
 import sys
+import threading
 import time
 
 import numpy as np
 import pytest
 
 import barnbench
+
+# The build tree's barn, beside build/python (the tests run in the build tree).
+BARN = os.path.join(os.path.dirname(barnbench.__file__), os.pardir, os.pardir, "barn")
 
 
 def drive(env, seed, command=(0.5, 0.0), limit=10000):
@@ -125,6 +129,31 @@ def test_a_failing_python_controller_fails_only_its_own_episodes(tmp_path):
     assert "controller threw: no map" in rows[2] and rows[1].split(",")[3] == "timeout"
 
 
+class AnswersBadly:
+    """Answers each world's first tick with something that is not a command."""
+
+    answers = {0: None, 100: ("fast", 0.0), 200: {"v": 1.0}, 250: {"v": 1.0, "w": 0.0, "speed": 2, "mode": 1}}
+
+    def reset(self, info):
+        self.answer = AnswersBadly.answers[info["world"]]
+
+    def act(self, obs):
+        return self.answer
+
+
+def test_a_python_controllers_bad_answers_end_its_episodes_with_pythons_own_messages(tmp_path):
+    # The C++ loop reads an answer as Python's float(), [] and len() read it, so each error row
+    # says what Python says: None[0], float("fast"), {"v": 1.0}["w"] (a KeyError's text is the
+    # key's repr), and the unknown keys sorted.
+    barnbench.run(AnswersBadly, worlds="0,100,200,250", jobs=1, out=str(tmp_path / "r"))
+    rows = (tmp_path / "r" / "episodes.csv").read_text().splitlines()[1:]
+    errors = [row.split(",", 13)[13] for row in rows]
+    assert errors == ["controller threw: 'NoneType' object is not subscriptable",
+                      "controller threw: could not convert string to float: 'fast'",
+                      "controller threw: 'w'",
+                      "controller threw: unknown keys in the command: mode; speed"]
+
+
 def test_wrong_arguments_are_input_errors_naming_the_argument_before_any_record_is_made(tmp_path):
     # The arguments the 2026-11-27 audit found raising pybind11's or multiprocessing's own errors,
     # or blaming configs/sim/barn.yaml for a bad protocol argument.
@@ -183,6 +212,34 @@ def test_a_builtin_run_whose_episodes_errored_returns_its_summary_and_says_so(tm
     assert len(rows) == 3 and all(",error," in row for row in rows[1:])
 
 
+def test_a_builtin_run_in_process_writes_barn_runs_record_and_resumes_after_ctrl_c(tmp_path):
+    # barnbench.run("inventec_fi") runs bench's C++ batch in this process: the bytes of barn run's
+    # record. A Ctrl-C (sent once the first episode is journaled) starts no new episode, raises
+    # KeyboardInterrupt and leaves the record to resume, which completes it to the same bytes.
+    options = dict(worlds="0:300:50", seed=5)
+    subprocess.run([BARN, "run", "--controller", "inventec_fi", "--worlds", options["worlds"], "--seed", "5",
+                    "--jobs", "1", "--out", str(tmp_path / "cli")], check=True, stdout=subprocess.DEVNULL)
+    journal = tmp_path / "cut" / "episodes.partial.csv"
+
+    def interrupt_after_the_first_episode():
+        while not journal.exists() or len(journal.read_text().splitlines()) < 2:
+            time.sleep(0.01)
+        os.kill(os.getpid(), signal.SIGINT)
+
+    threading.Thread(target=interrupt_after_the_first_episode, daemon=True).start()
+    with pytest.raises(KeyboardInterrupt):
+        barnbench.run("inventec_fi", jobs=1, out=str(tmp_path / "cut"), progress=False, **options)
+    assert 2 <= len(journal.read_text().splitlines()) < 1 + 6  # the header, some of the 6 episodes
+    assert not (tmp_path / "cut" / "episodes.csv").exists()
+    with pytest.raises(barnbench.InputError, match="a record of inventec_fi, not of dwa"):
+        barnbench.run("dwa", out=str(tmp_path / "cut"), resume=True)
+    barnbench.run("inventec_fi", jobs=2, out=str(tmp_path / "cut"), resume=True, progress=False)
+    for name in ("episodes.csv", "summary.json"):
+        assert (tmp_path / "cut" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes()
+    with pytest.raises(barnbench.InputError, match="controller: 'inventec_fy' is not a built-in controller"):
+        barnbench.run("inventec_fy", worlds="0", out=str(tmp_path / "unknown"))
+
+
 def test_the_gap_follower_in_python_as_an_external_program_and_in_cpp_gives_one_record(tmp_path):
     # The same controller three ways: a Python class in barnbench.run's worker processes, the
     # same Python code as barn's `external` program (JSON lines over a pipe), and its C++ port
@@ -195,7 +252,7 @@ def test_the_gap_follower_in_python_as_an_external_program_and_in_cpp_gives_one_
     barnbench.run(GapFollowerController, worlds=worlds, jobs=2, seed=1, out=str(tmp_path / "class"))
     barnbench.run("gap", worlds=worlds, jobs=2, seed=1, out=str(tmp_path / "external"),
                   config=os.path.join(root, "examples", "external", "gap_follower.yaml"))
-    cpp = os.path.join(os.path.dirname(barnbench._barn_binary()), "examples", "gap_follower")
+    cpp = os.path.join(os.path.dirname(BARN), "examples", "gap_follower")
     subprocess.run([cpp, worlds, str(tmp_path / "cpp"), "1"], check=True, capture_output=True)
     from_class = (tmp_path / "class" / "episodes.csv").read_text()
     assert from_class == (tmp_path / "external" / "episodes.csv").read_text()

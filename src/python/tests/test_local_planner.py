@@ -15,6 +15,8 @@ import pytest
 import barnbench
 
 ROOT = barnbench._SOURCE_DIR
+# The build tree's barn, beside build/python (the tests run in the build tree).
+BARN = os.path.join(os.path.dirname(barnbench.__file__), os.pardir, os.pardir, "barn")
 sys.path.insert(0, os.path.join(ROOT, "examples", "python"))
 from carrot_planner import CarrotPlanner  # noqa: E402  (the path above first)
 
@@ -27,7 +29,7 @@ def test_the_carrot_planner_in_python_as_an_external_program_and_in_cpp_gives_on
     barnbench.run(CarrotPlanner, worlds=worlds, jobs=2, seed=1, out=str(tmp_path / "class"), global_plan={})
     barnbench.run("carrot", worlds=worlds, jobs=2, seed=1, out=str(tmp_path / "external"),
                   config=os.path.join(ROOT, "examples", "external", "carrot_planner.yaml"))
-    cpp = os.path.join(os.path.dirname(barnbench._barn_binary()), "examples", "carrot_planner")
+    cpp = os.path.join(os.path.dirname(BARN), "examples", "carrot_planner")
     subprocess.run([cpp, worlds, str(tmp_path / "cpp"), "1"], check=True, capture_output=True)
     from_class = (tmp_path / "class" / "episodes.csv").read_text()
     assert from_class == (tmp_path / "external" / "episodes.csv").read_text()
@@ -178,11 +180,10 @@ def test_a_record_keeps_the_classs_parameters_source_digest_and_trajectories(tmp
     assert trajectory[1].endswith(",tuned,global_costmap.inflation_radius=0.55")
     assert trajectory[2].endswith(",carrot,")
     # The tools read the record: its trajectories are drawn without re-running the class.
-    barn = barnbench._barn_binary()
-    plot = subprocess.run([barn, "plot", "trajectory", str(out), "--world", "0", "-o", str(tmp_path / "t.png")],
+    plot = subprocess.run([BARN, "plot", "trajectory", str(out), "--world", "0", "-o", str(tmp_path / "t.png")],
                           capture_output=True, text=True)
     assert plot.returncode == 0, plot.stderr
-    report = subprocess.run([barn, "report", str(out), "-o", str(tmp_path / "r.html")], capture_output=True, text=True)
+    report = subprocess.run([BARN, "report", str(out), "-o", str(tmp_path / "r.html")], capture_output=True, text=True)
     assert report.returncode == 0, report.stderr
     # Resume takes the class's parameters and the block from the record.
     assert barnbench.run(Tunable, out=str(out), resume=True)["summary"]
