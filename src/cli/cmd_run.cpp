@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "barn/bench/controller_lookup.hpp"
 #include "barn/bench/record_session.hpp"
 #include "barn/controllers/registry.hpp"
 #include "barn/core/config.hpp"
@@ -35,59 +36,6 @@ struct RunOptions : ExperimentOptions {
   bool check = false;
   std::size_t stop_after = 0;  // 0 = never
 };
-
-// Levenshtein distance, for "did you mean".
-std::size_t editDistance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diagonal = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t above = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diagonal = above;
-    }
-  }
-  return row[b.size()];
-}
-
-// The names --controller takes: the configs in configs/controllers/, then the bare types.
-std::vector<std::string> controllerNames() {
-  std::vector<std::string> names;
-  std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(repoPath("configs") / "controllers", ec))
-    if (entry.path().extension() == ".yaml") names.push_back(entry.path().stem().string());
-  std::sort(names.begin(), names.end());
-  for (const auto& type : controllers::controllerTypes())
-    if (std::find(names.begin(), names.end(), type) == names.end()) names.push_back(type);
-  return names;
-}
-
-// The controller config: --config FILE, else configs/controllers/NAME.yaml, else the type NAME
-// with its defaults; an unknown NAME lists the known ones.
-core::ConfigNode controllerConfig(const ExperimentOptions& options) {
-  checkControllerName(options.controller);
-  const fs::path file = controllerConfigFile(options.controller, options.config);
-  if (!file.empty()) return core::ConfigNode::parseFile(file);
-  const std::vector<std::string> types = controllers::controllerTypes();
-  if (std::find(types.begin(), types.end(), options.controller) == types.end()) {
-    const std::vector<std::string> names = controllerNames();
-    std::string known, closest;
-    std::size_t best = 3;  // suggest only a near miss
-    for (const auto& name : names) {
-      known += (known.empty() ? "" : ", ") + name;
-      if (const std::size_t d = editDistance(options.controller, name); d < best) {
-        best = d;
-        closest = name;
-      }
-    }
-    throw core::InputError("--controller " + options.controller + ": unknown" +
-                           (closest.empty() ? std::string() : "; did you mean " + closest + "?") + " (known: " + known +
-                           "; or --config FILE)");
-  }
-  return core::ConfigNode::parseString("type: " + options.controller, "--controller " + options.controller);
-}
 
 // UTC now as YYYYmmdd-HHMMSS, for a folder name.
 std::string timestamp() {
@@ -126,14 +74,6 @@ void replaceRecord(Session& session, const fs::path& old_dir) {
 
 }  // namespace
 
-void checkControllerName(const std::string& name) {
-  // The name picks configs/controllers/NAME.yaml and the default --out results/NAME: a path
-  // would read any file as a config and write outside results/.
-  if (name.empty() || name.find('/') != std::string::npos || name == "." || name == ".." || name.front() == '-')
-    throw core::InputError("--controller " + name + ": a name (of configs/controllers/NAME.yaml or a controller type), "
-                           "not a path; give a config file with --config FILE");
-}
-
 void checkOutFolder(const fs::path& dir, const std::string& option) {
   std::error_code ec;
   const fs::file_status status = fs::status(dir, ec);
@@ -162,16 +102,11 @@ void parseShard(const std::string& text, int& index, int& count) {
 }
 
 fs::path controllerConfigFile(const std::string& controller, const std::string& config_file) {
-  if (!config_file.empty()) return config_file;
-  const fs::path file = repoPath("configs") / "controllers" / (controller + ".yaml");
-  return fs::exists(file) ? file : fs::path();
+  return bench::controllerConfigFile(controller, config_file, repoPath("configs") / "controllers");
 }
 
 core::ConfigNode controllerConfigFor(const std::string& controller, const std::string& config_file) {
-  ExperimentOptions options;
-  options.controller = controller;
-  options.config = config_file;
-  return controllerConfig(options);
+  return bench::controllerConfigNode(controller, config_file, repoPath("configs") / "controllers");
 }
 
 void addExperimentOptions(CLI::App* cmd, ExperimentOptions& options) {
@@ -239,7 +174,7 @@ void addRunCommand(CLI::App& app, CommandContext& context) {
     Session session;
     if (options->resume.empty()) {
       // Everything is read and validated before the first episode.
-      const core::ConfigNode controller_node = controllerConfig(*options);
+      const core::ConfigNode controller_node = controllerConfigFor(options->controller, options->config);
       const bench::EpisodeConfig episode = episodeConfigFor(options->sim_config, options->protocol);
       int shard_index = 0, shard_count = 0;
       if (!options->shard.empty()) parseShard(options->shard, shard_index, shard_count);

@@ -105,9 +105,6 @@ std::filesystem::path controllerConfigFile(const std::string& controller, const 
 /// The validated simulation config (default configs/sim/barn.yaml), protocol overridden if given.
 bench::EpisodeConfig episodeConfigFor(const std::string& sim_config, const std::string& protocol);
 
-/// InputError unless `name` is a plain controller name (no path): it picks
-/// configs/controllers/NAME.yaml and the default --out results/NAME.
-void checkControllerName(const std::string& name);
 /// InputError naming `option` if `dir` is a file or a symlink to nothing (a folder is wanted).
 void checkOutFolder(const std::filesystem::path& dir, const std::string& option);
 

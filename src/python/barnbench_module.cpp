@@ -32,6 +32,7 @@
 #include "barn/bench/batch.hpp"
 #include "barn/bench/episode_batch.hpp"
 #include "barn/bench/progress.hpp"
+#include "barn/bench/controller_lookup.hpp"
 #include "barn/bench/episode.hpp"
 #include "barn/bench/record_session.hpp"
 #include "barn/bench/results_io.hpp"
@@ -491,25 +492,9 @@ py::tuple runPythonEpisode(const py::object& controller, const py::object& world
 // a record is made. Returns its effective config, as the manifest records it.
 std::string builtinController(const std::string& name, const std::string& config_file, const std::string& sim_config,
                             const std::string& protocol) {
-  // The name picks configs/controllers/NAME.yaml: a path would read any file as a config.
-  if (name.empty() || name.find('/') != std::string::npos || name == "." || name == ".." || name.front() == '-')
-    throw core::InputError("controller: '" + name + "' is a name (of configs/controllers/NAME.yaml or a controller "
-                           "type), not a path; give a config file with config=FILE");
-  const std::filesystem::path configs = std::filesystem::path(BARN_SOURCE_DIR) / "configs" / "controllers";
-  std::filesystem::path file = config_file;
-  if (file.empty() && std::filesystem::exists(configs / (name + ".yaml"))) file = configs / (name + ".yaml");
-  const std::vector<std::string> types = controllers::controllerTypes();
-  if (file.empty() && std::find(types.begin(), types.end(), name) == types.end()) {
-    std::set<std::string> known(types.begin(), types.end());
-    std::error_code ec;
-    for (const auto& entry : std::filesystem::directory_iterator(configs, ec))
-      if (entry.path().extension() == ".yaml") known.insert(entry.path().stem().string());
-    std::string list;
-    for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
-    throw core::InputError("controller: '" + name + "' is not a built-in controller (known: " + list + "; or config=FILE)");
-  }
   const core::ConfigNode node =
-      file.empty() ? core::ConfigNode::parseString("type: " + name, "controller " + name) : core::ConfigNode::parseFile(file);
+      bench::controllerConfigNode(name, config_file, std::filesystem::path(BARN_SOURCE_DIR) / "configs" / "controllers",
+                                  {"controller", "config=FILE"});
   const bench::EpisodeConfig episode = loadEpisodeConfig(sim_config, protocol);
   const controllers::PreparedController prepared = controllers::prepareController(node);
   bench::checkControllerFits(*prepared.factory(), episode);

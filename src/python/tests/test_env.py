@@ -236,7 +236,7 @@ def test_a_builtin_run_in_process_writes_barn_runs_record_and_resumes_after_ctrl
     barnbench.run("inventec_fi", jobs=2, out=str(tmp_path / "cut"), resume=True, progress=False)
     for name in ("episodes.csv", "summary.json"):
         assert (tmp_path / "cut" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes()
-    with pytest.raises(barnbench.InputError, match="controller: 'inventec_fy' is not a built-in controller"):
+    with pytest.raises(barnbench.InputError, match=r"controller inventec_fy: unknown; did you mean inventec_fi\?"):
         barnbench.run("inventec_fy", worlds="0", out=str(tmp_path / "unknown"))
 
 
