@@ -242,7 +242,7 @@ TEST(EpisodesCsv, FormatsASuccessRow) {
   EXPECT_EQ(episodesCsv({r}), std::string(kEpisodesHeader) + "3,1,99,success,10,0.5,5,9.5,0.75,10.25,,,,\n");
 }
 
-TEST(EpisodesCsv, WritesTheCollisionPointStatesAndASanitisedError) {
+TEST(EpisodesCsv, WritesTheCollisionPointStatesAndAQuotedError) {
   EpisodeResult hit = episode(5, 0, Outcome::Collision, 2.5, 0.0, 2.75);
   hit.collision = sim::CollisionInfo{2.75, {-2.175, 5.925}, 1, {}};
   hit.state_entries = {{"drive", 2}, {"recover", 1}};
@@ -250,8 +250,8 @@ TEST(EpisodesCsv, WritesTheCollisionPointStatesAndASanitisedError) {
   broken.error = "controller threw: bad, worse\nworst";
   const std::string csv = episodesCsv({hit, broken});
   EXPECT_THAT(csv, HasSubstr("\n5,0,0,collision,2.5,0,0,0,0,2.75,-2.175,5.925,drive:2|recover:1,\n"));
-  // Commas and newlines would break the row: they become ';'.
-  EXPECT_THAT(csv, HasSubstr("\n5,1,0,error,0,0,0,0,0,1,,,,controller threw: bad; worse;worst\n"));
+  // The comma is kept inside quotes (RFC 4180); the newline would end the row: it becomes ';'.
+  EXPECT_THAT(csv, HasSubstr("\n5,1,0,error,0,0,0,0,0,1,,,,\"controller threw: bad, worse;worst\"\n"));
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 3);
 }
 
