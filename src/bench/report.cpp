@@ -7,7 +7,8 @@
 #include <algorithm>
 #include <set>
 
-#include "barn/core/json_writer.hpp"
+#include <nlohmann/json.hpp>
+
 #include "barn/core/text_io.hpp"
 
 namespace barn::bench {
@@ -114,43 +115,54 @@ std::vector<BucketSummary> difficultyBreakdown(const std::vector<EpisodeResult>&
 
 namespace {
 
-// The members of a summary, inside an object the caller opened.
-void writeSummaryFields(core::JsonWriter& json, const RunSummary& s) {
-  json.key("worlds").value(s.worlds).key("episodes").value(s.episodes).key("score").value(s.score);
-  json.key("success_rate").value(s.success_rate).key("collision_rate").value(s.collision_rate);
-  json.key("timeout_rate").value(s.timeout_rate).key("error_rate").value(s.error_rate);
-  json.key("avg_success_time_s").value(s.avg_success_time).key("sim_time_s").value(s.sim_time);
+// Members keep the order they are written in, which is the order docs/records.md lists them in.
+// nlohmann writes a non-finite double as null and a finite one as the shortest text that reads
+// back as the same double.
+using Json = nlohmann::ordered_json;
+
+// The members of a summary, added to `json`.
+void addSummaryFields(Json& json, const RunSummary& s) {
+  json["worlds"] = s.worlds;
+  json["episodes"] = s.episodes;
+  json["score"] = s.score;
+  json["success_rate"] = s.success_rate;
+  json["collision_rate"] = s.collision_rate;
+  json["timeout_rate"] = s.timeout_rate;
+  json["error_rate"] = s.error_rate;
+  json["avg_success_time_s"] = s.avg_success_time;
+  json["sim_time_s"] = s.sim_time;
 }
 
-void writeWorldStats(core::JsonWriter& json, const WorldStats& w) {
+Json worldStatsJson(const WorldStats& w) {
   const double n = w.trials;
-  json.beginObject().key("world").value(w.world_id).key("trials").value(w.trials).key("score").value(w.mean_score);
-  json.key("score_ci95").beginArray().value(w.score_ci_low).value(w.score_ci_high).endArray();
-  json.key("success_rate").value(w.success_rate).key("collision_rate").value(w.collisions / n);
-  json.key("timeout_rate").value(w.timeouts / n).key("avg_success_time_s").value(w.mean_success_time).endObject();
+  return Json{{"world", w.world_id},
+              {"trials", w.trials},
+              {"score", w.mean_score},
+              {"score_ci95", Json::array({w.score_ci_low, w.score_ci_high})},
+              {"success_rate", w.success_rate},
+              {"collision_rate", w.collisions / n},
+              {"timeout_rate", w.timeouts / n},
+              {"avg_success_time_s", w.mean_success_time}};
 }
 
 }  // namespace
 
 std::string summaryJson(const std::string& world_set, const RunSummary& summary, const std::vector<WorldStats>& per_world,
                         const std::vector<BucketSummary>& breakdown) {
-  using Layout = core::JsonWriter::Layout;
-  core::JsonWriter json;
-  json.beginObject(Layout::OneItemPerLine).key("world_set").value(world_set);
-  json.key("summary").beginObject();
-  writeSummaryFields(json, summary);
-  json.endObject();
-  json.key("per_world").beginArray(Layout::OneItemPerLine);
-  for (const WorldStats& w : per_world) writeWorldStats(json, w);
-  json.endArray();
-  json.key("breakdown").beginArray(Layout::OneItemPerLine);
+  Json worlds = Json::array();
+  for (const WorldStats& w : per_world) worlds.push_back(worldStatsJson(w));
+  Json buckets = Json::array();
   for (const BucketSummary& bucket : breakdown) {
-    json.beginObject().key("group").value(bucket.group).key("bucket").value(bucket.bucket);
-    writeSummaryFields(json, bucket.summary);
-    json.endObject();
+    Json entry{{"group", bucket.group}, {"bucket", bucket.bucket}};
+    addSummaryFields(entry, bucket.summary);
+    buckets.push_back(std::move(entry));
   }
-  json.endArray().endObject();
-  return json.str() + "\n";
+  Json json{{"world_set", world_set}, {"summary", Json::object()}};
+  addSummaryFields(json["summary"], summary);
+  json["per_world"] = std::move(worlds);
+  json["breakdown"] = std::move(buckets);
+  // Text that is not UTF-8 (it cannot come from barn's own labels) is written with U+FFFD, not refused.
+  return json.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 
 std::vector<WorldStats> perWorldStats(const std::vector<EpisodeResult>& results, double max_score) {

@@ -7,12 +7,13 @@
 #include <filesystem>
 #include <map>
 
+#include <nlohmann/json.hpp>
+
 #include "barn/bench/compare.hpp"
 #include "barn/bench/results_io.hpp"
 #include "barn/bench/run_record.hpp"
 #include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
-#include "barn/core/json_writer.hpp"
 #include "barn/core/protocol.hpp"
 #include "barn/core/world_file.hpp"
 #include "barn/viz/image_format.hpp"
@@ -71,71 +72,60 @@ std::vector<int> differentWorlds(const Record& a, const Record& b, const std::ve
   return different;
 }
 
+// Members in the order written (nlohmann writes a non-finite double as null).
+using Json = nlohmann::ordered_json;
+
 void writeJson(const bench::Comparison& c, const Record& a, const Record& b, const std::vector<int>& different) {
-  core::JsonWriter j;
-  const auto side = [&](const Record& r) {
-    j.beginObject().key("record").value(r.dir).key("controller").value(r.manifest.controller).key("protocol").value(std::string(core::toString(r.protocol)));
-    if (!r.manifest.source.empty()) j.key("source").value(r.manifest.source);
-    j.endObject();
+  const auto side = [](const Record& r) {
+    Json json{{"record", r.dir}, {"controller", r.manifest.controller}, {"protocol", std::string(core::toString(r.protocol))}};
+    if (!r.manifest.source.empty()) json["source"] = r.manifest.source;
+    return json;
   };
-  const auto interval = [&](const bench::BootstrapInterval& i) {
-    j.beginObject().key("estimate").value(i.estimate).key("low").value(i.low).key("high").value(i.high).endObject();
+  const auto interval = [](const bench::BootstrapInterval& i) {
+    return Json{{"estimate", i.estimate}, {"low", i.low}, {"high", i.high}};
   };
-  const auto ids = [&](const std::vector<int>& list) {
-    j.beginArray();
-    for (int id : list) j.value(id);
-    j.endArray();
+  const auto stats = [](const bench::WorldStats& w) {
+    return Json{{"trials", w.trials},
+                {"successes", w.successes},
+                {"collisions", w.collisions},
+                {"timeouts", w.timeouts},
+                {"errors", w.errors},
+                {"success_rate", w.success_rate},
+                {"mean_success_time_s", w.mean_success_time},
+                {"mean_score", w.mean_score}};
   };
-  const auto stats = [&](const bench::WorldStats& w) {
-    j.beginObject().key("trials").value(w.trials).key("successes").value(w.successes).key("collisions").value(w.collisions)
-        .key("timeouts").value(w.timeouts).key("errors").value(w.errors).key("success_rate").value(w.success_rate)
-        .key("mean_success_time_s").value(w.mean_success_time).key("mean_score").value(w.mean_score).endObject();
-  };
-  j.beginObject();
-  j.key("a");
-  side(a);
-  j.key("b");
-  side(b);
-  j.key("common_worlds").value(static_cast<int>(c.a.size()));
-  j.key("only_a");
-  ids(c.only_a);
-  j.key("only_b");
-  ids(c.only_b);
-  j.key("different_world_files");
-  ids(different);
-  j.key("score_a").value(c.score_a).key("score_b").value(c.score_b);
-  j.key("success_rate_a").value(c.success_a).key("success_rate_b").value(c.success_b);
-  j.key("score_difference");
-  interval(c.score_difference);
-  j.key("success_rate_difference");
-  interval(c.success_difference);
-  j.key("collision_rate_a").value(c.collision_a).key("collision_rate_b").value(c.collision_b);
-  j.key("collision_rate_difference");
-  interval(c.collision_difference);
-  j.key("timeout_rate_a").value(c.timeout_a).key("timeout_rate_b").value(c.timeout_b);
-  j.key("timeout_rate_difference");
-  interval(c.timeout_difference);
-  j.key("mean_success_time_ratio");
-  interval(c.time_ratio);
-  j.key("mean_success_time_ratio_worlds").value(c.time_ratio_worlds);
-  j.key("bootstrap").beginObject().key("resamples").value(c.resamples).key("seed").value(c.seed).key("level").value(0.95)
-      .endObject();
-  j.key("agreement").beginObject().key("both_mostly_succeed").value(c.both_succeed).key("both_mostly_fail")
-      .value(c.both_fail).key("disagree");
-  ids(c.disagree);
-  j.endObject();
-  j.key("spearman_success_time").value(c.spearman_time).key("spearman_success_time_worlds").value(c.spearman_time_worlds);
-  j.key("spearman_success_rate").value(c.spearman_success);
-  j.key("worlds").beginArray();
-  for (std::size_t i = 0; i < c.a.size(); ++i) {
-    j.beginObject().key("world").value(c.a[i].world_id).key("a");
-    stats(c.a[i]);
-    j.key("b");
-    stats(c.b[i]);
-    j.endObject();
-  }
-  j.endArray().endObject();
-  std::printf("%s\n", j.str().c_str());
+  Json worlds = Json::array();
+  for (std::size_t i = 0; i < c.a.size(); ++i)
+    worlds.push_back(Json{{"world", c.a[i].world_id}, {"a", stats(c.a[i])}, {"b", stats(c.b[i])}});
+  const Json json{
+      {"a", side(a)},
+      {"b", side(b)},
+      {"common_worlds", static_cast<int>(c.a.size())},
+      {"only_a", c.only_a},
+      {"only_b", c.only_b},
+      {"different_world_files", different},
+      {"score_a", c.score_a},
+      {"score_b", c.score_b},
+      {"success_rate_a", c.success_a},
+      {"success_rate_b", c.success_b},
+      {"score_difference", interval(c.score_difference)},
+      {"success_rate_difference", interval(c.success_difference)},
+      {"collision_rate_a", c.collision_a},
+      {"collision_rate_b", c.collision_b},
+      {"collision_rate_difference", interval(c.collision_difference)},
+      {"timeout_rate_a", c.timeout_a},
+      {"timeout_rate_b", c.timeout_b},
+      {"timeout_rate_difference", interval(c.timeout_difference)},
+      {"mean_success_time_ratio", interval(c.time_ratio)},
+      {"mean_success_time_ratio_worlds", c.time_ratio_worlds},
+      {"bootstrap", {{"resamples", c.resamples}, {"seed", c.seed}, {"level", 0.95}}},
+      {"agreement", {{"both_mostly_succeed", c.both_succeed}, {"both_mostly_fail", c.both_fail}, {"disagree", c.disagree}}},
+      {"spearman_success_time", c.spearman_time},
+      {"spearman_success_time_worlds", c.spearman_time_worlds},
+      {"spearman_success_rate", c.spearman_success},
+      {"worlds", std::move(worlds)}};
+  // A record's path need not be UTF-8: such bytes are written as U+FFFD rather than refused.
+  std::printf("%s\n", json.dump(-1, ' ', false, Json::error_handler_t::replace).c_str());
 }
 
 void plotComparison(const bench::Comparison& c, const Record& a, const Record& b, const CompareOptions& o) {

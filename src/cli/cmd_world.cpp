@@ -2,7 +2,8 @@
 
 #include <cstdio>
 
-#include "barn/core/json_writer.hpp"
+#include <nlohmann/json.hpp>
+
 #include "barn/core/protocol.hpp"
 #include "barn/core/world_file.hpp"
 #include "barn/viz/world_render.hpp"
@@ -20,43 +21,36 @@ struct WorldOptions {
   double pixels_per_metre = viz::RenderOptions{}.pixels_per_metre;
 };
 
-void writeCell(core::JsonWriter& json, core::Cell cell) { json.beginArray().value(cell.row).value(cell.col).endArray(); }
+// Members in the order written (nlohmann writes a non-finite double as null).
+using Json = nlohmann::ordered_json;
 
-void writeMetrics(core::JsonWriter& json, const core::DifficultyMetrics& metrics) {
-  json.beginObject();
+Json cellJson(core::Cell cell) { return Json::array({cell.row, cell.col}); }
+
+Json metricsJson(const core::DifficultyMetrics& metrics) {
+  Json json = Json::object();
   const auto values = metrics.toArray();
-  for (std::size_t k = 0; k < values.size(); ++k) json.key(core::DifficultyMetrics::kNames[k]).value(values[k]);
-  json.endObject();
+  for (std::size_t k = 0; k < values.size(); ++k) json[std::string(core::DifficultyMetrics::kNames[k])] = values[k];
+  return json;
 }
 
 std::string worldJson(const core::WorldSpec& w, const core::Protocol& protocol) {
-  core::JsonWriter json;
-  json.beginObject();
-  json.key("id").value(w.id);
-  json.key("source").value(core::toString(w.source));
-  json.key("seed");
-  if (w.seed) json.value(*w.seed); else json.null();
-  json.key("fill_pct").value(w.fill_pct);
-  json.key("smooth_iter").value(w.smooth_iter);
-  json.key("grid").beginArray();
-  for (const auto& row : w.grid.toRowStrings()) json.value(row);
-  json.endArray();
-  json.key("start_cell");
-  writeCell(json, w.start_cell);
-  json.key("goal_cell");
-  writeCell(json, w.goal_cell);
-  json.key("path").beginArray();
-  for (const auto& cell : w.path) writeCell(json, cell);
-  json.endArray();
-  json.key("protocol").value(std::string(core::toString(protocol.name)));
-  json.key("path_length_m").value(core::referencePathLength(w.path, protocol));
-  json.key("optimal_time_s").value(core::optimalTime(w.path, protocol));
-  json.key("metrics");
-  writeMetrics(json, w.metrics);
-  json.key("norm_metrics");
-  writeMetrics(json, w.norm_metrics);
-  json.endObject();
-  return json.str();
+  Json path = Json::array();
+  for (const auto& cell : w.path) path.push_back(cellJson(cell));
+  const Json json{{"id", w.id},
+                  {"source", std::string(core::toString(w.source))},
+                  {"seed", w.seed ? Json(*w.seed) : Json(nullptr)},
+                  {"fill_pct", w.fill_pct},
+                  {"smooth_iter", w.smooth_iter},
+                  {"grid", w.grid.toRowStrings()},
+                  {"start_cell", cellJson(w.start_cell)},
+                  {"goal_cell", cellJson(w.goal_cell)},
+                  {"path", std::move(path)},
+                  {"protocol", std::string(core::toString(protocol.name))},
+                  {"path_length_m", core::referencePathLength(w.path, protocol)},
+                  {"optimal_time_s", core::optimalTime(w.path, protocol)},
+                  {"metrics", metricsJson(w.metrics)},
+                  {"norm_metrics", metricsJson(w.norm_metrics)}};
+  return json.dump();
 }
 
 void printWorldText(const core::WorldSpec& w, const core::Protocol& protocol) {

@@ -945,6 +945,8 @@ PYBIND11_MODULE(_core, m) {
   m.def("episode_seed", &bench::episodeSeed, py::arg("run_seed"), py::arg("world_id"), py::arg("trial"),
         "The seed `barn run --seed run_seed` gives this episode");
   m.def("episodes_csv_header", &bench::episodesCsvHeader);
+  // episodes.csv's column names in order, from the one table barn writes and reads them by.
+  m.attr("EPISODE_COLUMNS") = py::tuple(py::cast(bench::episodeColumnNames()));
   m.def("protocols", [] {
         std::vector<std::string> names;
         for (const std::string_view name : enumNames(core::ProtocolName{})) names.emplace_back(name);

@@ -5,8 +5,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "barn/bench/results_io.hpp"
 
@@ -130,14 +133,77 @@ TEST(PerWorldStats, MeanScoreWithTheStudentTIntervalPerWorld) {
   EXPECT_TRUE(std::isnan(worlds[1].score_ci_low) && std::isnan(worlds[1].score_ci_high));
 }
 
-TEST(SummaryJson, NamesTheWorldSetAndListsEveryWorld) {
+TEST(SummaryJson, ParsedBackHoldsTheWorldSetAndEveryWorldInOrder) {
   const std::vector<EpisodeResult> run = unevenRun();
-  const std::string json = summaryJson("barnbench-generated", summarise(run), perWorldStats(run, 0.5), {});
-  EXPECT_THAT(json, HasSubstr("\"world_set\": \"barnbench-generated\""));
-  EXPECT_THAT(json, HasSubstr("{\"world\": 3, \"trials\": 1, \"score\": 0.5, \"score_ci95\": [null, null]"));
-  std::size_t entries = 0;
-  for (std::size_t at = json.find("{\"world\": "); at != std::string::npos; at = json.find("{\"world\": ", at + 1)) ++entries;
-  EXPECT_EQ(entries, 3u);
+  const nlohmann::json json = nlohmann::json::parse(summaryJson("barnbench-generated", summarise(run), perWorldStats(run, 0.5), {}));
+  EXPECT_EQ(json["world_set"], "barnbench-generated");
+  // World 3's one trial: score 0.5, no interval (null, null); worlds in ascending id 1, 3, 8.
+  ASSERT_EQ(json["per_world"].size(), 3u);
+  EXPECT_EQ(json["per_world"][0]["world"], 1);
+  const nlohmann::json& w3 = json["per_world"][1];
+  EXPECT_EQ(w3["world"], 3);
+  EXPECT_EQ(w3["trials"], 1);
+  EXPECT_EQ(w3["score"], 0.5);
+  EXPECT_EQ(w3["score_ci95"], nlohmann::json::array({nullptr, nullptr}));
+  EXPECT_EQ(json["per_world"][2]["world"], 8);
+  EXPECT_TRUE(json["breakdown"].is_array() && json["breakdown"].empty());
+}
+
+TEST(SummaryJson, EveryDoubleReadsBackExactlyAndNonFiniteOnesAreNull) {
+  RunSummary s;
+  s.worlds = 3;
+  s.episodes = 6;
+  s.score = 0.65 / 3.0;                 // 0.21666666666666667: 17 significant digits to read back
+  s.success_rate = 5.0 / 9.0;
+  s.collision_rate = 1e-300;            // tiny, written with an exponent
+  s.timeout_rate = 0.1 + 0.2;           // 0.30000000000000004, not 0.3
+  s.error_rate = 0.0;
+  s.avg_success_time = std::numeric_limits<double>::quiet_NaN();
+  s.sim_time = std::numeric_limits<double>::infinity();
+  const nlohmann::json summary = nlohmann::json::parse(summaryJson("x", s, {}, {}))["summary"];
+  EXPECT_EQ(summary["worlds"], 3);
+  EXPECT_EQ(summary["episodes"], 6);
+  EXPECT_EQ(summary["score"].get<double>(), 0.65 / 3.0);
+  EXPECT_EQ(summary["success_rate"].get<double>(), 5.0 / 9.0);
+  EXPECT_EQ(summary["collision_rate"].get<double>(), 1e-300);
+  EXPECT_EQ(summary["timeout_rate"].get<double>(), 0.1 + 0.2);
+  EXPECT_EQ(summary["error_rate"].get<double>(), 0.0);
+  EXPECT_TRUE(summary["avg_success_time_s"].is_null());
+  EXPECT_TRUE(summary["sim_time_s"].is_null());
+}
+
+TEST(SummaryJson, MembersKeepTheDocumentedOrder) {
+  const std::vector<EpisodeResult> run = unevenRun();
+  const BucketSummary bucket{"params", "fill 0.15 / smooth 2", summarise(run)};
+  const nlohmann::ordered_json json =
+      nlohmann::ordered_json::parse(summaryJson("barnbench-generated", summarise(run), perWorldStats(run, 0.5), {bucket}));
+  const auto keys = [](const nlohmann::ordered_json& object) {
+    std::vector<std::string> names;
+    for (const auto& item : object.items()) names.push_back(item.key());
+    return names;
+  };
+  const std::vector<std::string> summary_keys = {"worlds", "episodes", "score", "success_rate", "collision_rate",
+                                                 "timeout_rate", "error_rate", "avg_success_time_s", "sim_time_s"};
+  EXPECT_EQ(keys(json), (std::vector<std::string>{"world_set", "summary", "per_world", "breakdown"}));
+  EXPECT_EQ(keys(json["summary"]), summary_keys);
+  EXPECT_EQ(keys(json["per_world"][0]), (std::vector<std::string>{"world", "trials", "score", "score_ci95", "success_rate",
+                                                                  "collision_rate", "timeout_rate", "avg_success_time_s"}));
+  std::vector<std::string> bucket_keys = {"group", "bucket"};
+  bucket_keys.insert(bucket_keys.end(), summary_keys.begin(), summary_keys.end());
+  EXPECT_EQ(keys(json["breakdown"][0]), bucket_keys);
+  EXPECT_EQ(json["breakdown"][0]["bucket"], "fill 0.15 / smooth 2");
+}
+
+TEST(SummaryJson, AWorldSetNameWithQuotesAndNewlinesReadsBack) {
+  const std::string name = "a \"quoted\"\nname\twith \\ and \x01";
+  const nlohmann::json json = nlohmann::json::parse(summaryJson(name, RunSummary{}, {}, {}));
+  EXPECT_EQ(json["world_set"].get<std::string>(), name);
+}
+
+TEST(SummaryJson, IsTwoSpaceIndentedEndingInANewline) {
+  const std::string text = summaryJson("s", RunSummary{}, {}, {});
+  EXPECT_THAT(text, StartsWith("{\n  \"world_set\": \"s\",\n  \"summary\": {\n    \"worlds\": 0,\n"));
+  EXPECT_EQ(text.back(), '\n');
 }
 
 TEST(WorldSetName, SaysWhereTheWorldsComeFrom) {
@@ -176,7 +242,7 @@ TEST(EpisodesCsv, FormatsASuccessRow) {
   EXPECT_EQ(episodesCsv({r}), std::string(kEpisodesHeader) + "3,1,99,success,10,0.5,5,9.5,0.75,10.25,,,,\n");
 }
 
-TEST(EpisodesCsv, WritesTheCollisionPointStatesAndASanitisedError) {
+TEST(EpisodesCsv, WritesTheCollisionPointStatesAndAQuotedError) {
   EpisodeResult hit = episode(5, 0, Outcome::Collision, 2.5, 0.0, 2.75);
   hit.collision = sim::CollisionInfo{2.75, {-2.175, 5.925}, 1, {}};
   hit.state_entries = {{"drive", 2}, {"recover", 1}};
@@ -184,8 +250,8 @@ TEST(EpisodesCsv, WritesTheCollisionPointStatesAndASanitisedError) {
   broken.error = "controller threw: bad, worse\nworst";
   const std::string csv = episodesCsv({hit, broken});
   EXPECT_THAT(csv, HasSubstr("\n5,0,0,collision,2.5,0,0,0,0,2.75,-2.175,5.925,drive:2|recover:1,\n"));
-  // Commas and newlines would break the row: they become ';'.
-  EXPECT_THAT(csv, HasSubstr("\n5,1,0,error,0,0,0,0,0,1,,,,controller threw: bad; worse;worst\n"));
+  // The comma is kept inside quotes (RFC 4180); the newline would end the row: it becomes ';'.
+  EXPECT_THAT(csv, HasSubstr("\n5,1,0,error,0,0,0,0,0,1,,,,\"controller threw: bad, worse;worst\"\n"));
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 3);
 }
 

@@ -25,8 +25,8 @@ using ::testing::HasSubstr;
 // Bit patterns, so -0.0 vs 0.0 and the last ulp both count.
 std::uint64_t bits(double value) { return std::bit_cast<std::uint64_t>(value); }
 
-// Every field the CSV carries, compared exactly (the collision's time and rectangle are not
-// columns, so only its point is compared).
+// Every field the CSV carries, compared exactly (the collision's time, rectangle and pose are
+// not columns, so only its point is compared).
 void expectSameRow(const EpisodeResult& a, const EpisodeResult& b) {
   EXPECT_EQ(a.world_id, b.world_id);
   EXPECT_EQ(a.trial, b.trial);
@@ -151,29 +151,58 @@ TEST(EpisodeCsvRow, StateEntriesKeepTheirOrderAndCounts) {
   expectSameRow(roundTrip(r), r);
 }
 
-TEST(EpisodeCsvRow, StateNamesWithSeparatorsAreSanitisedButStillParse) {
+TEST(EpisodeCsvRow, StateNamesKeepCommasAndQuotesAndLoseOnlyTheListSeparator) {
   EpisodeResult r = awkwardRow();
-  // ',' and '|' would split the row or the list: both become ';'. A ':' in the name is kept
-  // (the count is after the last ':').
-  r.state_entries = {{"a,b", 1}, {"c|d", 2}, {"ns:e", 3}};
+  // ',' and '"' are quoted (RFC 4180) and kept; '|' would split the list and becomes ';'. A ':'
+  // in the name is kept (the count is after the last ':').
+  r.state_entries = {{"a,b", 1}, {"c|d", 2}, {"ns:e", 3}, {"say \"hi\"", 4}};
+  EXPECT_THAT(episodeCsvRow(r), HasSubstr(R"(,"a,b:1|c;d:2|ns:e:3|say ""hi"":4",)"));
   const EpisodeResult back = roundTrip(r);
-  const std::vector<std::pair<std::string, int>> expected = {{"a;b", 1}, {"c;d", 2}, {"ns:e", 3}};
+  const std::vector<std::pair<std::string, int>> expected = {{"a,b", 1}, {"c;d", 2}, {"ns:e", 3}, {"say \"hi\"", 4}};
   EXPECT_EQ(back.state_entries, expected);
 }
 
-TEST(EpisodeCsvRow, ErrorTextWithCommaAndNewlineStaysOneRow) {
+TEST(EpisodeCsvRow, ErrorTextWithCommasAndQuotesIsQuotedAndReadsBackExactly) {
   EpisodeResult r = awkwardRow();
   r.outcome = Outcome::Error;
-  r.error = "controller threw: bad index 3, expected < 2\nsecond line";
+  r.error = R"(external: bad answer '{"linear": 1, "angular": x}')";
   const std::string row = episodeCsvRow(r);
-  EXPECT_EQ(row.find('\n'), row.size() - 1) << row;
-  const EpisodeResult back = roundTrip(r);
-  EXPECT_EQ(back.error, "controller threw: bad index 3; expected < 2;second line");
-  EXPECT_EQ(back.outcome, Outcome::Error);
-  // Everything but the error text is exact.
+  // The field in quotes, each quote doubled: "external: bad answer '{""linear"": 1, ""angular"": x}'"
+  EXPECT_THAT(row, HasSubstr(R"(,"external: bad answer '{""linear"": 1, ""angular"": x}'")" "\n"));
+  expectSameRow(roundTrip(r), r);
+}
+
+TEST(EpisodeCsvRow, ALineBreakInTheErrorTextBecomesASemicolonSoTheRowStaysOneLine) {
+  EpisodeResult r = awkwardRow();
+  r.outcome = Outcome::Error;
+  r.error = "controller threw: bad index 3, expected < 2\nsecond line\r";
+  const EpisodeResult back = roundTrip(r);  // checks the row is one line
+  EXPECT_EQ(back.error, "controller threw: bad index 3, expected < 2;second line;");
   EpisodeResult expected = r;
   expected.error = back.error;
   expectSameRow(back, expected);
+}
+
+TEST(EpisodeCsvRow, TextWithoutCommaOrQuoteIsWrittenAsItIs) {
+  // What every row written before quoting existed looks like: it reads the same, and is
+  // written again byte for byte.
+  EpisodeResult r = awkwardRow();
+  r.outcome = Outcome::Error;
+  r.error = "controller threw: no map; world 100";
+  const std::string row = episodeCsvRow(r);
+  EXPECT_EQ(row.find('"'), std::string::npos) << row;
+  EXPECT_THAT(row, HasSubstr(",Heading:3|LfLH:5,controller threw: no map; world 100\n"));
+  EXPECT_EQ(episodeCsvRow(roundTrip(r)), row);
+}
+
+TEST(EpisodeColumnNames, AreTheHeaderInOrder) {
+  const std::vector<std::string> names = episodeColumnNames();
+  ASSERT_EQ(names.size(), 14u);
+  std::string joined;
+  for (const std::string& name : names) joined += (joined.empty() ? "" : ",") + name;
+  EXPECT_EQ(joined + "\n", episodesCsvHeader());
+  EXPECT_EQ(episodesCsvHeader(), "world,trial,seed,outcome,time_s,score,optimal_time_s,path_length_m,mean_speed_mps,"
+                                 "sim_time_s,collision_x,collision_y,states,error\n");
 }
 
 TEST(EpisodesCsv, IsTheHeaderThenOneRowPerResultInTheGivenOrder) {
@@ -202,6 +231,37 @@ TEST(ParseEpisodeRow, RejectsANegativeSeed) {
   const std::string seed = std::to_string(std::numeric_limits<std::uint64_t>::max());
   row.replace(row.find(seed), seed.size(), "-1");
   EXPECT_THROW(parseEpisodeRow(row, "x"), core::InputError) << row;
+}
+
+/// The InputError message of parsing `row`, or "" if it parses.
+std::string rowErrorOf(const std::string& row) {
+  try {
+    parseEpisodeRow(row, "episodes.csv:5");
+  } catch (const core::InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ParseEpisodeRow, RejectsBadQuotingNamingWhere) {
+  std::string row = episodeCsvRow(awkwardRow());
+  row.pop_back();  // ...,Heading:3|LfLH:5,   (the error column is empty)
+  EXPECT_THAT(rowErrorOf(row + "\"unclosed"), AllOf(HasSubstr("episodes.csv:5"), HasSubstr("not closed")));
+  EXPECT_THAT(rowErrorOf(row + "\"closed\"x"), AllOf(HasSubstr("episodes.csv:5"), HasSubstr("after the closing quote of field 14")));
+  EXPECT_THAT(rowErrorOf(row + "a\"b"), AllOf(HasSubstr("episodes.csv:5"), HasSubstr("quote in unquoted field 14")));
+  EXPECT_EQ(rowErrorOf(row + "\"a \"\"b\"\", c\""), "");
+}
+
+TEST(ParseEpisodeRow, RejectsACollisionPointWithOneCoordinate) {
+  EpisodeResult r = awkwardRow();
+  r.collision->point = {1.5, 2.5};
+  std::string row = episodeCsvRow(r);
+  row.pop_back();
+  std::string only_x = row, only_y = row;
+  only_x.replace(only_x.find(",1.5,2.5,"), 9, ",1.5,,");
+  only_y.replace(only_y.find(",1.5,2.5,"), 9, ",,2.5,");
+  EXPECT_THAT(rowErrorOf(only_x), AllOf(HasSubstr("collision_y"), HasSubstr("'' is not a finite number")));
+  EXPECT_THAT(rowErrorOf(only_y), AllOf(HasSubstr("collision_y"), HasSubstr("without a collision_x")));
 }
 
 // ---------------------------------------------------------------------------------------------

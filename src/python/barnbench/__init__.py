@@ -28,6 +28,7 @@ The protocol (the score's scale) is `barnbench.default_protocol` unless a call n
 otherwise; set it once per session with `barnbench.default_protocol = "barn2024"`.
 """
 
+import csv
 import inspect
 import json
 import math
@@ -43,7 +44,7 @@ import numpy as np
 from . import _core
 from ._core import InputError, IoError
 
-__all__ = ["Env", "VecEnv", "run", "merge", "default_reward", "default_protocol", "InputError", "IoError"]
+__all__ = ["Env", "VecEnv", "run", "merge", "read_episodes", "default_reward", "default_protocol", "InputError", "IoError"]
 
 _SOURCE_DIR = _core.SOURCE_DIR
 _DEFAULT_SIM_CONFIG = os.path.join(_SOURCE_DIR, "configs", "sim", "barn.yaml")
@@ -390,6 +391,20 @@ def merge(shards, out):
     _core.merge([str(s) for s in shards], str(out))
     with open(os.path.join(out, "summary.json")) as f:
         return json.load(f)
+
+
+EPISODE_COLUMNS = _core.EPISODE_COLUMNS  # episodes.csv's columns, as barn writes them
+
+
+def read_episodes(record):
+    """The rows of a record's episodes.csv as dicts keyed by EPISODE_COLUMNS (text values, as
+    written: read quoted fields with the csv module, not by splitting at commas)."""
+    path = os.path.join(record, "episodes.csv")
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    if not rows or tuple(rows[0]) != EPISODE_COLUMNS:
+        raise InputError(f"{path}: not an episodes.csv (unexpected header)")
+    return [dict(zip(EPISODE_COLUMNS, row)) for row in rows[1:]]
 
 
 def _shard(shard):

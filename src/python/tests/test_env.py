@@ -124,9 +124,12 @@ class Crashes:
 
 def test_a_failing_python_controller_fails_only_its_own_episodes(tmp_path):
     summary = barnbench.run(Crashes, worlds="0,100", jobs=2, out=str(tmp_path / "r"))
-    rows = (tmp_path / "r" / "episodes.csv").read_text().splitlines()
+    rows = barnbench.read_episodes(tmp_path / "r")
     assert summary["summary"]["episodes"] == 2 and summary["summary"]["error_rate"] == 0.5
-    assert "controller threw: no map" in rows[2] and rows[1].split(",")[3] == "timeout"
+    assert rows[0]["outcome"] == "timeout"
+    header = (tmp_path / "r" / "episodes.csv").read_text().splitlines()[0]
+    assert header == ",".join(barnbench.EPISODE_COLUMNS) and barnbench.EPISODE_COLUMNS[3] == "outcome"
+    assert rows[1]["outcome"] == "error" and "controller threw: no map" in rows[1]["error"]
 
 
 class AnswersBadly:
@@ -208,8 +211,8 @@ def test_a_builtin_run_whose_episodes_errored_returns_its_summary_and_says_so(tm
     summary = barnbench.run("dies", worlds="0,100", jobs=1, out=str(tmp_path / "r"), config=str(config))
     assert summary["summary"]["episodes"] == 2 and summary["summary"]["error_rate"] == 1.0
     assert "barnbench.run: dies: some episodes ended in error" in capfd.readouterr().err
-    rows = (tmp_path / "r" / "episodes.csv").read_text().splitlines()
-    assert len(rows) == 3 and all(",error," in row for row in rows[1:])
+    rows = barnbench.read_episodes(tmp_path / "r")
+    assert len(rows) == 2 and all(row["outcome"] == "error" for row in rows)
 
 
 def test_a_builtin_run_in_process_writes_barn_runs_record_and_resumes_after_ctrl_c(tmp_path):
