@@ -44,7 +44,7 @@ import numpy as np
 from . import _core
 from ._core import InputError, IoError
 
-__all__ = ["Env", "VecEnv", "run", "merge", "default_reward", "default_protocol", "InputError", "IoError"]
+__all__ = ["Env", "VecEnv", "run", "merge", "report", "default_reward", "default_protocol", "InputError", "IoError"]
 
 _SOURCE_DIR = _core.SOURCE_DIR
 _DEFAULT_SIM_CONFIG = os.path.join(_SOURCE_DIR, "configs", "sim", "barn.yaml")
@@ -393,6 +393,17 @@ def merge(shards, out):
     _core.merge([str(s) for s in shards], str(out))
     with open(os.path.join(out, "summary.json")) as f:
         return json.load(f)
+
+
+def report(record, out, max_failures=12):
+    """Writes the HTML page of a finished run record or sweep folder `record` to `out` (a .html
+    file), the same page `barn report <record> --out <out>` writes: the summary, per-world and
+    difficulty tables, and the figures (failed episodes drawn from recorded trajectories, else
+    re-simulated, at most `max_failures`). Returns `out`."""
+    if isinstance(max_failures, bool) or not isinstance(max_failures, int) or not 0 <= max_failures <= 1000:
+        raise InputError(f"max_failures: a whole number from 0 to 1000 (got {max_failures!r})")
+    _core.report(str(record), str(out), max_failures, os.path.join(_SOURCE_DIR, "configs", "controllers"))
+    return str(out)
 
 
 def _shard(shard):
