@@ -13,7 +13,7 @@
 #include "barn/core/errors.hpp"
 #include "barn/core/robot_config.hpp"
 #include "barn/core/world_geometry.hpp"
-#include "stroke_font.hpp"
+#include "font.hpp"
 
 namespace barn::viz::detail {
 namespace {
@@ -331,9 +331,9 @@ void drawScaleBar(cairo_t* cr, double left_px, double baseline_px, double pixels
   cairo_move_to(cr, left_px + ppm, baseline_px - tick_px);
   cairo_line_to(cr, left_px + ppm, baseline_px + tick_px);
   cairo_stroke(cr);
-  // Label centred on the bar: the x-height is 4/8 of the font size.
+  // Label centred on the bar by its lower-case letter.
   const double size = kLabelHeight * ppm;
-  drawText(cr, "1 m", left_px + 1.12 * ppm, baseline_px + 0.25 * size, size);
+  drawText(cr, "1 m", left_px + 1.12 * ppm, xCentredBaseline(baseline_px, size), size);
 }
 
 void addIntervalBar(cairo_t* cr, double x, double y0, double y1, double cap_half_width) {

@@ -18,6 +18,7 @@
 #include "barn/core/protocol.hpp"
 #include "barn/core/world.hpp"
 #include "barn/viz/image_format.hpp"
+#include "font.hpp"
 
 namespace barn::viz::detail {
 
@@ -89,13 +90,15 @@ std::string formatNumber(double value, std::chars_format format, int precision);
 // ---------------------------------------------------------------------------
 // Text placement and ticks (device pixels)
 
-/// The baseline that centres digits and capitals (6/8 of the font size tall) on `y`.
-inline double centredBaseline(double y, double size) { return y + 0.375 * size; }
+/// The baseline that centres digits and capitals (kCapHeight of the font size tall) on `y`.
+inline double centredBaseline(double y, double size) { return y + 0.5 * kCapHeight * size; }
+/// The baseline that centres lower-case letters (kXHeight of the font size tall) on `y`.
+inline double xCentredBaseline(double y, double size) { return y + 0.5 * kXHeight * size; }
 
 void drawCentred(cairo_t* cr, const std::string& text, double centre_x, double baseline, double size);
 void drawRightAligned(cairo_t* cr, const std::string& text, double right_x, double baseline, double size);
-/// Text reading bottom to top, centred on (x, centre_y), with its baseline at x (the glyphs
-/// reach 6/8 of the size left of it and 2/8 right).
+/// Text reading bottom to top, centred on (x, centre_y), with its baseline at x (capitals
+/// reach kCapHeight of the size left of it, descenders about a quarter right).
 void drawVertical(cairo_t* cr, const std::string& text, double baseline_x, double centre_y, double size);
 
 /// Tick spacing of 1, 2 or 5 x 10^k giving at most about `target` intervals over `span` (> 0).

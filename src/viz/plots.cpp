@@ -18,7 +18,7 @@
 
 #include "barn/core/errors.hpp"
 #include "drawing.hpp"
-#include "stroke_font.hpp"
+#include "font.hpp"
 
 namespace barn::viz {
 namespace {
@@ -42,6 +42,7 @@ std::pair<double, double> valueAxisRange(std::initializer_list<const std::vector
 }
 
 using detail::centredBaseline;
+using detail::xCentredBaseline;
 using detail::drawCentred;
 using detail::drawRightAligned;
 using detail::drawText;
@@ -694,7 +695,7 @@ void drawColourBar(cairo_t* cr, const HeatMap& map, const HeatMapLayout& l) {
     const double room = grid_h;
     const double size = std::min(kSmallSize, kSmallSize * room / std::max(1.0, textWidth(map.scale_label, kSmallSize)));
     setColour(cr, kInk);
-    drawVertical(cr, map.scale_label, bx + bw + 8.0 + l.bar_label_width + 10.0 + 0.75 * size, gy + 0.5 * grid_h, size);
+    drawVertical(cr, map.scale_label, bx + bw + 8.0 + l.bar_label_width + 10.0 + detail::kCapHeight * size, gy + 0.5 * grid_h, size);
   }
   if (l.any_finite) {
     drawStar(cr, bx + 7.0, gy + grid_h + 17.0, 6.5);
@@ -1211,7 +1212,7 @@ void renderTrajectories(const core::WorldSpec& world, const core::Protocol& prot
     const double fit =
         std::min(font_size, font_size * text_room / std::max(1e-9, textWidth(text, font_size)));
     setColour(cr, colour);
-    drawText(cr, text, text_x, centredBaseline(at_y, fit) - 0.125 * fit, fit);  // centred on x-height
+    drawText(cr, text, text_x, xCentredBaseline(at_y, fit), fit);
   };
   const auto swatch = [&](const Rgb& colour, const DashPattern& pattern) {
     cairo_move_to(cr, x0, y);
@@ -1227,7 +1228,7 @@ void renderTrajectories(const core::WorldSpec& world, const core::Protocol& prot
   };
   const auto header = [&](const std::string& text) {
     setColour(cr, kMutedInk);
-    drawText(cr, text, x0, centredBaseline(y, text_size) - 0.125 * text_size, text_size);
+    drawText(cr, text, x0, xCentredBaseline(y, text_size), text_size);
     y += row;
   };
 
