@@ -346,6 +346,22 @@ void addIntervalBar(cairo_t* cr, double x, double y0, double y1, double cap_half
   }
 }
 
+void drawWorldLayer(cairo_t* cr, const core::WorldSpec& world, const core::Protocol& protocol, bool show_containment,
+                    const std::optional<PathStyle>& path) {
+  drawOccupiedCells(cr, world.grid);
+  drawCylinders(cr, world.grid, show_containment);
+  if (path) drawPath(cr, world.path, protocol, *path);
+  drawGoal(cr, protocol);
+  drawStartPose(cr, protocol);
+}
+
+void drawWorldFrame(cairo_t* cr, const core::WorldSpec& world, const core::Protocol& protocol, const ViewBox& view,
+                    double pixels_per_metre, double title_width_px) {
+  drawWorldTitle(cr, worldTitle(world, protocol), pixels_per_metre, title_width_px);
+  drawScaleBar(cr, kWorldMargin * pixels_per_metre, (view.max_y - view.min_y + 1.5 * kWorldMargin) * pixels_per_metre,
+               pixels_per_metre);
+}
+
 }  // namespace barn::viz::detail
 
 namespace barn::viz {

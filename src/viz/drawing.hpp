@@ -9,6 +9,7 @@
 #include <charconv>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -161,6 +162,11 @@ void drawPath(cairo_t* cr, const std::vector<core::Cell>& path, const core::Prot
               const PathStyle& style);
 void drawStartPose(cairo_t* cr, const core::Protocol& protocol);
 void drawGoal(cairo_t* cr, const core::Protocol& protocol);
+/// The world as every picture of it shows it (renderWorld, renderTrajectories), in world
+/// coordinates: occupied cells, cylinders (with their containment rings if asked), the A* path
+/// in `path`'s style (none if empty), the goal and the start pose.
+void drawWorldLayer(cairo_t* cr, const core::WorldSpec& world, const core::Protocol& protocol, bool show_containment,
+                    const std::optional<PathStyle>& path);
 
 /// "world <id>  fill <pct>  smooth <n>  OT <s> s".
 std::string worldTitle(const core::WorldSpec& world, const core::Protocol& protocol);
@@ -172,5 +178,10 @@ void drawWorldTitle(cairo_t* cr, const std::string& title, double pixels_per_met
 
 /// A 1 m scale bar starting at (left_px, baseline_px), device pixels.
 void drawScaleBar(cairo_t* cr, double left_px, double baseline_px, double pixels_per_metre);
+
+/// The frame of a world picture, in device pixels: worldTitle in the top margin, fitted to
+/// `title_width_px`, and the scale bar in the bottom margin, left-aligned with the view box.
+void drawWorldFrame(cairo_t* cr, const core::WorldSpec& world, const core::Protocol& protocol, const ViewBox& view,
+                    double pixels_per_metre, double title_width_px);
 
 }  // namespace barn::viz::detail
