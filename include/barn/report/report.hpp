@@ -10,7 +10,7 @@
 namespace barn::report {
 
 struct ReportOptions {
-  int max_failures = 12;  // [-] failed episodes drawn at most (recorded trajectories, else re-simulated)
+  int max_failures = 12;  // [-] failed episodes drawn at most (recorded, else re-simulated); our choice
   // Folder of the controllers' config files (configs/controllers): a sweep's axes take the units
   // its controller's file (<controller>.yaml) states; none when empty or the file is not there.
   std::filesystem::path controller_configs;
