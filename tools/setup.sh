@@ -14,7 +14,7 @@ for arg in "$@"; do
 done
 
 packages=(g++ cmake make pkg-config libbox2d-dev libeigen3-dev libyaml-cpp-dev libcli11-dev
-          libgtest-dev libgmock-dev libbenchmark-dev libcairo2-dev nlohmann-json3-dev libboost-dev python3 python3-dev
+          libgtest-dev libgmock-dev libbenchmark-dev libcairo2-dev libfreetype-dev fonts-dejavu-core nlohmann-json3-dev libboost-dev python3 python3-dev
           pybind11-dev python3-numpy python3-pytest slurm-wlm munge chromium strace)
 # The training tools' extras, only when asked: Debian's torch multiplies matrices with the
 # reference BLAS unless an optimised one is installed (OpenBLAS: about 20x faster training).

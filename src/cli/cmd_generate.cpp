@@ -13,7 +13,7 @@
 #include "barn/core/world_file.hpp"
 #include "commands.hpp"
 #include "generator/world_generator.hpp"
-#include "set_summary.hpp"
+#include "barn/report/set_summary.hpp"
 
 namespace barn::cli {
 
@@ -84,7 +84,7 @@ void addGenerateCommand(CLI::App& app, CommandContext& context) {
     const auto t0 = std::chrono::steady_clock::now();
     const std::vector<core::WorldSpec> worlds = generator::generateSweep(config);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::printf("%s", parameterSetTable(worlds).c_str());
+    std::printf("%s", report::parameterSetTable(worlds).c_str());
     std::printf("generated %zu worlds in %.3f s (base seed %llu)\n", worlds.size(), seconds,
                 static_cast<unsigned long long>(config.base_seed));
     if (options->check) {

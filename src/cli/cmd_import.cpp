@@ -7,7 +7,7 @@
 #include "barn/core/world_file.hpp"
 #include "commands.hpp"
 #include "generator/dataset_import.hpp"
-#include "set_summary.hpp"
+#include "barn/report/set_summary.hpp"
 
 namespace barn::cli {
 
@@ -66,7 +66,7 @@ void addImportCommand(CLI::App& app, CommandContext& context) {
       printVerifyReport(report);
       if (!report.ok()) context.exit_code = 1;
     }
-    std::printf("%s", parameterSetTable(worlds).c_str());
+    std::printf("%s", report::parameterSetTable(worlds).c_str());
     if (const auto halves = generator::absentWorldsMetrics(dataset)) printAbsentWorlds(*halves);
     checkOutFolder(options->out, "--out");
     const bench::RecordWriter writer(options->out);

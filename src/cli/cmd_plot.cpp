@@ -18,8 +18,8 @@
 
 #include "barn/viz/image_format.hpp"
 #include "commands.hpp"
-#include "params_plot.hpp"
-#include "record_figures.hpp"
+#include "barn/report/params_plot.hpp"
+#include "barn/report/record_figures.hpp"
 
 namespace barn::cli {
 
@@ -137,7 +137,7 @@ void addPlotCommand(CLI::App& app, CommandContext& /*context*/) {
       ->capture_default_str();
   scores->callback([options] {
     viz::imageFormatFor(options->output);  // a bad extension is refused before any reading
-    renderScoreBars(options->record, options->by, options->output);
+    report::renderScoreBars(options->record, options->by, options->output);
     std::printf("wrote %s\n", options->output.c_str());
   });
 
@@ -180,7 +180,7 @@ void addPlotCommand(CLI::App& app, CommandContext& /*context*/) {
       ->capture_default_str();
   trajectory->callback([options] {
     viz::imageFormatFor(options->output);  // a bad extension is refused before any simulation
-    const RecordReplay replay(options->record);
+    const report::RecordReplay replay(options->record);
     std::vector<int> trials = options->trials;
     if (trials.empty())
       for (int t = 0; t < replay.manifest().trials; ++t) trials.push_back(t);
@@ -206,7 +206,7 @@ void addPlotCommand(CLI::App& app, CommandContext& /*context*/) {
       ->required();
   params->callback([options] {
     viz::imageFormatFor(options->output);
-    renderParameterPlot(options->trajectory_file, options->keys, options->title, options->output);
+    report::renderParameterPlot(options->trajectory_file, options->keys, options->title, options->output);
     std::printf("wrote %s\n", options->output.c_str());
   });
 }

@@ -16,10 +16,9 @@
 #include "barn/core/errors.hpp"
 #include "barn/core/text_io.hpp"
 #include "commands.hpp"
-#include "config_units.hpp"
 #include "repo_paths.hpp"
 #include "run_session.hpp"
-#include "sweep_plots.hpp"
+#include "barn/report/sweep_plots.hpp"
 
 namespace barn::cli {
 
@@ -169,10 +168,10 @@ SweepSessions resumedSweep(const fs::path& dir) {
 /// sweep.csv and the figures. Units come from the controller's config file (a resumed or
 /// merged sweep reads the default one, configs/controllers/NAME.yaml).
 void writeSweepResults(const SweepSessions& sweep, const std::string& config, const std::string& figures) {
-  const SweepTable table = readSweepTable(sweep.dir, controllerConfigFile(sweep.grid.controller, config));
-  core::writeFileAtomic(sweep.dir / "sweep.csv", sweepCsv(table));
-  std::printf("%s", sweepSummary(table).c_str());
-  for (const auto& figure : writeSweepPlots(table, sweep.dir, "." + figures)) std::printf("wrote %s\n", figure.c_str());
+  const report::SweepTable table = report::readSweepTable(sweep.dir, controllerConfigFile(sweep.grid.controller, config));
+  core::writeFileAtomic(sweep.dir / "sweep.csv", report::sweepCsv(table));
+  std::printf("%s", report::sweepSummary(table).c_str());
+  for (const auto& figure : report::writeSweepPlots(table, sweep.dir, "." + figures)) std::printf("wrote %s\n", figure.c_str());
   std::printf("wrote %s\n", (sweep.dir / "sweep.csv").c_str());
 }
 

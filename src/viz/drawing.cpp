@@ -13,7 +13,7 @@
 #include "barn/core/errors.hpp"
 #include "barn/core/robot_config.hpp"
 #include "barn/core/world_geometry.hpp"
-#include "stroke_font.hpp"
+#include "font.hpp"
 
 namespace barn::viz::detail {
 namespace {
@@ -331,9 +331,9 @@ void drawScaleBar(cairo_t* cr, double left_px, double baseline_px, double pixels
   cairo_move_to(cr, left_px + ppm, baseline_px - tick_px);
   cairo_line_to(cr, left_px + ppm, baseline_px + tick_px);
   cairo_stroke(cr);
-  // Label centred on the bar: the x-height is 4/8 of the font size.
+  // Label centred on the bar by its lower-case letter.
   const double size = kLabelHeight * ppm;
-  drawText(cr, "1 m", left_px + 1.12 * ppm, baseline_px + 0.25 * size, size);
+  drawText(cr, "1 m", left_px + 1.12 * ppm, xCentredBaseline(baseline_px, size), size);
 }
 
 void addIntervalBar(cairo_t* cr, double x, double y0, double y1, double cap_half_width) {
@@ -344,6 +344,22 @@ void addIntervalBar(cairo_t* cr, double x, double y0, double y1, double cap_half
     cairo_move_to(cr, x - cap_half_width, y);
     cairo_line_to(cr, x + cap_half_width, y);
   }
+}
+
+void drawWorldLayer(cairo_t* cr, const core::WorldSpec& world, const core::Protocol& protocol, bool show_containment,
+                    const std::optional<PathStyle>& path) {
+  drawOccupiedCells(cr, world.grid);
+  drawCylinders(cr, world.grid, show_containment);
+  if (path) drawPath(cr, world.path, protocol, *path);
+  drawGoal(cr, protocol);
+  drawStartPose(cr, protocol);
+}
+
+void drawWorldFrame(cairo_t* cr, const core::WorldSpec& world, const core::Protocol& protocol, const ViewBox& view,
+                    double pixels_per_metre, double title_width_px) {
+  drawWorldTitle(cr, worldTitle(world, protocol), pixels_per_metre, title_width_px);
+  drawScaleBar(cr, kWorldMargin * pixels_per_metre, (view.max_y - view.min_y + 1.5 * kWorldMargin) * pixels_per_metre,
+               pixels_per_metre);
 }
 
 }  // namespace barn::viz::detail

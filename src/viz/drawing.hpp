@@ -9,6 +9,7 @@
 #include <charconv>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,7 @@
 #include "barn/core/protocol.hpp"
 #include "barn/core/world.hpp"
 #include "barn/viz/image_format.hpp"
+#include "font.hpp"
 
 namespace barn::viz::detail {
 
@@ -89,13 +91,15 @@ std::string formatNumber(double value, std::chars_format format, int precision);
 // ---------------------------------------------------------------------------
 // Text placement and ticks (device pixels)
 
-/// The baseline that centres digits and capitals (6/8 of the font size tall) on `y`.
-inline double centredBaseline(double y, double size) { return y + 0.375 * size; }
+/// The baseline that centres digits and capitals (kCapHeight of the font size tall) on `y`.
+inline double centredBaseline(double y, double size) { return y + 0.5 * kCapHeight * size; }
+/// The baseline that centres lower-case letters (kXHeight of the font size tall) on `y`.
+inline double xCentredBaseline(double y, double size) { return y + 0.5 * kXHeight * size; }
 
 void drawCentred(cairo_t* cr, const std::string& text, double centre_x, double baseline, double size);
 void drawRightAligned(cairo_t* cr, const std::string& text, double right_x, double baseline, double size);
-/// Text reading bottom to top, centred on (x, centre_y), with its baseline at x (the glyphs
-/// reach 6/8 of the size left of it and 2/8 right).
+/// Text reading bottom to top, centred on (x, centre_y), with its baseline at x (capitals
+/// reach kCapHeight of the size left of it, descenders about a quarter right).
 void drawVertical(cairo_t* cr, const std::string& text, double baseline_x, double centre_y, double size);
 
 /// Tick spacing of 1, 2 or 5 x 10^k giving at most about `target` intervals over `span` (> 0).
@@ -158,6 +162,11 @@ void drawPath(cairo_t* cr, const std::vector<core::Cell>& path, const core::Prot
               const PathStyle& style);
 void drawStartPose(cairo_t* cr, const core::Protocol& protocol);
 void drawGoal(cairo_t* cr, const core::Protocol& protocol);
+/// The world as every picture of it shows it (renderWorld, renderTrajectories), in world
+/// coordinates: occupied cells, cylinders (with their containment rings if asked), the A* path
+/// in `path`'s style (none if empty), the goal and the start pose.
+void drawWorldLayer(cairo_t* cr, const core::WorldSpec& world, const core::Protocol& protocol, bool show_containment,
+                    const std::optional<PathStyle>& path);
 
 /// "world <id>  fill <pct>  smooth <n>  OT <s> s".
 std::string worldTitle(const core::WorldSpec& world, const core::Protocol& protocol);
@@ -169,5 +178,10 @@ void drawWorldTitle(cairo_t* cr, const std::string& title, double pixels_per_met
 
 /// A 1 m scale bar starting at (left_px, baseline_px), device pixels.
 void drawScaleBar(cairo_t* cr, double left_px, double baseline_px, double pixels_per_metre);
+
+/// The frame of a world picture, in device pixels: worldTitle in the top margin, fitted to
+/// `title_width_px`, and the scale bar in the bottom margin, left-aligned with the view box.
+void drawWorldFrame(cairo_t* cr, const core::WorldSpec& world, const core::Protocol& protocol, const ViewBox& view,
+                    double pixels_per_metre, double title_width_px);
 
 }  // namespace barn::viz::detail

@@ -12,7 +12,7 @@
 
 #include "barn/core/errors.hpp"
 #include "drawing.hpp"
-#include "stroke_font.hpp"
+#include "font.hpp"
 
 namespace barn::viz {
 namespace {
@@ -272,7 +272,7 @@ void drawLegend(cairo_t* cr, const LegendRows& rows, double left) {
       cairo_set_dash(cr, nullptr, 0, 0.0);
       if (entry->marker) drawMarker(cr, mid, row_y, entry->colour);
       setColour(cr, kInk);
-      detail::drawText(cr, entry->label, x + kLegendSwatch + 6.0, detail::centredBaseline(row_y, kLabelSize) - 0.125 * kLabelSize,
+      detail::drawText(cr, entry->label, x + kLegendSwatch + 6.0, detail::xCentredBaseline(row_y, kLabelSize),
                        kLabelSize);
       x += entry->width() + kLegendGap;
     }

@@ -18,7 +18,7 @@
 
 #include "barn/core/errors.hpp"
 #include "drawing.hpp"
-#include "stroke_font.hpp"
+#include "font.hpp"
 
 namespace barn::viz {
 namespace {
@@ -42,6 +42,7 @@ std::pair<double, double> valueAxisRange(std::initializer_list<const std::vector
 }
 
 using detail::centredBaseline;
+using detail::xCentredBaseline;
 using detail::drawCentred;
 using detail::drawRightAligned;
 using detail::drawText;
@@ -694,7 +695,7 @@ void drawColourBar(cairo_t* cr, const HeatMap& map, const HeatMapLayout& l) {
     const double room = grid_h;
     const double size = std::min(kSmallSize, kSmallSize * room / std::max(1.0, textWidth(map.scale_label, kSmallSize)));
     setColour(cr, kInk);
-    drawVertical(cr, map.scale_label, bx + bw + 8.0 + l.bar_label_width + 10.0 + 0.75 * size, gy + 0.5 * grid_h, size);
+    drawVertical(cr, map.scale_label, bx + bw + 8.0 + l.bar_label_width + 10.0 + detail::kCapHeight * size, gy + 0.5 * grid_h, size);
   }
   if (l.any_finite) {
     drawStar(cr, bx + 7.0, gy + grid_h + 17.0, 6.5);
@@ -1090,63 +1091,57 @@ void renderPairedWorlds(const PairedWorlds& pairs, const std::filesystem::path& 
 }
 
 // ---------------------------------------------------------------------------
-// Trajectories on a world
+// Trajectories on a world: the world layer (drawing.cpp, as renderWorld draws it), the
+// trajectories over it, and the legend built as a list of rows, then drawn.
 
-void renderTrajectories(const core::WorldSpec& world, const core::Protocol& protocol,
-                        const std::vector<TrajectoryOverlay>& trajectories, const std::filesystem::path& output,
-                        const TrajectoryStyle& style) {
-  const std::string where = output.string();
-  imageFormatFor(output);  // an unknown extension fails before any drawing
-  const double ppm = style.pixels_per_metre;
-  const bool by_trial = style.colouring == TrajectoryColouring::ByTrial;
-  const detail::ViewBox view = detail::viewBox(protocol);
-  const detail::ImageSize size = detail::worldImageSize(view, ppm, kLegendBand, where);
-  const double map_width_px = (view.max_x - view.min_x + 2.0 * detail::kWorldMargin) * ppm;
+namespace {
 
-  // State colours in order of first appearance across all trajectories.
-  std::vector<std::string> states;
-  bool any_stateless = false;
-  bool any_collision = false;
-  bool any_outline = false;
-  for (const TrajectoryOverlay& trajectory : trajectories) {
-    any_collision = any_collision || trajectory.collided;
-    any_outline = any_outline || (trajectory.collision_pose && !style.robot_outline.empty());
-    for (const TrajectoryPoint& point : trajectory.points) {
-      if (point.state.empty())
-        any_stateless = true;
-      else if (std::find(states.begin(), states.end(), point.state) == states.end())
-        states.push_back(point.state);
-    }
-  }
-  const auto stateColour = [&](const std::string& state) {
+/// How trajectories are coloured and dashed: by state (a colour per state, in order of first
+/// appearance; a dash pattern per trajectory) or by trial (a palette colour per trajectory,
+/// dashed once the colours repeat).
+struct TrajectoryPalette {
+  bool by_trial = false;
+  std::vector<std::string> states;  // in order of first appearance across all trajectories
+  bool any_stateless = false;       // some point has no state
+  bool any_collision = false;       // some trajectory touched a cylinder
+  bool any_outline = false;         // some trajectory has a pose of contact and an outline to draw
+
+  Rgb stateColour(const std::string& state) const {
     if (state.empty()) return kNoStateColour;
     const auto it = std::find(states.begin(), states.end(), state);
     return kStatePalette[static_cast<std::size_t>(it - states.begin()) % kStatePalette.size()];
-  };
-  // By trial, each trajectory has a palette colour, and a dash pattern once the colours repeat;
-  // by state, the colour is the state's and the dash pattern tells trajectories apart.
-  const auto trialColour = [&](std::size_t t) { return kStatePalette[t % kStatePalette.size()]; };
-  const auto trialDash = [&](std::size_t t) -> const DashPattern& {
+  }
+  Rgb trialColour(std::size_t t) const { return kStatePalette[t % kStatePalette.size()]; }
+  const DashPattern& trialDash(std::size_t t) const {
     return kDashPatterns[(by_trial ? t / kStatePalette.size() : t) % kDashPatterns.size()];
-  };
+  }
+};
 
-  detail::OutputCanvas image = detail::createOutputCanvas(size.width, size.height, output);
-  cairo_t* cr = image.cr();
+TrajectoryPalette trajectoryPalette(const std::vector<TrajectoryOverlay>& trajectories, const TrajectoryStyle& style) {
+  TrajectoryPalette palette;
+  palette.by_trial = style.colouring == TrajectoryColouring::ByTrial;
+  for (const TrajectoryOverlay& trajectory : trajectories) {
+    palette.any_collision = palette.any_collision || trajectory.collided;
+    palette.any_outline = palette.any_outline || (trajectory.collision_pose && !style.robot_outline.empty());
+    for (const TrajectoryPoint& point : trajectory.points) {
+      if (point.state.empty())
+        palette.any_stateless = true;
+      else if (std::find(palette.states.begin(), palette.states.end(), point.state) == palette.states.end())
+        palette.states.push_back(point.state);
+    }
+  }
+  return palette;
+}
 
-  // The world as renderWorld draws it, with the A* path thin and light (a reference, not the
-  // subject).
-  const cairo_matrix_t world_to_px = detail::worldToPixels(view, ppm);
-  cairo_save(cr);
-  cairo_set_matrix(cr, &world_to_px);
-  detail::drawOccupiedCells(cr, world.grid);
-  detail::drawCylinders(cr, world.grid, true);
-  const detail::PathStyle path_style{{0.55, 0.80, 0.60}, 0.02, 0.0};
-  detail::drawPath(cr, world.path, protocol, path_style);
-  detail::drawGoal(cr, protocol);
-  detail::drawStartPose(cr, protocol);
+// The A* path on a trajectory picture: thin and light (a reference, not the subject).
+const detail::PathStyle kReferencePathStyle{{0.55, 0.80, 0.60}, 0.02, 0.0};
 
-  // Trajectories, clipped to the map. Each run of points in one colour is one polyline that
-  // ends at the next run's first point, so the line has no gaps and dashes run on across runs.
+/// The trajectories, clipped to the map, then the robot's outline and the mark at each contact,
+/// in world coordinates (the caller has set worldToPixels). Each run of points in one colour is
+/// one polyline that ends at the next run's first point, so the line has no gaps and dashes
+/// run on across runs.
+void drawTrajectories(cairo_t* cr, const std::vector<TrajectoryOverlay>& trajectories, const TrajectoryPalette& palette,
+                      const detail::ViewBox& view, const std::vector<core::Rect>& robot_outline) {
   cairo_rectangle(cr, view.min_x - detail::kWorldMargin, view.min_y - detail::kWorldMargin,
                   view.max_x - view.min_x + 2.0 * detail::kWorldMargin,
                   view.max_y - view.min_y + 2.0 * detail::kWorldMargin);
@@ -1159,7 +1154,9 @@ void renderTrajectories(const core::WorldSpec& world, const core::Protocol& prot
   };
   for (std::size_t t = 0; t < trajectories.size(); ++t) {
     const std::vector<TrajectoryPoint>& points = trajectories[t].points;
-    const auto sameRun = [&](const TrajectoryPoint& a, const TrajectoryPoint& b) { return by_trial || a.state == b.state; };
+    const auto sameRun = [&](const TrajectoryPoint& a, const TrajectoryPoint& b) {
+      return palette.by_trial || a.state == b.state;
+    };
     double travelled = 0.0;  // [m] along the drawn line, for the dash phase
     std::size_t i = 0;
     while (i < points.size()) {
@@ -1170,14 +1167,14 @@ void renderTrajectories(const core::WorldSpec& world, const core::Protocol& prot
       std::size_t end = i + 1;  // one past the run's last point
       while (end < points.size() && finite(points[end]) && sameRun(points[end], points[i])) ++end;
       const std::size_t last = end < points.size() && finite(points[end]) ? end : end - 1;
-      setDash(cr, trialDash(t), travelled);
+      setDash(cr, palette.trialDash(t), travelled);
       cairo_move_to(cr, points[i].x, points[i].y);
       for (std::size_t k = i + 1; k <= last; ++k) {
         cairo_line_to(cr, points[k].x, points[k].y);
         travelled += std::hypot(points[k].x - points[k - 1].x, points[k].y - points[k - 1].y);
       }
       if (last == i) cairo_line_to(cr, points[i].x, points[i].y);  // a lone point: a round dot
-      setColour(cr, by_trial ? trialColour(t) : stateColour(points[i].state));
+      setColour(cr, palette.by_trial ? palette.trialColour(t) : palette.stateColour(points[i].state));
       cairo_stroke(cr);
       i = end;
     }
@@ -1185,110 +1182,160 @@ void renderTrajectories(const core::WorldSpec& world, const core::Protocol& prot
   // The robot where it touched, over the trajectories: its collision outline at the pose of
   // contact, so the reader sees which part hit.
   for (const TrajectoryOverlay& trajectory : trajectories) {
-    if (trajectory.collision_pose) drawRobotOutline(cr, *trajectory.collision_pose, style.robot_outline);
+    if (trajectory.collision_pose) drawRobotOutline(cr, *trajectory.collision_pose, robot_outline);
   }
   for (const TrajectoryOverlay& trajectory : trajectories) {
-    if (trajectory.collided && std::isfinite(trajectory.collision_x) &&
-        std::isfinite(trajectory.collision_y)) {
+    if (trajectory.collided && std::isfinite(trajectory.collision_x) && std::isfinite(trajectory.collision_y)) {
       drawCollisionMark(cr, trajectory.collision_x, trajectory.collision_y, 0.13, 0.045);
     }
   }
-  cairo_restore(cr);
+}
 
-  detail::drawWorldTitle(cr, detail::worldTitle(world, protocol), ppm, map_width_px);
-  detail::drawScaleBar(cr, detail::kWorldMargin * ppm,
-                       (view.max_y - view.min_y + 1.5 * detail::kWorldMargin) * ppm, ppm);
+/// What stands left of a legend row's text.
+enum class LegendSwatch {
+  None,           // a group's header: muted text at the swatch's place
+  Line,           // a trajectory's or state's line, in its colour and dash pattern
+  ReferencePath,  // the A* path's thin line
+  CollisionMark,  // the mark at a contact
+  RobotOutline,   // a small robot, heading right
+};
 
-  // Legend in the band right of the map, in device pixels; sizes scale with the map.
+/// One row of the trajectory legend.
+struct TrajectoryLegendRow {
+  LegendSwatch swatch = LegendSwatch::Line;
+  std::string text;
+  Rgb colour{};                                // of a Line swatch
+  const DashPattern* dash = &kDashPatterns[0];  // of a Line swatch
+  std::string detail;                          // a second, smaller line under the text; none if empty
+  bool group_end = false;                      // half a row of space follows
+};
+
+/// The legend's rows: the states (by state), the trajectories (when there is more than one,
+/// they are coloured by trial, or one has a label), the A* path, and the contact marks shown.
+std::vector<TrajectoryLegendRow> buildTrajectoryLegend(const std::vector<TrajectoryOverlay>& trajectories,
+                                                       const TrajectoryPalette& palette) {
+  std::vector<TrajectoryLegendRow> rows;
+  if (!palette.by_trial && !palette.states.empty()) {
+    rows.push_back({LegendSwatch::None, "state", {}, nullptr, {}, false});
+    for (const std::string& state : palette.states)
+      rows.push_back({LegendSwatch::Line, state, palette.stateColour(state), &kDashPatterns[0], {}, false});
+    if (palette.any_stateless)
+      rows.push_back({LegendSwatch::Line, "no state", kNoStateColour, &kDashPatterns[0], {}, false});
+    rows.back().group_end = true;
+  }
+  const bool label_trajectories =
+      palette.by_trial || trajectories.size() > 1 ||
+      std::any_of(trajectories.begin(), trajectories.end(),
+                  [](const TrajectoryOverlay& t) { return !t.label.empty() || !t.detail.empty(); });
+  if (label_trajectories && !trajectories.empty()) {
+    rows.push_back({LegendSwatch::None, "trajectory", {}, nullptr, {}, false});
+    for (std::size_t t = 0; t < trajectories.size(); ++t) {
+      rows.push_back({LegendSwatch::Line,
+                      trajectories[t].label.empty() ? "trajectory " + std::to_string(t) : trajectories[t].label,
+                      palette.by_trial ? palette.trialColour(t) : kInk, &palette.trialDash(t), trajectories[t].detail,
+                      false});
+    }
+    rows.back().group_end = true;
+  }
+  rows.push_back({LegendSwatch::ReferencePath, "A* path", {}, nullptr, {}, false});
+  if (palette.any_collision) rows.push_back({LegendSwatch::CollisionMark, "cylinder hit", {}, nullptr, {}, false});
+  if (palette.any_outline) rows.push_back({LegendSwatch::RobotOutline, "robot at contact", {}, nullptr, {}, false});
+  return rows;
+}
+
+/// Draws the legend's rows in the band right of the map, which starts at `x0` [px] and ends at
+/// `right` [px], in device pixels; sizes scale with the map (`ppm`). A text too long for the
+/// band is shrunk to fit.
+void drawTrajectoryLegend(cairo_t* cr, const std::vector<TrajectoryLegendRow>& rows, double x0, double right,
+                          double ppm, const std::vector<core::Rect>& robot_outline) {
   const double text_size = kLegendText * ppm;
   const double detail_size = kLegendDetailText * ppm;
   const double row = kLegendRow * ppm;
-  const double x0 = map_width_px;
   const double text_x = x0 + (kLegendSwatch + 0.12) * ppm;
-  const double text_room = size.width - text_x - 0.15 * ppm;
+  const double text_room = right - text_x - 0.15 * ppm;
   double y = (detail::kWorldMargin + 0.2) * ppm;
   const auto entryText = [&](const std::string& text, const Rgb& colour, double font_size, double at_y) {
     const double fit =
         std::min(font_size, font_size * text_room / std::max(1e-9, textWidth(text, font_size)));
     setColour(cr, colour);
-    drawText(cr, text, text_x, centredBaseline(at_y, fit) - 0.125 * fit, fit);  // centred on x-height
+    drawText(cr, text, text_x, xCentredBaseline(at_y, fit), fit);
   };
-  const auto swatch = [&](const Rgb& colour, const DashPattern& pattern) {
-    cairo_move_to(cr, x0, y);
-    cairo_line_to(cr, x0 + kLegendSwatch * ppm, y);
-    setColour(cr, colour);
-    cairo_set_line_width(cr, kTrajectoryWidth * ppm);
-    cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
-    std::array<double, 4> dashes = pattern.dashes;
-    for (double& d : dashes) d *= ppm;
-    cairo_set_dash(cr, dashes.data(), pattern.count, 0.0);
-    cairo_stroke(cr);
-    cairo_set_dash(cr, nullptr, 0, 0.0);
-  };
-  const auto header = [&](const std::string& text) {
-    setColour(cr, kMutedInk);
-    drawText(cr, text, x0, centredBaseline(y, text_size) - 0.125 * text_size, text_size);
-    y += row;
-  };
-
-  if (!by_trial && !states.empty()) {
-    header("state");
-    for (const std::string& state : states) {
-      swatch(stateColour(state), kDashPatterns[0]);
-      entryText(state, kInk, text_size, y);
-      y += row;
-    }
-    if (any_stateless) {
-      swatch(kNoStateColour, kDashPatterns[0]);
-      entryText("no state", kInk, text_size, y);
-      y += row;
-    }
-    y += 0.5 * row;
-  }
-  const bool label_trajectories =
-      by_trial || trajectories.size() > 1 ||
-      std::any_of(trajectories.begin(), trajectories.end(),
-                  [](const TrajectoryOverlay& t) { return !t.label.empty() || !t.detail.empty(); });
-  if (label_trajectories && !trajectories.empty()) {
-    header("trajectory");
-    for (std::size_t t = 0; t < trajectories.size(); ++t) {
-      swatch(by_trial ? trialColour(t) : kInk, trialDash(t));
-      entryText(trajectories[t].label.empty() ? "trajectory " + std::to_string(t) : trajectories[t].label, kInk,
-                text_size, y);
-      if (!trajectories[t].detail.empty()) {
-        y += kLegendDetailRow * ppm;
-        entryText(trajectories[t].detail, kMutedInk, detail_size, y);
+  for (const TrajectoryLegendRow& r : rows) {
+    switch (r.swatch) {
+      case LegendSwatch::None:
+        setColour(cr, kMutedInk);
+        drawText(cr, r.text, x0, xCentredBaseline(y, text_size), text_size);
+        break;
+      case LegendSwatch::Line: {
+        cairo_move_to(cr, x0, y);
+        cairo_line_to(cr, x0 + kLegendSwatch * ppm, y);
+        setColour(cr, r.colour);
+        cairo_set_line_width(cr, kTrajectoryWidth * ppm);
+        cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
+        std::array<double, 4> dashes = r.dash->dashes;
+        for (double& d : dashes) d *= ppm;
+        cairo_set_dash(cr, dashes.data(), r.dash->count, 0.0);
+        cairo_stroke(cr);
+        cairo_set_dash(cr, nullptr, 0, 0.0);
+        break;
       }
-      y += row;
+      case LegendSwatch::ReferencePath:
+        cairo_move_to(cr, x0, y);
+        cairo_line_to(cr, x0 + kLegendSwatch * ppm, y);
+        setColour(cr, kReferencePathStyle.colour);
+        cairo_set_line_width(cr, kReferencePathStyle.width * ppm);
+        cairo_stroke(cr);
+        break;
+      case LegendSwatch::CollisionMark:
+        cairo_save(cr);
+        cairo_translate(cr, x0 + 0.5 * kLegendSwatch * ppm, y);
+        cairo_scale(cr, ppm, ppm);
+        drawCollisionMark(cr, 0.0, 0.0, 0.09, 0.045);
+        cairo_restore(cr);
+        break;
+      case LegendSwatch::RobotOutline:
+        // y flipped back to the world's up.
+        cairo_save(cr);
+        cairo_translate(cr, x0 + 0.5 * kLegendSwatch * ppm, y);
+        cairo_scale(cr, 0.7 * ppm, -0.7 * ppm);
+        drawRobotOutline(cr, core::Pose2{}, robot_outline);
+        cairo_restore(cr);
+        break;
     }
-    y += 0.5 * row;
-  }
-  cairo_move_to(cr, x0, y);
-  cairo_line_to(cr, x0 + kLegendSwatch * ppm, y);
-  setColour(cr, path_style.colour);
-  cairo_set_line_width(cr, path_style.width * ppm);
-  cairo_stroke(cr);
-  entryText("A* path", kInk, text_size, y);
-  y += row;
-  if (any_collision) {
-    cairo_save(cr);
-    cairo_translate(cr, x0 + 0.5 * kLegendSwatch * ppm, y);
-    cairo_scale(cr, ppm, ppm);
-    drawCollisionMark(cr, 0.0, 0.0, 0.09, 0.045);
-    cairo_restore(cr);
-    entryText("cylinder hit", kInk, text_size, y);
+    if (r.swatch != LegendSwatch::None) entryText(r.text, kInk, text_size, y);
+    if (!r.detail.empty()) {
+      y += kLegendDetailRow * ppm;
+      entryText(r.detail, kMutedInk, detail_size, y);
+    }
     y += row;
+    if (r.group_end) y += 0.5 * row;
   }
-  if (any_outline) {
-    // A small robot, heading right, in the swatch's place (y flipped back to the world's up).
-    cairo_save(cr);
-    cairo_translate(cr, x0 + 0.5 * kLegendSwatch * ppm, y);
-    cairo_scale(cr, 0.7 * ppm, -0.7 * ppm);
-    drawRobotOutline(cr, core::Pose2{}, style.robot_outline);
-    cairo_restore(cr);
-    entryText("robot at contact", kInk, text_size, y);
-  }
+}
 
+}  // namespace
+
+void renderTrajectories(const core::WorldSpec& world, const core::Protocol& protocol,
+                        const std::vector<TrajectoryOverlay>& trajectories, const std::filesystem::path& output,
+                        const TrajectoryStyle& style) {
+  const std::string where = output.string();
+  imageFormatFor(output);  // an unknown extension fails before any drawing
+  const double ppm = style.pixels_per_metre;
+  const detail::ViewBox view = detail::viewBox(protocol);
+  const detail::ImageSize size = detail::worldImageSize(view, ppm, kLegendBand, where);
+  const double map_width_px = (view.max_x - view.min_x + 2.0 * detail::kWorldMargin) * ppm;
+  const TrajectoryPalette palette = trajectoryPalette(trajectories, style);
+
+  detail::OutputCanvas image = detail::createOutputCanvas(size.width, size.height, output);
+  cairo_t* cr = image.cr();
+  const cairo_matrix_t world_to_px = detail::worldToPixels(view, ppm);
+  cairo_save(cr);
+  cairo_set_matrix(cr, &world_to_px);
+  detail::drawWorldLayer(cr, world, protocol, true, kReferencePathStyle);
+  drawTrajectories(cr, trajectories, palette, view, style.robot_outline);
+  cairo_restore(cr);
+  detail::drawWorldFrame(cr, world, protocol, view, ppm, map_width_px);
+  drawTrajectoryLegend(cr, buildTrajectoryLegend(trajectories, palette), map_width_px, size.width, ppm,
+                       style.robot_outline);
   detail::finishImage(image);
 }
 

@@ -8,8 +8,8 @@
 
 namespace barn::viz {
 
-// The layers, the view box and the title live in drawing.cpp, shared with the trajectory
-// overlay of plots.cpp, so both pictures of a world look the same.
+// The world layer and the frame (title, scale bar) live in drawing.cpp, shared with the
+// trajectory picture of plots.cpp, so both pictures of a world look the same.
 
 void renderWorld(const core::WorldSpec& world, const core::Protocol& protocol, const std::filesystem::path& output,
                  const RenderOptions& options) {
@@ -24,17 +24,10 @@ void renderWorld(const core::WorldSpec& world, const core::Protocol& protocol, c
   const cairo_matrix_t world_to_px = detail::worldToPixels(view, ppm);
   cairo_save(cr);
   cairo_set_matrix(cr, &world_to_px);
-  detail::drawOccupiedCells(cr, world.grid);
-  detail::drawCylinders(cr, world.grid, options.show_containment);
-  if (options.show_path) detail::drawPath(cr, world.path, protocol, detail::PathStyle{});
-  detail::drawGoal(cr, protocol);
-  detail::drawStartPose(cr, protocol);
+  detail::drawWorldLayer(cr, world, protocol, options.show_containment,
+                         options.show_path ? std::optional<detail::PathStyle>(detail::PathStyle{}) : std::nullopt);
   cairo_restore(cr);
-
-  detail::drawWorldTitle(cr, detail::worldTitle(world, protocol), ppm, size.width);
-  // The scale bar sits in the bottom margin, left-aligned with the view box.
-  detail::drawScaleBar(cr, detail::kWorldMargin * ppm,
-                       (view.max_y - view.min_y + 1.5 * detail::kWorldMargin) * ppm, ppm);
+  detail::drawWorldFrame(cr, world, protocol, view, ppm, size.width);
   detail::finishImage(image);
 }
 

@@ -1,6 +1,6 @@
 // The units a controller config file states for its keys (figure axes of `barn sweep`).
 
-#include "cli/config_units.hpp"
+#include "report/config_units.hpp"
 
 #include <filesystem>
 #include <fstream>
@@ -9,7 +9,7 @@
 
 #include <gtest/gtest.h>
 
-namespace barn::cli {
+namespace barn::report {
 namespace {
 
 namespace fs = std::filesystem;
@@ -64,4 +64,4 @@ TEST(ConfigUnitsOfTheRepository, PurePursuitStatesItsSpeedAndLookahead) {
 }
 
 }  // namespace
-}  // namespace barn::cli
+}  // namespace barn::report

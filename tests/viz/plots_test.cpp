@@ -166,9 +166,9 @@ TEST_F(PlotsTest, HeatMapCellsWidenForLongValueTexts) {
   HeatMap map = sweep();
   map.value_format = "%.6f";
   renderHeatMap(map, png_);
-  // Stroke-font width of "28.000000": 8 digits of 4 units, a '.' of 0.6 and 8 gaps of 1.3, at
-  // 8 units per font size; cells use 14 px text, the colour bar's labels 13 px.
-  const auto text_width = [](double size) { return (8 * 4.0 + 0.6 + 8 * 1.3) * size / 8.0; };
+  // DejaVu Sans width of "28.000000": 8 digits advancing 1303 units and a '.' 651, at 2048
+  // units per font size (unhinted); cells use 14 px text, the colour bar's labels 13 px.
+  const auto text_width = [](double size) { return (8 * 1303.0 + 651.0) * size / 2048.0; };
   ASSERT_GT(text_width(14.0) + 16.0, 80.0);
   const double cell_w = text_width(14.0) + 16.0;
   const double bar_band = 64.0 + std::max(56.0, text_width(13.0));

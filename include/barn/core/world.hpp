@@ -16,6 +16,12 @@
 
 namespace barn::core {
 
+/// What one difficulty metric is called and which way it grows harder.
+struct DifficultyMetricInfo {
+  std::string_view name;    // as in world files and index.csv
+  bool harder_when_larger;  // true: a larger value makes a world harder (dispersion, tortuosity)
+};
+
 /// The five BARN difficulty metrics (Perille et al. 2020), in the dataset's order.
 struct DifficultyMetrics {
   double closest_wall = 0.0;              // mean distance to the closest C-space obstacle [cells]
@@ -24,8 +30,15 @@ struct DifficultyMetrics {
   double characteristic_dimension = 0.0;  // mean narrowest free axis [cells]
   double tortuosity = 0.0;                // path arc length / chord length [-]
 
-  static constexpr std::array<std::string_view, 5> kNames = {
-      "closest_wall", "avg_visibility", "dispersion", "characteristic_dimension", "tortuosity"};
+  /// Per metric, in toArray()'s order. Less room (clearance, visibility, narrowest width) and
+  /// more clutter (dispersion) or winding (tortuosity) make a world harder (Perille et al. 2020).
+  static constexpr std::array<DifficultyMetricInfo, 5> kInfo = {{{"closest_wall", false},
+                                                                  {"avg_visibility", false},
+                                                                  {"dispersion", true},
+                                                                  {"characteristic_dimension", false},
+                                                                  {"tortuosity", true}}};
+  static constexpr std::array<std::string_view, 5> kNames = {kInfo[0].name, kInfo[1].name, kInfo[2].name,
+                                                             kInfo[3].name, kInfo[4].name};
 
   std::array<double, 5> toArray() const {
     return {closest_wall, avg_visibility, dispersion, characteristic_dimension, tortuosity};

@@ -7,8 +7,8 @@
 /// The y axis runs from y_min to y_max where they are set, else from 0 (or the smallest value,
 /// if negative) to 5 % above the largest value of any series, interval or reference line. The x
 /// axis spans the series' x range (and the x ticks', if given); with x ticks or markers it is
-/// widened so the outermost points and their bars stay inside. Text uses the built-in stroke
-/// font (printable ASCII but "$ & @ \ ^ ` { } ~").
+/// widened so the outermost points and their bars stay inside. Text is set in DejaVu Sans
+/// (Debian's fonts-dejavu-core; InputError naming the font file if it is missing).
 
 #include <filesystem>
 #include <limits>

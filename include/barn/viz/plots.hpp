@@ -1,15 +1,15 @@
 #pragma once
 /// Figures for papers and reports: a heat map of a 2-parameter sweep, a per-world bar chart, a
 /// paired per-world comparison, and trajectories overlaid on a world picture. White background,
-/// labelled axes, a title; text uses the built-in stroke font (printable ASCII but
-/// "$ & @ \ ^ ` { } ~").
+/// labelled axes, a title; text is set in DejaVu Sans, loaded from its one file (Debian's
+/// fonts-dejavu-core; InputError naming the file if it is missing).
 ///
 /// Every function writes the format of the output's extension (.png, .pdf or .svg; see
 /// image_format.hpp), and the file appears complete or not at all. Each throws
 /// core::InputError "<file>: ..." naming the problem for an unknown extension, for input that
 /// cannot be drawn (see each function), and "<file>: cannot write: ..." if the file cannot be
-/// written. Sizes below are in px (pt in a PDF or SVG); text widths are those of the stroke
-/// font (textWidth in stroke_font.hpp).
+/// written. Sizes below are in px (pt in a PDF or SVG); text widths are those of DejaVu
+/// Sans (textWidth in src/viz/font.hpp).
 
 #include <filesystem>
 #include <limits>

@@ -44,7 +44,8 @@ import numpy as np
 from . import _core
 from ._core import InputError, IoError
 
-__all__ = ["Env", "VecEnv", "run", "merge", "read_episodes", "default_reward", "default_protocol", "InputError", "IoError"]
+__all__ = ["Env", "VecEnv", "run", "merge", "report", "read_episodes", "default_reward", "default_protocol", "InputError",
+           "IoError"]
 
 _SOURCE_DIR = _core.SOURCE_DIR
 _DEFAULT_SIM_CONFIG = os.path.join(_SOURCE_DIR, "configs", "sim", "barn.yaml")
@@ -405,6 +406,17 @@ def read_episodes(record):
     if not rows or tuple(rows[0]) != EPISODE_COLUMNS:
         raise InputError(f"{path}: not an episodes.csv (unexpected header)")
     return [dict(zip(EPISODE_COLUMNS, row)) for row in rows[1:]]
+
+
+def report(record, out, max_failures=12):
+    """Writes the HTML page of a finished run record or sweep folder `record` to `out` (a .html
+    file), the same page `barn report <record> --out <out>` writes: the summary, per-world and
+    difficulty tables, and the figures (failed episodes drawn from recorded trajectories, else
+    re-simulated, at most `max_failures`). Returns `out`."""
+    if isinstance(max_failures, bool) or not isinstance(max_failures, int) or not 0 <= max_failures <= 1000:
+        raise InputError(f"max_failures: a whole number from 0 to 1000 (got {max_failures!r})")
+    _core.report(str(record), str(out), max_failures, os.path.join(_SOURCE_DIR, "configs", "controllers"))
+    return str(out)
 
 
 def _shard(shard):

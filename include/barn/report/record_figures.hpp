@@ -11,7 +11,7 @@
 #include "barn/controllers/registry.hpp"
 #include "barn/viz/plots.hpp"
 
-namespace barn::cli {
+namespace barn::report {
 
 /// The record's per-world score bars (mean over trials, min-to-max whiskers, outcome strip),
 /// worlds ordered by `by` (difficulty, id or a metric name), written to `output` (.png, .pdf or
@@ -53,4 +53,4 @@ class RecordReplay {
   bench::EpisodeConfig episode_;
 };
 
-}  // namespace barn::cli
+}  // namespace barn::report

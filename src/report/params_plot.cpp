@@ -1,4 +1,4 @@
-#include "params_plot.hpp"
+#include "barn/report/params_plot.hpp"
 
 #include <algorithm>
 
@@ -6,7 +6,7 @@
 #include "barn/core/text_io.hpp"
 #include "barn/viz/line_plot.hpp"
 
-namespace barn::cli {
+namespace barn::report {
 
 namespace {
 
@@ -98,4 +98,4 @@ void renderParameterPlot(const std::filesystem::path& trajectory, const std::vec
   viz::renderLinePlots(panels, output);
 }
 
-}  // namespace barn::cli
+}  // namespace barn::report

@@ -1,10 +1,10 @@
-#include "set_summary.hpp"
+#include "barn/report/set_summary.hpp"
 
 #include <cstdio>
 
 #include "barn/core/protocol.hpp"
 
-namespace barn::cli {
+namespace barn::report {
 
 namespace {
 
@@ -67,4 +67,4 @@ std::string parameterSetTable(const std::vector<core::WorldSpec>& worlds) {
   return table;
 }
 
-}  // namespace barn::cli
+}  // namespace barn::report

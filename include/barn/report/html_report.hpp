@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace barn::cli {
+namespace barn::report {
 
 struct HtmlTable {
   std::string id;                              // element id (tests and scripts find it by this)
@@ -40,4 +40,4 @@ struct HtmlReport {
 /// InputError if a figure file cannot be read or is neither .png nor .svg.
 std::string renderHtml(const HtmlReport& report);
 
-}  // namespace barn::cli
+}  // namespace barn::report

@@ -4,7 +4,7 @@
 #include <utility>
 #include <vector>
 
-namespace barn::cli {
+namespace barn::report {
 
 namespace {
 
@@ -46,4 +46,4 @@ std::string configKeyUnit(const std::filesystem::path& file, const std::string& 
   return {};
 }
 
-}  // namespace barn::cli
+}  // namespace barn::report

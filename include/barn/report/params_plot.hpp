@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-namespace barn::cli {
+namespace barn::report {
 
 /// One parameter's values: each set at a time, in force until the next.
 struct ParameterSeries {
@@ -27,4 +27,4 @@ std::vector<ParameterSeries> readParameterSeries(const std::string& csv, const s
 void renderParameterPlot(const std::filesystem::path& trajectory, const std::vector<std::string>& keys,
                          const std::string& title, const std::filesystem::path& output);
 
-}  // namespace barn::cli
+}  // namespace barn::report

@@ -1,4 +1,4 @@
-#include "record_figures.hpp"
+#include "barn/report/record_figures.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -13,29 +13,31 @@
 #include "barn/core/protocol.hpp"
 #include "barn/sim/obstacle_field.hpp"
 
-namespace barn::cli {
+namespace barn::report {
 
 namespace {
 
 namespace fs = std::filesystem;
 
-// A difficulty index per world: the sum of the normalised metrics signed so that larger means
-// harder (less clearance, visibility and width; more dispersion and tortuosity).
+// A normalised metric signed so that larger means harder.
+double harderWhenLarger(const core::WorldSpec& w, std::size_t k) {
+  const double value = w.norm_metrics.toArray()[k];
+  return core::DifficultyMetrics::kInfo[k].harder_when_larger ? value : -value;
+}
+
+// A difficulty index per world: the sum of the normalised metrics, each signed so that larger
+// means harder (less clearance, visibility and width; more dispersion and tortuosity).
 double difficultyIndex(const core::WorldSpec& w) {
-  const auto& z = w.norm_metrics;
-  return -z.closest_wall - z.avg_visibility + z.dispersion - z.characteristic_dimension + z.tortuosity;
+  double sum = 0.0;
+  for (std::size_t k = 0; k < core::DifficultyMetrics::kInfo.size(); ++k) sum += harderWhenLarger(w, k);
+  return sum;
 }
 
 double orderKey(const core::WorldSpec& w, const std::string& by) {
   if (by == "difficulty") return difficultyIndex(w);
   if (by == "id") return w.id;
-  const auto values = w.norm_metrics.toArray();
-  for (std::size_t k = 0; k < values.size(); ++k)
-    if (by == core::DifficultyMetrics::kNames[k]) {
-      // Larger is harder for dispersion and tortuosity, easier for the others.
-      const bool harder_when_larger = k == 2 || k == 4;
-      return harder_when_larger ? values[k] : -values[k];
-    }
+  for (std::size_t k = 0; k < core::DifficultyMetrics::kInfo.size(); ++k)
+    if (by == core::DifficultyMetrics::kInfo[k].name) return harderWhenLarger(w, k);
   throw core::InputError("--by '" + by + "': expected difficulty, id or a metric name");
 }
 
@@ -186,4 +188,4 @@ void RecordReplay::renderWorld(int world_id, const std::vector<int>& trials, viz
   viz::renderTrajectories(*it, protocol, overlays, output, style);
 }
 
-}  // namespace barn::cli
+}  // namespace barn::report

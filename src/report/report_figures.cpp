@@ -5,9 +5,9 @@
 
 #include "barn/bench/results_io.hpp"
 #include "barn/bench/run_record.hpp"
-#include "record_figures.hpp"
+#include "barn/report/record_figures.hpp"
 
-namespace barn::cli {
+namespace barn::report {
 
 namespace fs = std::filesystem;
 
@@ -46,4 +46,4 @@ std::vector<HtmlFigure> sweepFigures(const SweepTable& sweep, const fs::path& sc
   return figures;
 }
 
-}  // namespace barn::cli
+}  // namespace barn::report

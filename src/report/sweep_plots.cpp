@@ -1,4 +1,4 @@
-#include "sweep_plots.hpp"
+#include "barn/report/sweep_plots.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -16,7 +16,7 @@
 #include "barn/viz/line_plot.hpp"
 #include "barn/viz/plots.hpp"
 
-namespace barn::cli {
+namespace barn::report {
 
 namespace {
 
@@ -237,4 +237,4 @@ std::vector<std::filesystem::path> writeSweepPlots(const SweepTable& table, cons
   return written;
 }
 
-}  // namespace barn::cli
+}  // namespace barn::report

@@ -5,10 +5,10 @@
 #include <filesystem>
 #include <vector>
 
-#include "html_report.hpp"
-#include "sweep_plots.hpp"
+#include "barn/report/html_report.hpp"
+#include "barn/report/sweep_plots.hpp"
 
-namespace barn::cli {
+namespace barn::report {
 
 /// The run record's per-world score bars.
 std::vector<HtmlFigure> scoreFigures(const std::filesystem::path& record, const std::filesystem::path& scratch);
@@ -26,4 +26,4 @@ FailureFigures failureFigures(const std::filesystem::path& record, const std::fi
 /// A sweep's heat maps (two keys) or line plots (one key).
 std::vector<HtmlFigure> sweepFigures(const SweepTable& sweep, const std::filesystem::path& scratch);
 
-}  // namespace barn::cli
+}  // namespace barn::report

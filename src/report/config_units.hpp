@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <string>
 
-namespace barn::cli {
+namespace barn::report {
 
 /// The unit of `key` (dotted: relative to the file's `type` block, or from the top) in the
 /// config file `file`: the text between "[" and "]" opening the comment on the key's line.
@@ -13,4 +13,4 @@ namespace barn::cli {
 /// the unit is "-" (dimensionless).
 std::string configKeyUnit(const std::filesystem::path& file, const std::string& key);
 
-}  // namespace barn::cli
+}  // namespace barn::report

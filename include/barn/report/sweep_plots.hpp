@@ -9,7 +9,7 @@
 #include "barn/bench/report.hpp"
 #include "barn/core/protocol.hpp"
 
-namespace barn::cli {
+namespace barn::report {
 
 struct SweepCell {
   std::string name;                       // record folder
@@ -48,4 +48,4 @@ std::string sweepSummary(const SweepTable& table);
 std::vector<std::filesystem::path> writeSweepPlots(const SweepTable& table, const std::filesystem::path& dir,
                                                    const std::string& extension = ".png");
 
-}  // namespace barn::cli
+}  // namespace barn::report

@@ -1,4 +1,4 @@
-#include "html_report.hpp"
+#include "barn/report/html_report.hpp"
 
 #include <array>
 #include <cstdint>
@@ -6,7 +6,7 @@
 #include "barn/core/errors.hpp"
 #include "barn/core/text_io.hpp"
 
-namespace barn::cli {
+namespace barn::report {
 
 namespace {
 
@@ -123,4 +123,4 @@ std::string renderHtml(const HtmlReport& report) {
   return html + "<script>" + kScript + "</script>\n</body>\n</html>\n";
 }
 
-}  // namespace barn::cli
+}  // namespace barn::report
