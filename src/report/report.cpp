@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "barn/bench/controller_lookup.hpp"
 #include "barn/bench/report.hpp"
 #include "barn/bench/results_io.hpp"
 #include "barn/bench/run_record.hpp"
@@ -164,10 +165,8 @@ void writeReport(const fs::path& input, const fs::path& output, const ReportOpti
   if (options.max_failures < 0)
     throw core::InputError("max_failures: " + std::to_string(options.max_failures) + " (must be >= 0)");
   fs::path config_file;
-  if (!is_run && !options.controller_configs.empty()) {
-    const fs::path file = options.controller_configs / (bench::readSweepFile(input).controller + ".yaml");
-    if (fs::exists(file)) config_file = file;
-  }
+  if (!is_run && !options.controller_configs.empty())
+    config_file = bench::controllerConfigFile(bench::readSweepFile(input).controller, "", options.controller_configs);
   // Figures are drawn into a scratch folder of this call alone (two reports at once must not
   // draw into each other's), embedded, and removed.
   std::string scratch_name = (fs::temp_directory_path() / "barn_report.XXXXXX").string();
