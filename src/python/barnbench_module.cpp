@@ -35,8 +35,8 @@
 #include "barn/core/errors.hpp"
 #include "barn/core/text_io.hpp"
 #include "barn/core/world_file.hpp"
-#include "barn/learning/exploration.hpp"
 #include "barn/learning/mlp_policy.hpp"
+#include "barn/sim/simulator.hpp"
 
 namespace py = pybind11;
 using namespace barn;
@@ -790,8 +790,8 @@ PYBIND11_MODULE(_core, m) {
         "The index into the world list of that episode's world");
   m.def("plant_hash", [](const std::string& sim_config) {
         const bench::EpisodeConfig c = loadEpisodeConfig(sim_config, "");
-        return learning::plantHash(c.robot, c.physics);
-      }, py::arg("sim_config"), "learning::plantHash of a sim config's robot and physics (what a policy trained on it records)");
+        return sim::plantHash(c.robot, c.physics);
+      }, py::arg("sim_config"), "sim::plantHash of a sim config's robot and physics (what a policy trained on it records)");
   m.def("e2e_frames", &e2eFrames, py::arg("scans"), py::arg("poses"), py::arg("plan_ends"), py::arg("actions"),
         py::arg("encoding") = py::dict(), "The e2e controller's frame for each row, as it encodes a tick");
   m.def("e2e_input_text", [](const py::dict& encoding) { return controllers::e2eInputText(e2eEncoding(encoding)); },
