@@ -30,11 +30,11 @@
 #include "barn/bench/run_record.hpp"
 #include "barn/bench/world_selection.hpp"
 #include "barn/controllers/e2e.hpp"
-#include "barn/controllers/external_protocol.hpp"
 #include "barn/controllers/global_plan_feed.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/core/text_io.hpp"
 #include "barn/core/world_file.hpp"
+#include "barn/external/external_protocol.hpp"
 #include "barn/learning/mlp_policy.hpp"
 #include "barn/sim/simulator.hpp"
 
@@ -181,7 +181,7 @@ class PyEpisode {
   // reset message (docs/external_controller.md), so every route tells the same.
   py::dict info() const {
     py::dict d = py::module_::import("json").attr("loads")(
-        controllers::external::resetMessage(episode_->info(), dt_));
+        external::resetMessage(episode_->info(), dt_));
     d.attr("pop")("type");
     d.attr("pop")("protocol");
     d["world"] = world_.id;
@@ -276,7 +276,7 @@ class PyEpisode {
   // most kMaxNameBytes bytes and a finite number (not a bool). Fills `checked` in the dict's
   // order and returns "", or returns what is wrong, naming the key or the count.
   static std::string paramsProblem(const py::object& params, std::vector<std::pair<std::string, double>>& checked) {
-    namespace ext = controllers::external;
+    namespace ext = external;
     if (!py::isinstance<py::dict>(params))
       return "a dict {key: number} (got " + std::string(Py_TYPE(params.ptr())->tp_name) + ")";
     const py::dict dict = params.cast<py::dict>();
