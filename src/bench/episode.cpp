@@ -6,7 +6,7 @@
 
 #include "barn/core/text_io.hpp"
 #include "barn/core/world_geometry.hpp"
-#include "barn/learning/exploration.hpp"
+#include "barn/sim/simulator.hpp"
 
 namespace barn::bench {
 
@@ -117,7 +117,7 @@ void checkControllerFits(const controllers::Controller& controller, const Episod
 
 std::string plantMismatch(const controllers::Controller& controller, const EpisodeConfig& config) {
   const std::uint64_t trained = controller.trainedPlant();
-  const std::uint64_t running = learning::plantHash(config.robot, config.physics);
+  const std::uint64_t running = sim::plantHash(config.robot, config.physics);
   if (trained == 0 || trained == running) return {};
   return "its policy was trained on another plant (plant_hash " + core::formatHex(trained) +
          ") than this run's robot and physics (" + core::formatHex(running) +

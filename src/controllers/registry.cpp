@@ -7,7 +7,6 @@
 #include "barn/controllers/dwa.hpp"
 #include "barn/controllers/e2e.hpp"
 #include "barn/controllers/eband.hpp"
-#include "barn/controllers/external.hpp"
 #include "barn/controllers/global_plan_feed.hpp"
 #include "barn/controllers/in2bot.hpp"
 #include "barn/controllers/inventec.hpp"
@@ -19,6 +18,7 @@
 #include "barn/controllers/rrsl_vfh.hpp"
 #include "barn/controllers/straight.hpp"
 #include "barn/controllers/ut_amrl.hpp"
+#include "barn/external/external.hpp"
 
 namespace barn::controllers {
 
@@ -114,9 +114,11 @@ const std::vector<Entry>& entries() {
                                               [](const LicsConfig& c) { return loadLicsPolicy(c.policy); }),
       // The program's processes, one pool shared by the factory's controllers (each worker
       // thread reuses its process); paths resolved against the config file's folder.
-      sharedEntry<ExternalConfig, ExternalController>(
-          "external", [](ExternalConfig& c, const std::string& source) { c = resolveExternalPaths(c, source); },
-          [](const ExternalConfig& c) { return std::make_shared<ChildProcessPool>(ChildCommand{c.command, c.working_dir}); }),
+      sharedEntry<external::ExternalConfig, external::ExternalController>(
+          "external", [](external::ExternalConfig& c, const std::string& source) { c = resolveExternalPaths(c, source); },
+          [](const external::ExternalConfig& c) {
+            return std::make_shared<external::ChildProcessPool>(external::ChildCommand{c.command, c.working_dir});
+          }),
   };
   return kEntries;
 }

@@ -22,12 +22,6 @@ double moveToward(double value, double target, double max_step) {
 
 }  // namespace
 
-std::uint64_t plantHash(const core::RobotConfig& robot, const sim::PhysicsConfig& physics) {
-  const std::uint64_t robot_hash = core::fnv1a64("robot:\n" + core::writeConfig(robot));
-  const std::uint64_t hash = core::fnv1a64("physics:\n" + core::writeConfig(physics), robot_hash);
-  return hash == 0 ? 1 : hash;  // 0 means unknown
-}
-
 Recording collectExploration(const CollectConfig& config, const std::string& name, const core::RobotConfig& robot,
                              const sim::PhysicsConfig& physics) {
   const sim::ObstacleField empty;
@@ -44,7 +38,7 @@ Recording collectExploration(const CollectConfig& config, const std::string& nam
   Recording recording;
   recording.name = name;
   recording.collect_hash = collectHash(config);
-  recording.plant_hash = plantHash(robot, physics);
+  recording.plant_hash = sim::plantHash(robot, physics);
   recording.rate = 1.0 / record_dt;
   recording.records.reserve(static_cast<std::size_t>(record_count));
 

@@ -39,15 +39,15 @@
 #include "barn/bench/run_record.hpp"
 #include "barn/bench/world_selection.hpp"
 #include "barn/controllers/e2e.hpp"
-#include "barn/controllers/external_protocol.hpp"
 #include "barn/controllers/global_plan_feed.hpp"
 #include "barn/controllers/registry.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/core/text_io.hpp"
 #include "barn/core/world_file.hpp"
-#include "barn/learning/exploration.hpp"
+#include "barn/external/external_protocol.hpp"
 #include "barn/learning/mlp_policy.hpp"
 #include "barn/report/report.hpp"
+#include "barn/sim/simulator.hpp"
 
 namespace py = pybind11;
 using namespace barn;
@@ -197,7 +197,7 @@ py::dict observationDict(const controllers::Observation& o, bool full_precision,
 // reset message (docs/external_controller.md), so every route tells the same, and the world's
 // id and optimal time.
 py::dict infoDict(const controllers::EpisodeInfo& info, double period, int world_id, double optimal_time) {
-  py::dict d = py::module_::import("json").attr("loads")(controllers::external::resetMessage(info, period));
+  py::dict d = py::module_::import("json").attr("loads")(external::resetMessage(info, period));
   d.attr("pop")("type");
   d.attr("pop")("protocol");
   d["world"] = world_id;
@@ -222,7 +222,7 @@ std::string shown(const py::handle& value) {
 // most kMaxNameBytes bytes and a finite number (not a bool). Fills `checked` in the dict's
 // order and returns "", or returns what is wrong, naming the key or the count.
 std::string paramsProblem(const py::object& params, std::vector<std::pair<std::string, double>>& checked) {
-  namespace ext = controllers::external;
+  namespace ext = external;
   if (!py::isinstance<py::dict>(params))
     return "a dict {key: number} (got " + std::string(Py_TYPE(params.ptr())->tp_name) + ")";
   const py::dict dict = params.cast<py::dict>();
@@ -1052,8 +1052,8 @@ PYBIND11_MODULE(_core, m) {
         "The index into the world list of that episode's world");
   m.def("plant_hash", [](const std::string& sim_config) {
         const bench::EpisodeConfig c = loadEpisodeConfig(sim_config, "");
-        return learning::plantHash(c.robot, c.physics);
-      }, py::arg("sim_config"), "learning::plantHash of a sim config's robot and physics (what a policy trained on it records)");
+        return sim::plantHash(c.robot, c.physics);
+      }, py::arg("sim_config"), "sim::plantHash of a sim config's robot and physics (what a policy trained on it records)");
   m.def("e2e_frames", &e2eFrames, py::arg("scans"), py::arg("poses"), py::arg("plan_ends"), py::arg("actions"),
         py::arg("encoding") = py::dict(), "The e2e controller's frame for each row, as it encodes a tick");
   m.def("e2e_input_text", [](const py::dict& encoding) { return controllers::e2eInputText(e2eEncoding(encoding)); },

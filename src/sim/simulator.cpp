@@ -6,6 +6,9 @@
 
 #include <box2d/box2d.h>
 
+#include "barn/core/config.hpp"
+#include "barn/core/text_io.hpp"
+
 namespace barn::sim {
 
 namespace {
@@ -36,6 +39,12 @@ struct Simulator::Box2D {
   b2World world{b2Vec2(0.0f, 0.0f)};
   b2Body* robot = nullptr;
 };
+
+std::uint64_t plantHash(const core::RobotConfig& robot, const PhysicsConfig& physics) {
+  const std::uint64_t robot_hash = core::fnv1a64("robot:\n" + core::writeConfig(robot));
+  const std::uint64_t hash = core::fnv1a64("physics:\n" + core::writeConfig(physics), robot_hash);
+  return hash == 0 ? 1 : hash;  // 0 means unknown
+}
 
 Simulator::Simulator(const ObstacleField& field, const core::RobotConfig& robot, const PhysicsConfig& physics,
                      const core::Pose2& start, std::uint64_t seed)

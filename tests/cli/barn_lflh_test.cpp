@@ -181,7 +181,7 @@ TEST_F(BarnLflh, APolicyRemembersItsPlantAndARunOnAnotherPlantWarnsOnce) {
   const barn::learning::Policy policy = barn::learning::Policy::load(dir_ / "tiny.policy");
   barn::core::RobotConfig fast;
   fast.turn_efficiency = 1.5;
-  EXPECT_EQ(policy.info().plant_hash, barn::learning::plantHash(fast, {}));
+  EXPECT_EQ(policy.info().plant_hash, barn::sim::plantHash(fast, {}));
 
   barn::core::writeFileAtomic(dir_ / "tiny_lflh.yaml", "type: lflh\nlflh: {policy: tiny.policy}\n");
   const std::string args = "run --controller tiny_lflh --config " + path("tiny_lflh.yaml") + " --worlds 0 --trials 2 --out ";

@@ -1,5 +1,5 @@
 // Fuzz target: the answers an external controller program sends back (protocol v1,
-// controllers::external::readCommandAnswer and readResetAnswer): one line of JSON, read as SAX
+// external::readCommandAnswer and readResetAnswer): one line of JSON, read as SAX
 // events with at most 8 members and 64 parameters of at most 128-byte names.
 //
 // Bad input must end in external::ProtocolError, the reader's documented rejection (the
@@ -17,12 +17,13 @@
 
 #include <nlohmann/json.hpp>
 
-#include "barn/controllers/external_protocol.hpp"
+#include "barn/external/external_protocol.hpp"
 #include "fuzz_check.hpp"
 
 namespace {
 
 using namespace barn::controllers;
+namespace external = barn::external;
 using Json = nlohmann::ordered_json;
 
 // A refusal's message: the answer is quoted up to 200 characters and names up to 128 bytes,

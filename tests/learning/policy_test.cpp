@@ -344,7 +344,7 @@ TEST(ShippedPolicies, LoadAndMatchTheirTrainingConfigs) {
     const Policy policy = Policy::load(file);
     const LflhPipelineConfig config = readLflhPipelineConfig(fs::path(BARN_SOURCE_DIR) / "configs" / "lflh" / (name + ".yaml"));
     EXPECT_EQ(policy.info().config_hash, configHash(config)) << file << " was trained with another config";
-    EXPECT_EQ(policy.info().plant_hash, plantHash({}, {})) << file << " was trained on another plant than the default";
+    EXPECT_EQ(policy.info().plant_hash, sim::plantHash({}, {})) << file << " was trained on another plant than the default";
     EXPECT_EQ(policy.info().hidden, 256);
     EXPECT_LT(policy.info().validation_loss, policy.info().mean_predictor_loss);
     // Goal ahead: drive forward, and steer away from a circle (r 0.3 m) 1 m ahead and 0.3 m

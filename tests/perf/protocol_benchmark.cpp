@@ -10,7 +10,7 @@
 #include <limits>
 #include <vector>
 
-#include "barn/controllers/external_protocol.hpp"
+#include "barn/external/external_protocol.hpp"
 
 namespace {
 
@@ -37,17 +37,17 @@ void BM_ObservationMessage(benchmark::State& state) {
     obs.global_plan = &plan;
     obs.local_costmap = &grid;
   }
-  controllers::external::CostmapsSent sent;
+  external::CostmapsSent sent;
   for (auto _ : state) {
     ++grid.version;  // a new map every tick (the local costmap's 20 Hz updates)
-    benchmark::DoNotOptimize(controllers::external::observationMessage(obs, sent));
+    benchmark::DoNotOptimize(external::observationMessage(obs, sent));
   }
 }
 BENCHMARK(BM_ObservationMessage)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 void BM_CommandAnswer(benchmark::State& state) {
   const std::string line = R"({"v": 0.4182736451, "w": -1.2039481723, "state": "Forward", "params": {"global_costmap.inflation_radius": 0.55}})";
-  for (auto _ : state) benchmark::DoNotOptimize(controllers::external::readCommandAnswer(line));
+  for (auto _ : state) benchmark::DoNotOptimize(external::readCommandAnswer(line));
 }
 BENCHMARK(BM_CommandAnswer)->Unit(benchmark::kMicrosecond);
 

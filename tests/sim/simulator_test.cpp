@@ -19,6 +19,19 @@ void drive(Simulator& sim, core::Twist cmd, double seconds) {
   }
 }
 
+TEST(PlantHash, TellsPlantsApart) {
+  core::RobotConfig robot;
+  PhysicsConfig physics;
+  const std::uint64_t plain = plantHash(robot, physics);
+  EXPECT_NE(plain, 0u);  // 0 means unknown
+  EXPECT_EQ(plantHash(core::RobotConfig{}, PhysicsConfig{}), plain);
+  robot.icr_offset = 0.037;
+  EXPECT_NE(plantHash(robot, physics), plain);
+  physics.rate = 1000.0;
+  EXPECT_NE(plantHash({}, physics), plain);
+  EXPECT_NE(plantHash({}, physics), plantHash(robot, physics));
+}
+
 TEST(Simulator, AcceleratesNoFasterThanTractionAndTheSpeedLimit) {
   const ObstacleField empty;
   Simulator sim(empty, core::RobotConfig{}, PhysicsConfig{}, {0.0, 0.0, 0.0});

@@ -86,7 +86,7 @@ void checkControllerPeriod(double controller_period, const EpisodeConfig& config
 /// that it can read the configured LiDAR's scans. InputError otherwise.
 void checkControllerFits(const controllers::Controller& controller, const EpisodeConfig& config);
 /// A warning when the controller drives by a learned policy trained on another plant than
-/// `config`'s robot and physics (learning::plantHash): such a policy steers as if the robot
+/// `config`'s robot and physics (sim::plantHash): such a policy steers as if the robot
 /// moved like the one it learned on. "" when the plants agree or the policy does not say.
 std::string plantMismatch(const controllers::Controller& controller, const EpisodeConfig& config);
 

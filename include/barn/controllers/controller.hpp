@@ -91,7 +91,7 @@ class Controller {
   /// Throws core::InputError if the controller cannot read this LiDAR's scans (a learned
   /// policy trained on another beam count); checked once before a run starts.
   virtual void checkLidar(const core::LidarConfig& /*lidar*/) const {}
-  /// learning::plantHash of the plant the controller's learned policy was trained on; 0 if it
+  /// sim::plantHash of the plant the controller's learned policy was trained on; 0 if it
   /// has none or the policy does not say. A run warns when it is not the run's plant.
   virtual std::uint64_t trainedPlant() const { return 0; }
   /// The stack parameters the last act() changed, as `key=value` pairs separated by ';'

@@ -7,7 +7,7 @@
 ///     # barnbench lflh exploration 1
 ///     # name: lflh_1ms
 ///     # collect_hash: 0x1234abcd...        (FNV-1a of the effective `collect` section)
-///     # plant_hash: 0x5678ef01...          (plantHash() of the robot and physics driven)
+///     # plant_hash: 0x5678ef01...          (sim::plantHash() of the robot and physics driven)
 ///     # rate: 50
 ///     t,x,y,yaw,v,vy,w,cmd_v,cmd_w
 ///     0,0,0,0,0,0,0,0.04,-0.08
@@ -42,15 +42,10 @@ struct MotionRecord {
 struct Recording {
   std::string name;              // the config's name
   std::uint64_t collect_hash = 0;  // collectHash() of the settings that made it
-  std::uint64_t plant_hash = 0;  // plantHash() of the robot it drove (0: unknown)
+  std::uint64_t plant_hash = 0;  // sim::plantHash() of the robot it drove (0: unknown)
   double rate = 50.0;            // [Hz] records per second
   std::vector<MotionRecord> records;
 };
-
-/// Identifies a plant: FNV-1a of the effective `robot` and `physics` sections. A policy learns
-/// how one plant moves (it steers wrongly on another), so recordings and policies carry it and a
-/// run can tell when a policy drives a robot it was not trained on. Never 0.
-std::uint64_t plantHash(const core::RobotConfig& robot, const sim::PhysicsConfig& physics);
 
 /// Drives the Jackal (by default core::RobotConfig, sim::PhysicsConfig: the default plant) in an
 /// empty world for `config.duration` seconds. A policy learns how this robot moves, so it is

@@ -48,7 +48,7 @@ struct MlpPolicyInfo {
   bool half = false;                   // payload stored as float16 (read into float32)
   std::string name;                    // e.g. e2e
   std::uint64_t config_hash = 0;       // FNV-1a 64 of the training config text (0: unknown)
-  std::uint64_t plant_hash = 0;        // learning::plantHash of the plant it trained on (0: unknown)
+  std::uint64_t plant_hash = 0;        // sim::plantHash of the plant it trained on (0: unknown)
   std::string trained;                 // UTC date and time, ISO 8601
   std::uint64_t seed = 0;              // training seed
   long long steps = 0;                 // [-] environment steps trained on

@@ -14,7 +14,7 @@
 ///     <payload_bytes bytes of float32>
 ///
 /// Version 3 (written now) records the plant the policy was trained on (`plant_hash`, see
-/// learning::plantHash; `unknown` for a policy not trained here). Version 2 added the hidden
+/// sim::plantHash; `unknown` for a policy not trained here). Version 2 added the hidden
 /// layers' activation: `relu`, or `leaky_relu S` with the negative slope S in (0, 1) (the
 /// published LfLH network: `leaky_relu 0.01`). Version 1 files had the fixed text
 /// `activation: relu` and load as relu; version 1 and 2 files load with an unknown plant. Any
@@ -47,7 +47,7 @@ struct PolicyInfo {
   double slope = 0.01;             // [-] leaky_relu's negative slope (unused for relu)
   std::string name;                // config name, e.g. lflh_1ms
   std::uint64_t config_hash = 0;   // core::fnv1a64 of the effective training config
-  std::uint64_t plant_hash = 0;    // learning::plantHash of the plant its demonstrations drove (0: unknown)
+  std::uint64_t plant_hash = 0;    // sim::plantHash of the plant its demonstrations drove (0: unknown)
   std::string trained;             // UTC date and time of training, ISO 8601
   std::uint64_t seed = 0;          // training seed
   int epochs = 0;                  // [-]

@@ -48,6 +48,11 @@ struct PhysicsConfig {
 
 void validate(const PhysicsConfig& config, core::Errors& errors, const std::string& prefix = "physics");
 
+/// Identifies a plant: FNV-1a of the effective `robot` and `physics` sections. A policy learns
+/// how one plant moves (it steers wrongly on another), so recordings and policies carry it and a
+/// run can tell when a policy drives a robot it was not trained on. Never 0.
+std::uint64_t plantHash(const core::RobotConfig& robot, const PhysicsConfig& physics);
+
 /// Where a collision happened: the first contact found at the first colliding step.
 struct CollisionInfo {
   double time = 0.0;                          // [s]

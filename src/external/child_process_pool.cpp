@@ -1,6 +1,6 @@
-#include "barn/controllers/child_process_pool.hpp"
+#include "barn/external/child_process_pool.hpp"
 
-namespace barn::controllers {
+namespace barn::external {
 
 ChildProcessPool::~ChildProcessPool() {
   // All processes get their end of file first and then share one grace period, so shutting
@@ -29,4 +29,4 @@ void ChildProcessPool::giveBack(std::unique_ptr<ChildProcess> process) {
   idle_.push_back(std::move(process));
 }
 
-}  // namespace barn::controllers
+}  // namespace barn::external

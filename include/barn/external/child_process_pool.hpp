@@ -10,9 +10,9 @@
 #include <mutex>
 #include <vector>
 
-#include "barn/controllers/child_process.hpp"
+#include "barn/external/child_process.hpp"
 
-namespace barn::controllers {
+namespace barn::external {
 
 class ChildProcessPool {
  public:
@@ -38,4 +38,4 @@ class ChildProcessPool {
   std::vector<std::unique_ptr<ChildProcess>> idle_;
 };
 
-}  // namespace barn::controllers
+}  // namespace barn::external

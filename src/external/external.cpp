@@ -1,4 +1,4 @@
-#include "barn/controllers/external.hpp"
+#include "barn/external/external.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -7,9 +7,9 @@
 #include <stdexcept>
 #include <unistd.h>
 
-#include "barn/controllers/external_protocol.hpp"
+#include "barn/external/external_protocol.hpp"
 
-namespace barn::controllers {
+namespace barn::external {
 
 namespace {
 
@@ -129,7 +129,7 @@ ExternalController::~ExternalController() {
   if (process_) pool_->giveBack(std::move(process_));
 }
 
-void ExternalController::reset(const EpisodeInfo& info) {
+void ExternalController::reset(const controllers::EpisodeInfo& info) {
   state_.clear();
   costmaps_sent_ = {};
   if (!process_) {
@@ -147,7 +147,7 @@ void ExternalController::reset(const EpisodeInfo& info) {
   }
 }
 
-core::Twist ExternalController::act(const Observation& obs) {
+core::Twist ExternalController::act(const controllers::Observation& obs) {
   char during[64];
   std::snprintf(during, sizeof(during), "the observation at t = %.2f s", obs.time);
   if (!process_) throw std::runtime_error("external controller: act() without a successful reset()");
@@ -190,4 +190,4 @@ void ExternalController::fail(const std::string& during, const std::string& prob
                            "; " + stderrPart(tail));
 }
 
-}  // namespace barn::controllers
+}  // namespace barn::external

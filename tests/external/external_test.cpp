@@ -1,4 +1,4 @@
-#include "barn/controllers/external.hpp"
+#include "barn/external/external.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -20,16 +20,23 @@
 #include <vector>
 
 #include "barn/bench/batch.hpp"
-#include "barn/controllers/external_protocol.hpp"
 #include "barn/controllers/registry.hpp"
 #include "barn/core/config.hpp"
 #include "barn/core/world_geometry.hpp"
+#include "barn/external/external_protocol.hpp"
 #include "tests/bench/empty_world.hpp"
 
-namespace barn::controllers {
+namespace barn::external {
 namespace {
 
 namespace fs = std::filesystem;
+using controllers::ControllerFactory;
+using controllers::CostGrid;
+using controllers::effectiveControllerConfig;
+using controllers::EpisodeInfo;
+using controllers::GlobalPlan;
+using controllers::makeControllerFactory;
+using controllers::Observation;
 using ::testing::AllOf;
 using ::testing::HasSubstr;
 using ::testing::Not;
@@ -462,4 +469,4 @@ TEST(ChildProcess, WhatAProgramStartedGoesWithItWhenItExits) {
 }
 
 }  // namespace
-}  // namespace barn::controllers
+}  // namespace barn::external

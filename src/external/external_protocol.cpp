@@ -1,4 +1,4 @@
-#include "barn/controllers/external_protocol.hpp"
+#include "barn/external/external_protocol.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 
 #include "barn/core/base64.hpp"
 
-namespace barn::controllers::external {
+namespace barn::external {
 
 namespace {
 
@@ -24,7 +24,7 @@ std::string quoted(std::string_view line) {
   return "'" + std::string(line.substr(0, kShown)) + (line.size() > kShown ? "...'" : "'");
 }
 
-Json costGrid(const CostGrid& grid) {
+Json costGrid(const controllers::CostGrid& grid) {
   const std::size_t cells = static_cast<std::size_t>(grid.width) * static_cast<std::size_t>(grid.height);
   return Json{{"origin", Json::array({grid.origin.x(), grid.origin.y()})},
               {"resolution", grid.resolution},
@@ -137,7 +137,7 @@ AnswerReader read(std::string_view line) {
 
 }  // namespace
 
-std::string resetMessage(const EpisodeInfo& info, double period) {
+std::string resetMessage(const controllers::EpisodeInfo& info, double period) {
   const core::LidarConfig& lidar = info.lidar;
   const core::RobotConfig& robot = info.robot;
   const Json message = {
@@ -167,7 +167,7 @@ std::string resetMessage(const EpisodeInfo& info, double period) {
   return message.dump();
 }
 
-std::string observationMessage(const Observation& obs, CostmapsSent& sent) {
+std::string observationMessage(const controllers::Observation& obs, CostmapsSent& sent) {
   Json scan = Json::array();
   if (obs.scan) {
     scan.get_ref<Json::array_t&>().reserve(obs.scan->ranges.size());
@@ -186,7 +186,7 @@ std::string observationMessage(const Observation& obs, CostmapsSent& sent) {
     message["global_plan"] = {{"stamp", obs.global_plan->stamp}, {"poses", std::move(poses)}};
   }
   // A costmap goes out when it changed since the last one this program was sent.
-  const auto costmap = [&](const char* name, const CostGrid* grid, std::optional<std::uint64_t>& last) {
+  const auto costmap = [&](const char* name, const controllers::CostGrid* grid, std::optional<std::uint64_t>& last) {
     if (!grid || last == grid->version) return;
     message[name] = costGrid(*grid);
     last = grid->version;
@@ -234,4 +234,4 @@ CommandAnswer readCommandAnswer(std::string_view line) {
   return result;
 }
 
-}  // namespace barn::controllers::external
+}  // namespace barn::external

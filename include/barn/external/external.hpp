@@ -12,12 +12,12 @@
 #include <string>
 #include <vector>
 
-#include "barn/controllers/child_process_pool.hpp"
+#include "barn/external/child_process_pool.hpp"
 #include "barn/controllers/controller.hpp"
-#include "barn/controllers/external_protocol.hpp"
+#include "barn/external/external_protocol.hpp"
 #include "barn/core/errors.hpp"
 
-namespace barn::controllers {
+namespace barn::external {
 
 struct ExternalConfig {
   std::vector<std::string> command;  // program and arguments, no shell (e.g. [python3, my_ctrl.py])
@@ -43,7 +43,7 @@ void validate(const ExternalConfig& config, core::Errors& errors, const std::str
 /// or folder existing there. Other arguments (and programs found on PATH) stay as written.
 ExternalConfig resolveExternalPaths(ExternalConfig config, const std::string& config_source);
 
-class ExternalController : public Controller {
+class ExternalController : public controllers::Controller {
  public:
   /// `pool` holds the program processes shared by every controller of the same factory.
   ExternalController(const ExternalConfig& config, std::shared_ptr<ChildProcessPool> pool);
@@ -52,10 +52,10 @@ class ExternalController : public Controller {
 
   /// Sends the reset message (starting a process if this controller has none) and waits for
   /// {"ok": true}; throws std::runtime_error if the program fails.
-  void reset(const EpisodeInfo& info) override;
+  void reset(const controllers::EpisodeInfo& info) override;
   /// Sends the observation and waits for {"v", "w"}; throws std::runtime_error if the program
   /// fails.
-  core::Twist act(const Observation& observation) override;
+  core::Twist act(const controllers::Observation& observation) override;
   double period() const override { return 1.0 / config_.rate; }
   /// The "state" the program sent with its last command ("" if none).
   std::string_view stateLabel() const override { return state_; }
@@ -74,4 +74,4 @@ class ExternalController : public Controller {
   external::CostmapsSent costmaps_sent_;  // this episode's
 };
 
-}  // namespace barn::controllers
+}  // namespace barn::external

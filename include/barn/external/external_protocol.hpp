@@ -18,7 +18,7 @@
 #include "barn/controllers/controller.hpp"
 #include "barn/core/types.hpp"
 
-namespace barn::controllers::external {
+namespace barn::external {
 
 inline constexpr int kProtocolVersion = 1;
 
@@ -36,7 +36,7 @@ class ProtocolError : public std::runtime_error {
 
 /// The "reset" message opening an episode: start, goal, tolerance, seed, control `period` [s],
 /// LiDAR geometry and robot limits. The reference path is not sent (it is for test fixtures).
-std::string resetMessage(const EpisodeInfo& info, double period);
+std::string resetMessage(const controllers::EpisodeInfo& info, double period);
 
 /// The costmap versions a program was last sent in an episode (none at its start).
 struct CostmapsSent {
@@ -47,7 +47,7 @@ struct CostmapsSent {
 /// The "observation" message of one control tick: time, scan (null for no return), odometry
 /// pose and twist, goal; the global plan when the observation has one, and each costmap it
 /// has that changed since `sent` (which is updated).
-std::string observationMessage(const Observation& observation, CostmapsSent& sent);
+std::string observationMessage(const controllers::Observation& observation, CostmapsSent& sent);
 
 /// Checks the answer to a reset: {"ok": true}. {"ok": false, "error": "why"} becomes a
 /// ProtocolError carrying the program's reason.
@@ -65,4 +65,4 @@ struct CommandAnswer {
 /// duplicates, at most 64 parameters.
 CommandAnswer readCommandAnswer(std::string_view line);
 
-}  // namespace barn::controllers::external
+}  // namespace barn::external

@@ -1,4 +1,4 @@
-#include "barn/controllers/child_process.hpp"
+#include "barn/external/child_process.hpp"
 
 #include <cerrno>
 #include <csignal>
@@ -13,7 +13,7 @@
 
 extern char** environ;
 
-namespace barn::controllers {
+namespace barn::external {
 
 namespace {
 
@@ -344,4 +344,4 @@ std::string ChildProcess::stop() {
   return ending_;
 }
 
-}  // namespace barn::controllers
+}  // namespace barn::external

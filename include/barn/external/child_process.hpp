@@ -19,7 +19,7 @@
 #include <sys/types.h>
 #include <vector>
 
-namespace barn::controllers {
+namespace barn::external {
 
 /// What to run: argv[0] is looked up on PATH if it has no '/'; no shell is involved.
 struct ChildCommand {
@@ -106,4 +106,4 @@ class ChildProcess {
   std::string stderr_tail_;
 };
 
-}  // namespace barn::controllers
+}  // namespace barn::external
