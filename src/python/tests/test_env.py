@@ -14,7 +14,6 @@ import pytest
 import barnbench
 
 # The build tree's barn, beside build/python (the tests run in the build tree).
-BARN = os.path.join(os.path.dirname(barnbench.__file__), os.pardir, os.pardir, "barn")
 
 
 def drive(env, seed, command=(0.5, 0.0), limit=10000):
@@ -149,12 +148,11 @@ def test_a_python_controllers_bad_answers_end_its_episodes_with_pythons_own_mess
     # says what Python says: None[0], float("fast"), {"v": 1.0}["w"] (a KeyError's text is the
     # key's repr), and the unknown keys sorted.
     barnbench.run(AnswersBadly, worlds="0,100,200,250", jobs=1, out=str(tmp_path / "r"))
-    rows = (tmp_path / "r" / "episodes.csv").read_text().splitlines()[1:]
-    errors = [row.split(",", 13)[13] for row in rows]
+    errors = [row["error"] for row in barnbench.read_episodes(tmp_path / "r")]
     assert errors == ["controller threw: 'NoneType' object is not subscriptable",
                       "controller threw: could not convert string to float: 'fast'",
                       "controller threw: 'w'",
-                      "controller threw: unknown keys in the command: mode; speed"]
+                      "controller threw: unknown keys in the command: mode, speed"]
 
 
 def test_wrong_arguments_are_input_errors_naming_the_argument_before_any_record_is_made(tmp_path):
@@ -215,12 +213,12 @@ def test_a_builtin_run_whose_episodes_errored_returns_its_summary_and_says_so(tm
     assert len(rows) == 2 and all(row["outcome"] == "error" for row in rows)
 
 
-def test_a_builtin_run_in_process_writes_barn_runs_record_and_resumes_after_ctrl_c(tmp_path):
+def test_a_builtin_run_in_process_writes_barn_runs_record_and_resumes_after_ctrl_c(tmp_path, barn):
     # barnbench.run("inventec_fi") runs bench's C++ batch in this process: the bytes of barn run's
     # record. A Ctrl-C (sent once the first episode is journaled) starts no new episode, raises
     # KeyboardInterrupt and leaves the record to resume, which completes it to the same bytes.
     options = dict(worlds="0:300:50", seed=5)
-    subprocess.run([BARN, "run", "--controller", "inventec_fi", "--worlds", options["worlds"], "--seed", "5",
+    subprocess.run([barn, "run", "--controller", "inventec_fi", "--worlds", options["worlds"], "--seed", "5",
                     "--jobs", "1", "--out", str(tmp_path / "cli")], check=True, stdout=subprocess.DEVNULL)
     journal = tmp_path / "cut" / "episodes.partial.csv"
 
@@ -243,7 +241,7 @@ def test_a_builtin_run_in_process_writes_barn_runs_record_and_resumes_after_ctrl
         barnbench.run("inventec_fy", worlds="0", out=str(tmp_path / "unknown"))
 
 
-def test_the_gap_follower_in_python_as_an_external_program_and_in_cpp_gives_one_record(tmp_path):
+def test_the_gap_follower_in_python_as_an_external_program_and_in_cpp_gives_one_record(tmp_path, barn):
     # The same controller three ways: a Python class in barnbench.run's worker processes, the
     # same Python code as barn's `external` program (JSON lines over a pipe), and its C++ port
     # (examples/cpp). The same doubles reach all three; the records are byte-identical.
@@ -255,7 +253,7 @@ def test_the_gap_follower_in_python_as_an_external_program_and_in_cpp_gives_one_
     barnbench.run(GapFollowerController, worlds=worlds, jobs=2, seed=1, out=str(tmp_path / "class"))
     barnbench.run("gap", worlds=worlds, jobs=2, seed=1, out=str(tmp_path / "external"),
                   config=os.path.join(root, "examples", "external", "gap_follower.yaml"))
-    cpp = os.path.join(os.path.dirname(BARN), "examples", "gap_follower")
+    cpp = os.path.join(os.path.dirname(barn), "examples", "gap_follower")
     subprocess.run([cpp, worlds, str(tmp_path / "cpp"), "1"], check=True, capture_output=True)
     from_class = (tmp_path / "class" / "episodes.csv").read_text()
     assert from_class == (tmp_path / "external" / "episodes.csv").read_text()

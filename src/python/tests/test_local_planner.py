@@ -16,12 +16,11 @@ import barnbench
 
 ROOT = barnbench._SOURCE_DIR
 # The build tree's barn, beside build/python (the tests run in the build tree).
-BARN = os.path.join(os.path.dirname(barnbench.__file__), os.pardir, os.pardir, "barn")
 sys.path.insert(0, os.path.join(ROOT, "examples", "python"))
 from carrot_planner import CarrotPlanner  # noqa: E402  (the path above first)
 
 
-def test_the_carrot_planner_in_python_as_an_external_program_and_in_cpp_gives_one_record(tmp_path):
+def test_the_carrot_planner_in_python_as_an_external_program_and_in_cpp_gives_one_record(tmp_path, barn):
     # The example local planner three ways, each handed the plan by barnbench's stack: a Python
     # class (global_plan={}), an external program (its YAML's global_plan: {}) and the C++ port
     # (GlobalPlanFedController). Byte-identical records.
@@ -29,7 +28,7 @@ def test_the_carrot_planner_in_python_as_an_external_program_and_in_cpp_gives_on
     barnbench.run(CarrotPlanner, worlds=worlds, jobs=2, seed=1, out=str(tmp_path / "class"), global_plan={})
     barnbench.run("carrot", worlds=worlds, jobs=2, seed=1, out=str(tmp_path / "external"),
                   config=os.path.join(ROOT, "examples", "external", "carrot_planner.yaml"))
-    cpp = os.path.join(os.path.dirname(BARN), "examples", "carrot_planner")
+    cpp = os.path.join(os.path.dirname(barn), "examples", "carrot_planner")
     subprocess.run([cpp, worlds, str(tmp_path / "cpp"), "1"], check=True, capture_output=True)
     from_class = (tmp_path / "class" / "episodes.csv").read_text()
     assert from_class == (tmp_path / "external" / "episodes.csv").read_text()
@@ -164,7 +163,7 @@ class Tunable(CarrotPlanner):
         return {"v": v, "w": w, "state": "carrot"}
 
 
-def test_a_record_keeps_the_classs_parameters_source_digest_and_trajectories(tmp_path, capfd):
+def test_a_record_keeps_the_classs_parameters_source_digest_and_trajectories(tmp_path, barn, capfd):
     out = tmp_path / "r"
     barnbench.run(Tunable, worlds="0:300:150", jobs=2, out=str(out), params={"lookahead": 1.5, "inflation": 0.55},
                   global_plan={}, trajectories=True)
@@ -180,10 +179,10 @@ def test_a_record_keeps_the_classs_parameters_source_digest_and_trajectories(tmp
     assert trajectory[1].endswith(",tuned,global_costmap.inflation_radius=0.55")
     assert trajectory[2].endswith(",carrot,")
     # The tools read the record: its trajectories are drawn without re-running the class.
-    plot = subprocess.run([BARN, "plot", "trajectory", str(out), "--world", "0", "-o", str(tmp_path / "t.png")],
+    plot = subprocess.run([barn, "plot", "trajectory", str(out), "--world", "0", "-o", str(tmp_path / "t.png")],
                           capture_output=True, text=True)
     assert plot.returncode == 0, plot.stderr
-    report = subprocess.run([BARN, "report", str(out), "-o", str(tmp_path / "r.html")], capture_output=True, text=True)
+    report = subprocess.run([barn, "report", str(out), "-o", str(tmp_path / "r.html")], capture_output=True, text=True)
     assert report.returncode == 0, report.stderr
     # Resume takes the class's parameters and the block from the record.
     assert barnbench.run(Tunable, out=str(out), resume=True)["summary"]

@@ -7,7 +7,7 @@ import pytest
 import barnbench
 
 
-def test_the_python_report_and_barn_report_of_one_record_are_identical(tmp_path):
+def test_the_python_report_and_barn_report_of_one_record_are_identical(tmp_path, barn):
     # Worlds 0, 150 and 299 with the straight controller: at least one episode fails (it drives
     # into a wall), so the page also holds the re-simulated failure figures, drawn by the same
     # C++ in both callers.
@@ -17,7 +17,7 @@ def test_the_python_report_and_barn_report_of_one_record_are_identical(tmp_path)
     from_python = tmp_path / "python.html"
     assert barnbench.report(record, from_python) == str(from_python)
     from_cli = tmp_path / "cli.html"
-    subprocess.run([barnbench._barn_binary(), "report", str(record), "--output", str(from_cli)], check=True,
+    subprocess.run([barn, "report", str(record), "--output", str(from_cli)], check=True,
                    capture_output=True)
     page = from_python.read_bytes()
     assert page == from_cli.read_bytes()
