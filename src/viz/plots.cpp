@@ -966,21 +966,17 @@ void drawPairMarkers(cairo_t* cr, const PairedWorlds& pairs, const WorldColumns&
   }
   cairo_stroke(cr);
   cairo_set_line_width(cr, 1.0);
+  // A marker filled in its series' colour and outlined in white, so overlapping ones stay apart.
+  const auto mark = [&](auto add_path, double x, double y, Rgb colour) {
+    add_path(cr, x, y, radius);
+    setColour(cr, colour);
+    cairo_fill_preserve(cr);
+    cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
+    cairo_stroke(cr);
+  };
   for (std::size_t i = 0; i < pairs.labels.size(); ++i) {
-    if (std::isfinite(pairs.b[i])) {
-      addDiamondB(cr, c.centre(i), c.py(pairs.b[i]), radius);
-      setColour(cr, kPairColourB);
-      cairo_fill_preserve(cr);
-      cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
-      cairo_stroke(cr);
-    }
-    if (std::isfinite(pairs.a[i])) {
-      addDotA(cr, c.centre(i), c.py(pairs.a[i]), radius);
-      setColour(cr, kPairColourA);
-      cairo_fill_preserve(cr);
-      cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
-      cairo_stroke(cr);
-    }
+    if (std::isfinite(pairs.b[i])) mark(addDiamondB, c.centre(i), c.py(pairs.b[i]), kPairColourB);
+    if (std::isfinite(pairs.a[i])) mark(addDotA, c.centre(i), c.py(pairs.a[i]), kPairColourA);
   }
   cairo_restore(cr);
 }
@@ -990,17 +986,17 @@ void drawPairLegend(cairo_t* cr, const std::string& legend_a, const std::string&
                     const WorldColumns& c, double radius) {
   const double legend_y = 58.0;
   double x = std::max(c.left, c.right - legend_width);
-  addDotA(cr, x + 6.0, legend_y, radius);
-  setColour(cr, kPairColourA);
-  cairo_fill(cr);
-  setColour(cr, kInk);
-  drawText(cr, legend_a, x + 16.0, centredBaseline(legend_y, kSmallSize), kSmallSize);
-  x += 16.0 + textWidth(legend_a, kSmallSize) + 28.0;
-  addDiamondB(cr, x + 6.0, legend_y, radius);
-  setColour(cr, kPairColourB);
-  cairo_fill(cr);
-  setColour(cr, kInk);
-  drawText(cr, legend_b, x + 16.0, centredBaseline(legend_y, kSmallSize), kSmallSize);
+  // One entry: the series' marker, then its name; returns where the next entry starts.
+  const auto entry = [&](auto add_path, Rgb colour, const std::string& name) {
+    add_path(cr, x + 6.0, legend_y, radius);
+    setColour(cr, colour);
+    cairo_fill(cr);
+    setColour(cr, kInk);
+    drawText(cr, name, x + 16.0, centredBaseline(legend_y, kSmallSize), kSmallSize);
+    return x + 16.0 + textWidth(name, kSmallSize) + 28.0;
+  };
+  x = entry(addDotA, kPairColourA, legend_a);
+  entry(addDiamondB, kPairColourB, legend_b);
 }
 
 }  // namespace
