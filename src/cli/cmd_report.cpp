@@ -130,7 +130,7 @@ HtmlReport runReport(const fs::path& dir, const fs::path& figures, int max_failu
 }
 
 HtmlReport sweepReport(const fs::path& dir, const fs::path& figures) {
-  const SweepTable table = readSweepTable(dir, controllerConfigFile(bench::readSweepFile(dir).controller, ""));
+  const SweepTable table = readSweepTable(dir);
   HtmlReport report;
   report.title = "Sweep of " + table.controller;
   std::string swept;

@@ -16,7 +16,6 @@
 #include "barn/core/errors.hpp"
 #include "barn/core/text_io.hpp"
 #include "commands.hpp"
-#include "config_units.hpp"
 #include "repo_paths.hpp"
 #include "run_session.hpp"
 #include "sweep_plots.hpp"
@@ -175,10 +174,9 @@ SweepSessions resumedSweep(const fs::path& dir) {
   return sweep;
 }
 
-/// sweep.csv and the figures. Units come from the controller's config file (a resumed or
-/// merged sweep reads the default one, configs/controllers/NAME.yaml).
-void writeSweepResults(const SweepSessions& sweep, const std::string& config, const std::string& figures) {
-  const SweepTable table = readSweepTable(sweep.dir, controllerConfigFile(sweep.grid.controller, config));
+/// sweep.csv and the figures (axis units from the controller config's schema).
+void writeSweepResults(const SweepSessions& sweep, const std::string& figures) {
+  const SweepTable table = readSweepTable(sweep.dir);
   core::writeFileAtomic(sweep.dir / "sweep.csv", sweepCsv(table));
   std::printf("%s", sweepSummary(table).c_str());
   for (const auto& figure : writeSweepPlots(table, sweep.dir, "." + figures)) std::printf("wrote %s\n", figure.c_str());
@@ -253,7 +251,7 @@ void addSweepCommand(CLI::App& app, CommandContext& context) {
                   m.shard_index, m.shard_count);
       return;
     }
-    writeSweepResults(sweep, options->config, options->figures);
+    writeSweepResults(sweep, options->figures);
     if (status != 0) context.exit_code = 1;
   });
 }

@@ -61,7 +61,6 @@ void validate(const HallucinationConfig& c, core::Errors& e, const std::string& 
 
 void validate(const TrainConfig& c, core::Errors& e, const std::string& p) {
   e.check(c.hidden >= 1 && c.hidden <= 4096, p + ".hidden", "must be in [1, 4096]");
-  e.check(c.activation == "relu" || c.activation == "leaky_relu", p + ".activation", "must be relu or leaky_relu");
   e.check(c.leaky_slope > 0.0 && c.leaky_slope < 1.0, p + ".leaky_slope", "must be in (0, 1)");
   e.check(c.range_clip > 0.0 && c.range_clip <= 30.0, p + ".range_clip", "must be in (0, 30] m");
   e.check(c.learning_rate > 0.0 && c.learning_rate < 1.0, p + ".learning_rate", "must be in (0, 1)");

@@ -167,7 +167,7 @@ struct InventecConfig {
     c.local_costmap.cost_scaling_factor = 1.0;
     // The simulation code subscribed to the local costmap topic alone, not to its partial
     // updates: its rear and rotate checks read the map of the rolling window's last move.
-    c.local_costmap_view = "published";
+    c.local_costmap_view = nav::CostmapView::Published;
     return c;
   }
 

@@ -98,7 +98,7 @@ struct HallucinationConfig {
 /// The policy network and its training (the published LfLH training, unless said otherwise).
 struct TrainConfig {
   int hidden = 256;                 // [-] units in each of the two hidden layers
-  std::string activation = "relu";  // hidden layers: relu | leaky_relu (the published network: leaky_relu)
+  Activation activation = Activation::Relu;  // hidden layers: relu | leaky_relu (the published network: leaky_relu)
   double leaky_slope = 0.01;        // [-] leaky_relu's negative slope (the published network: 0.01)
   double range_clip = 2.0;          // [m] ranges are clipped to [0, range_clip]; +inf -> range_clip
   double learning_rate = 3e-4;      // [-] Adam step size
@@ -110,8 +110,6 @@ struct TrainConfig {
   double flip_probability = 0.5;    // [-] mirror augmentation per presented sample
   double range_noise = 0.03;        // [m] Gaussian noise on clipped ranges (training only)
   std::uint64_t seed = 3;           // [-] initial weights, shuffling, augmentation
-
-  Activation activationKind() const { return activation == "leaky_relu" ? Activation::LeakyRelu : Activation::Relu; }
 
   template <class V> void visit(V& v) {
     v("hidden", hidden); v("activation", activation); v("leaky_slope", leaky_slope); v("range_clip", range_clip); v("learning_rate", learning_rate);
