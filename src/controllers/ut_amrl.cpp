@@ -7,6 +7,7 @@
 namespace barn::controllers {
 
 void validate(const UtAmrlConfig& c, core::Errors& errors, const std::string& prefix) {
+  core::validateFields(c, errors, prefix);
   const GraphNavConfig& n = c.navigation;
   const std::string nav = prefix + ".navigation";
   errors.check(n.rate > 0.0, nav + ".rate", "must be > 0");
@@ -15,7 +16,6 @@ void validate(const UtAmrlConfig& c, core::Errors& errors, const std::string& pr
     errors.check(c.plan_period > 0.0 && std::abs(ticks - std::round(ticks)) < 1e-6 && std::round(ticks) >= 1.0,
                  prefix + ".plan_period", "must be a whole number (>= 1) of control periods (1 / navigation.rate)");
   }
-  errors.check(c.local_goal_distance >= 0.0, prefix + ".local_goal_distance", "must be >= 0");
   validate(c.voronoi, errors, prefix + ".voronoi");
   errors.check(n.system_latency >= 0.0, nav + ".system_latency", "must be >= 0");
   errors.check(n.max_linear_speed > 0.0, nav + ".max_linear_speed", "must be > 0");

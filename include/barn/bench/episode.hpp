@@ -52,8 +52,8 @@ struct LatencyConfig {
 
 /// Everything about an episode except the world and the controller.
 struct EpisodeConfig {
-  core::ProtocolName protocol = core::ProtocolName::Barn2023;  // preset; YAML names it (barn2023, barn2024)
-  /// [m] robot centre to goal at success. Every edition's run.py uses 1 m; its drafts of
+  core::ProtocolName protocol = core::ProtocolName::Barn2023;
+  /// Robot centre to goal at success. Every edition's run.py uses 1 m; its drafts of
   /// March 2022 used less, so logs of that time compare only at their radius (docs/fidelity.md).
   double success_radius = core::Protocol{}.success_radius;
   sim::PhysicsConfig physics;
@@ -63,8 +63,13 @@ struct EpisodeConfig {
   LatencyConfig latency;
 
   template <class V> void visit(V& v) {
-    v("protocol", protocol); v("success_radius", success_radius); v("physics", physics); v("robot", robot);
-    v("lidar", lidar); v("odometry", odometry); v("latency", latency);
+    v("protocol", protocol, {.doc = "preset; YAML names it (barn2023, barn2024)"});
+    v("success_radius", success_radius, {.unit = "m", .doc = "robot centre to goal at success"});
+    v("physics", physics);
+    v("robot", robot);
+    v("lidar", lidar);
+    v("odometry", odometry);
+    v("latency", latency);
   }
 };
 

@@ -84,12 +84,15 @@ struct UtAmrlConfig {
   // [s] our choice: the Python Voronoi node ran as fast as its cycle allowed (a few hundred
   // points through Qhull, a Python A* and two searches); a whole number of control periods.
   double plan_period = 0.1;
-  double local_goal_distance = 0.3;  // [m] team: localgoal_2023.py, mode "2023"
+  double local_goal_distance = 0.3;
   VoronoiPlannerConfig voronoi;
   GraphNavConfig navigation;
 
   template <class V> void visit(V& v) {
-    v("plan_period", plan_period); v("local_goal_distance", local_goal_distance); v("voronoi", voronoi);
+    v("plan_period", plan_period);
+    v("local_goal_distance", local_goal_distance,
+      {.unit = "m", .range = core::kNonNegative, .doc = "team: localgoal_2023.py, mode \"2023\""});
+    v("voronoi", voronoi);
     v("navigation", navigation);
   }
 };
