@@ -58,20 +58,13 @@ core::Protocol episodeProtocol(const EpisodeConfig& config) {
 
 void validate(const EpisodeConfig& config, core::Errors& errors) {
   // protocol needs no check: reading the config resolved its name (or named the field).
-  // The goal lies 3.4 m past the obstacle field: a larger disc would reach back into it.
-  errors.check(config.success_radius > 0.0 && config.success_radius <= 3.0, "success_radius", "must be in (0, 3] m");
+  core::validateFields(config, errors, "");
   sim::validate(config.physics, errors);
   core::validate(config.robot, errors);
   core::validate(config.lidar, errors);
-  // Upper bounds, our choice: noise larger than the field (or a turn) means nothing.
-  errors.check(config.odometry.position_stddev >= 0.0 && config.odometry.position_stddev <= 10.0,
-               "odometry.position_stddev", "must be in [0, 10] [m]");
-  errors.check(config.odometry.yaw_stddev >= 0.0 && config.odometry.yaw_stddev <= 10.0, "odometry.yaw_stddev",
-               "must be in [0, 10] [rad]");
-  errors.check(config.odometry.speed_stddev >= 0.0 && config.odometry.speed_stddev <= 10.0, "odometry.speed_stddev",
-               "must be in [0, 10]");
+  core::validateFields(config.odometry, errors, "odometry");
   validate(config.odometry.drift, errors, "odometry.drift");
-  errors.check(config.latency.command >= 0.0 && config.latency.command <= 1.0, "latency.command", "must be in [0, 1] s");
+  core::validateFields(config.latency, errors, "latency");
   if (config.physics.rate > 0 && config.lidar.rate > 0) {
     errors.check(stepsIn(1.0 / config.lidar.rate, config.physics.dt()).has_value(), "lidar.rate",
                  "the scan period must be a whole number of physics steps (physics.rate / lidar.rate integer)");

@@ -5,16 +5,7 @@
 namespace barn::bench {
 
 void validate(const OdometryDriftConfig& c, core::Errors& errors, const std::string& prefix) {
-  errors.check(c.speed_scale_stddev >= 0.0 && c.speed_scale_stddev < 0.5, prefix + ".speed_scale_stddev",
-               "must be in [0, 0.5)");
-  // Upper bounds, our choice: a hundred times and more what a wheel encoder or a MEMS gyro
-  // shows, so a typo (1e6) is an error rather than an odometry that means nothing.
-  errors.check(c.speed_noise_density >= 0.0 && c.speed_noise_density <= 1.0, prefix + ".speed_noise_density",
-               "must be in [0, 1]");
-  errors.check(c.turn_scale_stddev >= 0.0 && c.turn_scale_stddev < 0.5, prefix + ".turn_scale_stddev", "must be in [0, 0.5)");
-  errors.check(c.gyro_bias_stddev >= 0.0 && c.gyro_bias_stddev <= 1.0, prefix + ".gyro_bias_stddev", "must be in [0, 1] [rad/s]");
-  errors.check(c.gyro_noise_density >= 0.0 && c.gyro_noise_density <= 1.0, prefix + ".gyro_noise_density",
-               "must be in [0, 1]");
+  core::validateFields(c, errors, prefix);  // every rule is a field's range
 }
 
 DriftingOdometry::DriftingOdometry(const OdometryDriftConfig& config, const core::Pose2& start, std::uint64_t seed)

@@ -117,7 +117,7 @@ void runTrain(const LflhOptions& options) {
   info.beams = data.beams;
   info.range_clip = config.train.range_clip;
   info.hidden = config.train.hidden;
-  info.activation = config.train.activationKind();
+  info.activation = config.train.activation;
   info.slope = config.train.leaky_slope;
   info.name = config.name;
   info.config_hash = learning::configHash(config);

@@ -9,7 +9,6 @@
 #include "barn/core/errors.hpp"
 #include "barn/report/report.hpp"
 #include "commands.hpp"
-#include "repo_paths.hpp"
 
 namespace barn::cli {
 
@@ -38,7 +37,6 @@ void addReportCommand(CLI::App& app, CommandContext& /*context*/) {
     if (output.extension() != ".html") throw core::InputError("-o " + output.string() + ": expected a .html file");
     report::ReportOptions report_options;
     report_options.max_failures = options->max_failures;
-    report_options.controller_configs = repoPath("configs") / "controllers";
     report::writeReport(options->input, output, report_options);
     std::printf("wrote %s\n", output.c_str());
   });

@@ -165,10 +165,9 @@ SweepSessions resumedSweep(const fs::path& dir) {
   return sweep;
 }
 
-/// sweep.csv and the figures. Units come from the controller's config file (a resumed or
-/// merged sweep reads the default one, configs/controllers/NAME.yaml).
-void writeSweepResults(const SweepSessions& sweep, const std::string& config, const std::string& figures) {
-  const report::SweepTable table = report::readSweepTable(sweep.dir, controllerConfigFile(sweep.grid.controller, config));
+/// sweep.csv and the figures (axis units from the controller config's schema).
+void writeSweepResults(const SweepSessions& sweep, const std::string& figures) {
+  const report::SweepTable table = report::readSweepTable(sweep.dir);
   core::writeFileAtomic(sweep.dir / "sweep.csv", report::sweepCsv(table));
   std::printf("%s", report::sweepSummary(table).c_str());
   for (const auto& figure : report::writeSweepPlots(table, sweep.dir, "." + figures)) std::printf("wrote %s\n", figure.c_str());
@@ -236,7 +235,7 @@ void addSweepCommand(CLI::App& app, CommandContext& context) {
                   m.shard_index, m.shard_count);
       return;
     }
-    writeSweepResults(sweep, options->config, options->figures);
+    writeSweepResults(sweep, options->figures);
     if (status != 0) context.exit_code = 1;
   });
 }

@@ -26,6 +26,7 @@ bool isIndex(double value) {
 // ---- FullEval ----
 
 void validate(const FullEvalConfig& c, core::Errors& errors, const std::string& prefix) {
+  core::validateFields(c, errors, prefix);
   if (errors.check(c.factor_weights.size() == kFullEvalFactors, prefix + ".factor_weights", "must have 7 values"))
     for (double w : c.factor_weights)
       if (!errors.check(w >= 0.0, prefix + ".factor_weights", "must be >= 0")) break;
@@ -48,11 +49,6 @@ void validate(const FullEvalConfig& c, core::Errors& errors, const std::string& 
         c.factor_weights.size() == kFullEvalFactors)
       errors.check(weight > 0.0, where + ".factors", "the factors' weights must not all be 0");
   }
-  errors.check(c.too_close_obstacle >= 0.0 && c.too_close_obstacle < 1.0, prefix + ".too_close_obstacle",
-               "must be in [0, 1)");
-  errors.check(c.target_slow_approaching_distance > 0.0, prefix + ".target_slow_approaching_distance", "must be > 0");
-  errors.check(c.obstacle_slow_down_distance >= 0.0, prefix + ".obstacle_slow_down_distance", "must be >= 0");
-  errors.check(c.hysteresis_sector_count >= 0.0, prefix + ".hysteresis_sector_count", "must be >= 0");
 }
 
 FullEvalChoice FullEval::navigate(const TpSpaceInput& in) {
@@ -265,19 +261,9 @@ nav::NavStackConfig AlmeriaTpsConfig::almeriaNav() {
 }
 
 void validate(const AlmeriaTpsConfig& c, core::Errors& errors, const std::string& prefix) {
-  errors.check(c.waypoint_spacing > 0.0, prefix + ".waypoint_spacing", "must be > 0");
-  errors.check(c.waypoint_allowed_distance >= 0.0, prefix + ".waypoint_allowed_distance", "must be >= 0");
-  errors.check(c.min_timesteps_confirm_skip_waypoints >= 0, prefix + ".min_timesteps_confirm_skip_waypoints",
-               "must be >= 0");
-  errors.check(c.nav_period > 0.0, prefix + ".nav_period", "must be > 0");
-  errors.check(c.target_allowed_distance >= 0.0, prefix + ".target_allowed_distance", "must be >= 0");
-  errors.check(c.not_approaching_timeout > 0.0, prefix + ".not_approaching_timeout", "must be > 0");
-  errors.check(c.secure_distance_start >= 0.0, prefix + ".secure_distance_start", "must be >= 0");
+  core::validateFields(c, errors, prefix);
   errors.check(c.secure_distance_end > c.secure_distance_start, prefix + ".secure_distance_end",
                "must be > secure_distance_start");
-  errors.check(c.robot_max_v > 0.0, prefix + ".robot_max_v", "must be > 0");
-  errors.check(c.robot_max_w_deg > 0.0, prefix + ".robot_max_w_deg", "must be > 0");
-  errors.check(c.speedfilter_tau >= 0.0, prefix + ".speedfilter_tau", "must be >= 0");
   validate(c.ptg, errors, prefix + ".ptg");
   validate(c.full_eval, errors, prefix + ".full_eval");
   nav::validate(c.nav, errors, prefix + ".nav");

@@ -51,9 +51,8 @@ const std::vector<KnownAction>& knownActions() {
 }  // namespace
 
 void validate(const ApplrDwaConfig& c, core::Errors& errors, const std::string& prefix) {
+  core::validateFields(c, errors, prefix);
   errors.check(!c.policy.empty(), prefix + ".policy", "must name the converted actor (tools/import_applr_weights.py)");
-  errors.check(c.period > 0.0, prefix + ".period", "must be > 0 [s]");
-  errors.check(c.los >= 0.0, prefix + ".los", "must be >= 0 [m]");
   errors.check(c.smoothing_window == 0 || (c.smoothing_window >= 3 && c.smoothing_window % 2 == 1 && c.smoothing_window <= 1001),
                prefix + ".smoothing_window", "must be 0 (no smoothing) or odd in [3, 1001]");
   errors.check(c.smoothing_window == 0 || (c.smoothing_order >= 0 && c.smoothing_order < c.smoothing_window),

@@ -18,15 +18,7 @@ double sq(double x) { return x * x; }
 }  // namespace
 
 void validate(const ArcPlannerConfig& c, core::Errors& errors, const std::string& prefix) {
-  errors.check(c.robot_length > 0.0, prefix + ".robot_length", "must be > 0");
-  errors.check(c.robot_width > 0.0, prefix + ".robot_width", "must be > 0");
-  errors.check(c.obstacle_margin >= 0.0, prefix + ".obstacle_margin", "must be >= 0");
-  errors.check(c.num_options >= 2, prefix + ".num_options", "must be >= 2");
-  errors.check(c.max_curvature > 0.0, prefix + ".max_curvature", "must be > 0");
-  errors.check(c.max_free_path_length > 0.0, prefix + ".max_free_path_length", "must be > 0");
-  errors.check(c.max_clearance >= 0.0, prefix + ".max_clearance", "must be >= 0");
-  errors.check(c.clearance_clip > 0.0 && c.clearance_clip <= 1.0, prefix + ".clearance_clip", "must be in (0, 1]");
-  errors.check(c.subopt >= 1.0, prefix + ".subopt", "must be >= 1");
+  core::validateFields(c, errors, prefix);
 }
 
 double timeOptimalSpeed(const MotionLimits& limits, double speed, double distance, double dt) {

@@ -12,24 +12,8 @@ namespace barn::controllers {
 
 
 void validate(const DwaConfig& c, core::Errors& errors, const std::string& prefix) {
-  errors.check(c.rate > 0.0, prefix + ".rate", "must be > 0");
-  errors.check(c.max_vel_x > 0.0, prefix + ".max_vel_x", "must be > 0");
-  errors.check(c.min_vel_x >= 0.0 && c.min_vel_x <= c.max_vel_x, prefix + ".min_vel_x", "must be in [0, max_vel_x]");
-  errors.check(c.max_vel_theta > 0.0, prefix + ".max_vel_theta", "must be > 0");
-  errors.check(c.min_in_place_vel_theta >= 0.0, prefix + ".min_in_place_vel_theta", "must be >= 0");
-  errors.check(c.acc_lim_x > 0.0, prefix + ".acc_lim_x", "must be > 0");
-  errors.check(c.acc_lim_theta > 0.0, prefix + ".acc_lim_theta", "must be > 0");
-  errors.check(c.sim_time > 0.0, prefix + ".sim_time", "must be > 0");
-  errors.check(c.sim_granularity > 0.0, prefix + ".sim_granularity", "must be > 0");
-  errors.check(c.angular_sim_granularity > 0.0, prefix + ".angular_sim_granularity", "must be > 0");
-  errors.check(c.vx_samples >= 2, prefix + ".vx_samples", "must be >= 2");
-  errors.check(c.vtheta_samples >= 2, prefix + ".vtheta_samples", "must be >= 2");
-  errors.check(c.pdist_scale >= 0.0 && c.gdist_scale >= 0.0 && c.occdist_scale >= 0.0, prefix + ".pdist_scale",
-               "the scoring scales must be >= 0");
-  errors.check(c.scoring_window > 0.0, prefix + ".scoring_window", "must be > 0");
-  errors.check(c.escape_vel < 0.0, prefix + ".escape_vel", "must be < 0 (backwards)");
-  errors.check(c.escape_reset_dist > 0.0, prefix + ".escape_reset_dist", "must be > 0");
-  errors.check(c.escape_reset_theta > 0.0, prefix + ".escape_reset_theta", "must be > 0");
+  core::validateFields(c, errors, prefix);
+  errors.check(c.min_vel_x <= c.max_vel_x, prefix + ".min_vel_x", "must be <= max_vel_x");
   validate(c.recovery, errors, prefix + ".recovery");
   nav::validate(c.nav, errors, prefix + ".nav");
 }

@@ -8,7 +8,7 @@
 namespace barn::controllers {
 
 void validate(const E2eEncoding& e, core::Errors& errors, const std::string& prefix) {
-  errors.check(e.frames >= 1 && e.frames <= 64, prefix + ".frames", "must be in [1, 64]");
+  core::validateFields(e, errors, prefix);
   errors.check(e.range_clip > 0.0 && std::isfinite(e.range_clip), prefix + ".range_clip", "must be > 0 m");
   errors.check(e.goal_scale > 0.0 && std::isfinite(e.goal_scale), prefix + ".goal_scale", "must be > 0 m");
   errors.check(std::isfinite(e.min_v) && std::isfinite(e.max_v) && e.min_v < e.max_v, prefix + ".max_v",

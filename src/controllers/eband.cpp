@@ -22,29 +22,11 @@ double sign(double x) { return x < 0.0 ? -1.0 : 1.0; }
 }  // namespace
 
 void validate(const EbandConfig& c, core::Errors& errors, const std::string& prefix) {
-  errors.check(c.rate > 0.0, prefix + ".rate", "must be > 0");
-  errors.check(c.eband_min_relative_overlap > 0.0, prefix + ".eband_min_relative_overlap", "must be > 0");
-  errors.check(c.eband_tiny_bubble_distance > 0.0, prefix + ".eband_tiny_bubble_distance", "must be > 0");
-  errors.check(c.eband_tiny_bubble_expansion > 0.0, prefix + ".eband_tiny_bubble_expansion", "must be > 0");
-  errors.check(c.eband_internal_force_gain >= 0.0, prefix + ".eband_internal_force_gain", "must be >= 0");
-  errors.check(c.eband_external_force_gain >= 0.0, prefix + ".eband_external_force_gain", "must be >= 0");
-  errors.check(c.num_iterations_eband_optimization >= 0, prefix + ".num_iterations_eband_optimization", "must be >= 0");
-  errors.check(c.eband_equilibrium_approx_max_recursion_depth >= 0, prefix + ".eband_equilibrium_approx_max_recursion_depth",
-               "must be >= 0");
-  errors.check(c.eband_equilibrium_relative_overshoot >= 0.0, prefix + ".eband_equilibrium_relative_overshoot", "must be >= 0");
-  errors.check(c.eband_significant_force_lower_bound >= 0.0, prefix + ".eband_significant_force_lower_bound", "must be >= 0");
-  errors.check(c.costmap_weight > 0.0, prefix + ".costmap_weight", "must be > 0");
-  errors.check(c.max_vel_lin > 0.0, prefix + ".max_vel_lin", "must be > 0");
-  errors.check(c.max_vel_th > 0.0, prefix + ".max_vel_th", "must be > 0");
+  core::validateFields(c, errors, prefix);
   errors.check(c.min_vel_lin >= 0.0 && c.min_vel_lin <= c.max_vel_lin, prefix + ".min_vel_lin", "must be in [0, max_vel_lin]");
   errors.check(c.min_vel_th >= 0.0 && c.min_vel_th <= c.max_vel_th, prefix + ".min_vel_th", "must be in [0, max_vel_th]");
   errors.check(c.min_in_place_vel_th >= 0.0 && c.min_in_place_vel_th <= c.max_vel_th, prefix + ".min_in_place_vel_th",
                "must be in [0, max_vel_th]");
-  errors.check(c.k_prop > 0.0, prefix + ".k_prop", "must be > 0");
-  errors.check(c.bubble_velocity_multiplier > 0.0, prefix + ".bubble_velocity_multiplier", "must be > 0");
-  errors.check(c.rotation_threshold_multiplier > 0.0, prefix + ".rotation_threshold_multiplier", "must be > 0");
-  errors.check(c.xy_goal_tolerance > 0.0, prefix + ".xy_goal_tolerance", "must be > 0");
-  errors.check(c.yaw_goal_tolerance > 0.0, prefix + ".yaw_goal_tolerance", "must be > 0");
   validate(c.recovery, errors, prefix + ".recovery");
   nav::validate(c.nav, errors, prefix + ".nav");
 }

@@ -19,14 +19,7 @@ FuzzySystemConfig in2botSpeedFuzzy() {
 }
 
 void validate(const In2botConfig& c, core::Errors& errors, const std::string& prefix) {
-  errors.check(c.rate > 0.0, prefix + ".rate", "must be > 0");
-  errors.check(c.lookahead >= 0.0, prefix + ".lookahead", "must be >= 0");
-  errors.check(c.goal_lock_distance >= 0.0, prefix + ".goal_lock_distance", "must be >= 0");
-  errors.check(c.nearest_window >= 0, prefix + ".nearest_window", "must be >= 0");
-  errors.check(c.nearest_reset >= 0.0, prefix + ".nearest_reset", "must be >= 0");
-  errors.check(c.turn_in_place_deg > 0.0 && c.turn_in_place_deg <= 180.0, prefix + ".turn_in_place_deg",
-               "must be in (0, 180] (180: never)");
-  errors.check(c.turn_in_place_rate >= 0.0, prefix + ".turn_in_place_rate", "must be >= 0");
+  core::validateFields(c, errors, prefix);
   validate(c.map, errors, prefix + ".map");
   validate(c.esdf, errors, prefix + ".esdf");
   validate(c.planner, errors, prefix + ".planner");

@@ -10,34 +10,23 @@
 namespace barn::controllers {
 
 void validate(const In2botMapConfig& c, core::Errors& errors, const std::string& prefix) {
-  errors.check(c.resolution > 0.0, prefix + ".resolution", "must be > 0");
+  core::validateFields(c, errors, prefix);
   errors.check(c.size_x > 0.0 && c.size_y > 0.0, prefix + ".size_x", "the grid's sizes must be > 0");
   if (c.resolution > 0.0)
     errors.check(c.size_x / c.resolution * (c.size_y / c.resolution) <= 4e6, prefix + ".resolution",
                  "gives more than 4 million cells");
-  errors.check(c.max_range > 0.0, prefix + ".max_range", "must be > 0");
   errors.check(c.usable_range > 0.0 && c.usable_range <= c.max_range, prefix + ".usable_range",
                "must be in (0, max_range]");
-  errors.check(c.inf_range > 0.0, prefix + ".inf_range", "must be > 0");
-  errors.check(c.occupied_ratio >= 0.0 && c.occupied_ratio < 1.0, prefix + ".occupied_ratio", "must be in [0, 1)");
-  errors.check(c.linear_update >= 0.0, prefix + ".linear_update", "must be >= 0");
-  errors.check(c.angular_update >= 0.0, prefix + ".angular_update", "must be >= 0");
 }
 
 void validate(const In2botEsdfConfig& c, core::Errors& errors, const std::string& prefix) {
-  errors.check(c.max_distance > 0.0, prefix + ".max_distance", "must be > 0");
-  errors.check(c.unknown_decay >= 0.0 && c.unknown_decay <= 1.0, prefix + ".unknown_decay", "must be in [0, 1]");
-  errors.check(c.wall_row >= 0, prefix + ".wall_row", "must be >= 0");
-  errors.check(c.wall_column >= 0, prefix + ".wall_column", "must be >= 0");
+  core::validateFields(c, errors, prefix);
 }
 
 void validate(const In2botPlannerConfig& c, core::Errors& errors, const std::string& prefix) {
-  errors.check(c.rate > 0.0, prefix + ".rate", "must be > 0");
-  errors.check(c.cost_threshold > 0 && c.cost_threshold <= 101, prefix + ".cost_threshold", "must be in (0, 101]");
+  core::validateFields(c, errors, prefix);
   errors.check(c.vehicle_width >= 0.0 && c.vehicle_length >= 0.0, prefix + ".vehicle_width",
                "the vehicle's sizes must be >= 0");
-  errors.check(c.footprint_padding >= 0, prefix + ".footprint_padding", "must be >= 0");
-  errors.check(c.goal_search_radius >= 0, prefix + ".goal_search_radius", "must be >= 0");
 }
 
 // ---------------------------------------------------------------------------------------------

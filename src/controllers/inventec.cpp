@@ -53,47 +53,14 @@ std::string_view toString(InventecState state) {
 }
 
 void validate(const InventecConfig& c, core::Errors& errors, const std::string& prefix) {
+  core::validateFields(c, errors, prefix);
+  core::validateFields(c.safety, errors, prefix + ".safety");
   errors.check(!c.policy.empty(), prefix + ".policy", "must name a policy file");
-  errors.check(c.rate > 0.0, prefix + ".rate", "must be > 0");
-  errors.check(c.max_speed > 0.0, prefix + ".max_speed", "must be > 0");
-  errors.check(c.max_turn_rate > 0.0, prefix + ".max_turn_rate", "must be > 0");
-  errors.check(c.boost_speed > 0.0, prefix + ".boost_speed", "must be > 0");
-  errors.check(c.boost_clearance >= 0.0, prefix + ".boost_clearance", "must be >= 0");
-  errors.check(c.local_goal_distance > 0.0, prefix + ".local_goal_distance", "must be > 0");
-  errors.check(c.path_direction_distance > 0.0, prefix + ".path_direction_distance", "must be > 0");
   errors.check(c.heading_tolerance_deg > 0.0 && c.heading_tolerance_deg <= c.heading_limit_deg,
                prefix + ".heading_tolerance_deg", "must be in (0, heading_limit_deg]");
-  errors.check(c.heading_limit_deg <= 180.0, prefix + ".heading_limit_deg", "must be <= 180");
-  errors.check(c.heading_gain > 0.0, prefix + ".heading_gain", "must be > 0");
-  errors.check(c.min_turn_rate > 0.0, prefix + ".min_turn_rate", "must be > 0 (an alignment must always turn)");
   const InventecSafetyConfig& s = c.safety;
-  errors.check(s.front_angle_deg > 0.0 && s.front_angle_deg <= 180.0, prefix + ".safety.front_angle_deg",
-               "must be in (0, 180]");
   errors.check(s.front_pad_x >= 0.0 && s.front_pad_y >= 0.0, prefix + ".safety.front_pad_x", "pads must be >= 0");
-  errors.check(s.front_speed_gain >= 0.0, prefix + ".safety.front_speed_gain", "must be >= 0");
-  errors.check(s.rollout_tolerance >= 0.0, prefix + ".safety.rollout_tolerance", "must be >= 0");
-  errors.check(s.rollout_steps >= 1, prefix + ".safety.rollout_steps", "must be >= 1");
-  errors.check(s.rollout_dt > 0.0, prefix + ".safety.rollout_dt", "must be > 0");
-  errors.check(s.mpc_steps >= 1, prefix + ".safety.mpc_steps", "must be >= 1");
-  errors.check(s.mpc_dt > 0.0, prefix + ".safety.mpc_dt", "must be > 0");
-  errors.check(s.fi_offset >= 0.0, prefix + ".safety.fi_offset", "must be >= 0");
   errors.check(s.ring_front > 0.0 && s.ring_edge > 0.0, prefix + ".safety.ring_front", "ring thresholds must be > 0");
-  errors.check(s.rear_strip_centre >= 0.0, prefix + ".safety.rear_strip_centre", "must be >= 0");
-  errors.check(s.rear_strip_depth > 0.0, prefix + ".safety.rear_strip_depth", "must be > 0");
-  errors.check(s.rear_strip_width > 0.0, prefix + ".safety.rear_strip_width", "must be > 0");
-  errors.check(c.roi_depth > 0.0, prefix + ".roi_depth", "must be > 0");
-  errors.check(c.roi_width > 0.0, prefix + ".roi_width", "must be > 0");
-  errors.check(c.roi_length > 0.0, prefix + ".roi_length", "must be > 0");
-  errors.check(c.rear_weight >= 0.0 && c.rear_weight <= 1.0, prefix + ".rear_weight", "must be in [0, 1]");
-  errors.check(c.backtrack_distance > 0.0, prefix + ".backtrack_distance", "must be > 0");
-  errors.check(c.backtrack_speed > 0.0, prefix + ".backtrack_speed", "must be > 0");
-  errors.check(c.backtrack_reverse >= 0.0, prefix + ".backtrack_reverse", "must be >= 0");
-  errors.check(c.align_tolerance_deg > 0.0, prefix + ".align_tolerance_deg", "must be > 0");
-  errors.check(c.wiggle_min_deg >= 0.0, prefix + ".wiggle_min_deg", "must be >= 0");
-  errors.check(c.wiggle_span >= 0.0, prefix + ".wiggle_span", "must be >= 0");
-  errors.check(c.wiggle_choices >= 1, prefix + ".wiggle_choices", "must be >= 1");
-  errors.check(c.forward_speed > 0.0, prefix + ".forward_speed", "must be > 0");
-  errors.check(c.forward_duration > 0.0, prefix + ".forward_duration", "must be > 0");
   nav::validate(c.nav, errors, prefix + ".nav");
 }
 

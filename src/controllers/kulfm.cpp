@@ -43,32 +43,9 @@ nav::NavStackConfig KulfmConfig::kulfmNav() {
 }
 
 void validate(const KulfmConfig& c, core::Errors& errors, const std::string& prefix) {
-  errors.check(c.rate > 0.0, prefix + ".rate", "must be > 0");
+  core::validateFields(c, errors, prefix);
   validate(c.tubes, errors, prefix + ".tubes");
-  errors.check(c.orientation_points >= 0, prefix + ".orientation_points", "must be >= 0");
-  errors.check(c.head_points >= 1, prefix + ".head_points", "must be >= 1");
-  errors.check(c.goal_bin > 0.0, prefix + ".goal_bin", "must be > 0");
-  errors.check(c.goal_bin_slack >= 0, prefix + ".goal_bin_slack", "must be >= 0");
-  errors.check(c.max_goal_bin >= 0, prefix + ".max_goal_bin", "must be >= 0");
-  errors.check(c.goal_box_width > 0.0, prefix + ".goal_box_width", "must be > 0");
-  errors.check(c.orientation_bin_deg > 0.0, prefix + ".orientation_bin_deg", "must be > 0");
-  errors.check(c.max_orientation_deg >= 0.0 && c.max_orientation_deg <= 180.0, prefix + ".max_orientation_deg",
-               "must be in [0, 180]");
-  errors.check(c.min_speed >= 0.0, prefix + ".min_speed", "must be >= 0");
-  errors.check(c.max_speed >= 0.0, prefix + ".max_speed", "must be >= 0");
-  errors.check(c.low_ratio >= 0.0 && c.low_ratio <= 1.0, prefix + ".low_ratio", "must be in [0, 1]");
   errors.check(c.high_ratio >= c.low_ratio && c.high_ratio <= 1.0, prefix + ".high_ratio", "must be in [low_ratio, 1]");
-  errors.check(c.min_speed_weight >= 0.0 && c.min_speed_weight <= 1.0, prefix + ".min_speed_weight", "must be in [0, 1]");
-  errors.check(c.max_acceleration > 0.0, prefix + ".max_acceleration", "must be > 0");
-  errors.check(c.stop_speed > 0.0, prefix + ".stop_speed", "must be > 0");
-  errors.check(c.resume_speed > 0.0, prefix + ".resume_speed", "must be > 0");
-  errors.check(c.ring_radius > 0.0, prefix + ".ring_radius", "must be > 0");
-  errors.check(c.rotate_rate > 0.0, prefix + ".rotate_rate", "must be > 0");
-  errors.check(c.backward_speed >= 0.0, prefix + ".backward_speed", "must be >= 0");
-  errors.check(c.backward_goal_bin > 0.0, prefix + ".backward_goal_bin", "must be > 0");
-  errors.check(c.backward_bin_slack >= 0, prefix + ".backward_bin_slack", "must be >= 0");
-  errors.check(c.resume_ratio >= 0.0 && c.resume_ratio <= 1.0, prefix + ".resume_ratio", "must be in [0, 1]");
-  errors.check(c.resume_goal_bin >= 0, prefix + ".resume_goal_bin", "must be >= 0");
   nav::validate(c.nav, errors, prefix + ".nav");
 }
 

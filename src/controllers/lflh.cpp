@@ -27,20 +27,10 @@ nav::NavStackConfig LflhConfig::lflhNav() {
 }
 
 void validate(const LflhConfig& c, core::Errors& errors, const std::string& prefix) {
+  core::validateFields(c, errors, prefix);
   errors.check(!c.policy.empty(), prefix + ".policy", "must name a policy file");
-  errors.check(c.rate > 0.0, prefix + ".rate", "must be > 0");
-  errors.check(c.local_goal_distance > 0.0, prefix + ".local_goal_distance", "must be > 0");
-  errors.check(c.max_speed > 0.0, prefix + ".max_speed", "must be > 0");
-  errors.check(c.max_turn_rate > 0.0, prefix + ".max_turn_rate", "must be > 0");
-  errors.check(c.range_clip >= 0.0, prefix + ".range_clip", "must be >= 0 (0: the policy file's)");
   errors.check(c.hard_turn_exit_deg >= 0.0 && c.hard_turn_exit_deg <= c.hard_turn_enter_deg,
                prefix + ".hard_turn_exit_deg", "must be in [0, hard_turn_enter_deg]");
-  errors.check(c.hard_turn_enter_deg <= 180.0, prefix + ".hard_turn_enter_deg", "must be <= 180");
-  errors.check(c.turn_gain > 0.0, prefix + ".turn_gain", "must be > 0");
-  errors.check(c.backup_speed >= 0.0, prefix + ".backup_speed", "must be >= 0");
-  errors.check(c.safety_tolerance >= 0.0, prefix + ".safety_tolerance", "must be >= 0");
-  errors.check(c.safety_steps >= 1 && c.safety_steps <= 10000, prefix + ".safety_steps", "must be in [1, 10000]");
-  errors.check(c.safety_dt > 0.0, prefix + ".safety_dt", "must be > 0");
   nav::validate(c.nav, errors, prefix + ".nav");
 }
 

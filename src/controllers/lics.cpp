@@ -25,23 +25,16 @@ nav::NavStackConfig LicsConfig::licsNav() {
 }
 
 void validate(const LicsConfig& c, core::Errors& errors, const std::string& prefix) {
+  core::validateFields(c, errors, prefix);
   errors.check(!c.policy.empty(), prefix + ".policy", "must name a policy file");
-  errors.check(c.rate > 0.0, prefix + ".rate", "must be > 0");
-  errors.check(c.local_goal_distance > 0.0, prefix + ".local_goal_distance", "must be > 0");
-  errors.check(c.plan_start_tolerance >= 0.0, prefix + ".plan_start_tolerance", "must be >= 0");
   errors.check(c.smoothing_window >= 1 && c.smoothing_window <= 1001 && c.smoothing_window % 2 == 1,
                prefix + ".smoothing_window", "must be odd, in [1, 1001]");
   errors.check(c.smoothing_order >= 0 && c.smoothing_order < c.smoothing_window, prefix + ".smoothing_order",
                "must be in [0, smoothing_window)");
-  errors.check(c.max_speed > 0.0, prefix + ".max_speed", "must be > 0");
   errors.check(c.min_speed <= c.max_speed, prefix + ".min_speed", "must be <= max_speed");
-  errors.check(c.max_turn_rate > 0.0, prefix + ".max_turn_rate", "must be > 0");
   errors.check(c.min_turn_rate <= c.max_turn_rate, prefix + ".min_turn_rate", "must be <= max_turn_rate");
-  errors.check(c.slow_down_distance > 0.0, prefix + ".slow_down_distance", "must be > 0");
   errors.check(c.front_first_beam >= 0 && c.front_first_beam <= c.front_last_beam, prefix + ".front_first_beam",
                "must be in [0, front_last_beam]");
-  errors.check(c.empty_plan_multiplier >= 0.0, prefix + ".empty_plan_multiplier", "must be >= 0");
-  errors.check(c.min_inflation_radius >= 0.0, prefix + ".min_inflation_radius", "must be >= 0");
   errors.check(c.max_inflation_radius >= c.min_inflation_radius, prefix + ".max_inflation_radius",
                "must be >= min_inflation_radius");
   errors.check(c.inflation_speed_threshold < c.max_speed, prefix + ".inflation_speed_threshold",

@@ -22,27 +22,13 @@ constexpr double kMaxManoeuvre = 120.0;  // [s]
 }  // namespace
 
 void validate(const MecoNavigatorConfig& c, core::Errors& errors, const std::string& prefix) {
-  errors.check(c.rate > 0.0, prefix + ".rate", "must be > 0");
-  errors.check(c.robot_length > 0.0, prefix + ".robot_length", "must be > 0");
-  errors.check(c.margin >= 0.0, prefix + ".margin", "must be >= 0");
-  errors.check(c.max_speed > 0.0, prefix + ".max_speed", "must be > 0");
-  errors.check(c.max_turn_rate > 0.0, prefix + ".max_turn_rate", "must be > 0");
-  errors.check(c.backtrack_gain > 0.0, prefix + ".backtrack_gain", "must be > 0");
-  errors.check(c.goal_offset >= 0.0, prefix + ".goal_offset", "must be >= 0");
-  errors.check(c.final_speed > 0.0, prefix + ".final_speed", "must be > 0");
-  errors.check(c.semi_backtrack_fraction >= 0.0 && c.semi_backtrack_fraction <= 1.0,
-               prefix + ".semi_backtrack_fraction", "must be in [0, 1]");
-  errors.check(c.min_radius > 0.0, prefix + ".min_radius", "must be > 0");
-  errors.check(c.inside_tolerance >= 0.0, prefix + ".inside_tolerance", "must be >= 0");
+  core::validateFields(c, errors, prefix);
 }
 
 void validate(const MecoConfig& c, core::Errors& errors, const std::string& prefix) {
-  errors.check(c.rate > 0.0, prefix + ".rate", "must be > 0");
-  errors.check(c.filter_gain > 0.0 && c.filter_gain <= 1.0, prefix + ".filter_gain", "must be in (0, 1]");
-  errors.check(c.stretch_duration >= 0.0, prefix + ".stretch_duration", "must be >= 0");
+  core::validateFields(c, errors, prefix);
   errors.check(std::isfinite(c.stretch_min_speed), prefix + ".stretch_min_speed", "must be finite");
   errors.check(std::isfinite(c.stretch_next_max_speed), prefix + ".stretch_next_max_speed", "must be finite");
-  errors.check(c.turn_stop_rate >= 0.0, prefix + ".turn_stop_rate", "must be >= 0");
   errors.check(std::isfinite(c.turn_stop_speed), prefix + ".turn_stop_speed", "must be finite");
   validate(c.fitter, errors, prefix + ".fitter");
   validate(c.manager, errors, prefix + ".manager");

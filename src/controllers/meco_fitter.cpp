@@ -13,29 +13,11 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
 }  // namespace
 
 void validate(const MecoFitterConfig& c, core::Errors& errors, const std::string& prefix) {
-  errors.check(c.rate > 0.0, prefix + ".rate", "must be > 0");
-  errors.check(c.beams > 0, prefix + ".beams", "must be > 0");
-  errors.check(c.sectors > 0, prefix + ".sectors", "must be > 0");
+  core::validateFields(c, errors, prefix);
   errors.check(c.sectors <= 0 || c.beams / std::max(c.sectors, 1) >= 2, prefix + ".sectors",
                "must leave at least 2 beams per sector");
-  errors.check(c.inf_range > 0.0, prefix + ".inf_range", "must be > 0");
-  errors.check(c.min_range >= 0.0, prefix + ".min_range", "must be >= 0");
-  errors.check(c.robot_radius > 0.0, prefix + ".robot_radius", "must be > 0");
-  errors.check(c.safety_radius >= 0.0, prefix + ".safety_radius", "must be >= 0");
-  errors.check(c.point_stride >= 1, prefix + ".point_stride", "must be >= 1");
-  errors.check(c.child_width > 0.0, prefix + ".child_width", "must be > 0");
-  errors.check(c.child_length > 0.0, prefix + ".child_length", "must be > 0");
-  errors.check(c.growth_step > 0.0, prefix + ".growth_step", "must be > 0");
-  errors.check(c.growth_steps >= 0, prefix + ".growth_steps", "must be >= 0");
-  errors.check(c.backoff_divisions >= 1, prefix + ".backoff_divisions", "must be >= 1");
   errors.check(std::isfinite(c.forward_limit_y), prefix + ".forward_limit_y", "must be finite");
   errors.check(std::isfinite(c.fallback_tilt_deg), prefix + ".fallback_tilt_deg", "must be finite");
-  errors.check(c.final_width > 0.0, prefix + ".final_width", "must be > 0");
-  errors.check(c.final_length > 0.0, prefix + ".final_length", "must be > 0");
-  errors.check(c.final_step_multiplier > 0.0, prefix + ".final_step_multiplier", "must be > 0");
-  errors.check(c.final_max_bearing_deg >= 0.0 && c.final_max_bearing_deg <= 180.0, prefix + ".final_max_bearing_deg",
-               "must be in [0, 180]");
-  errors.check(c.published >= 1, prefix + ".published", "must be >= 1");
 }
 
 std::optional<double> openingInSector(std::span<const double> ranges, double increment, const MecoFitterConfig& c) {

@@ -13,20 +13,8 @@ constexpr double kDeg = std::numbers::pi / 180.0;
 }  // namespace
 
 void validate(const MecoManagerConfig& c, core::Errors& errors, const std::string& prefix) {
-  errors.check(c.rate > 0.0, prefix + ".rate", "must be > 0");
-  errors.check(c.quality_threshold >= 0.0, prefix + ".quality_threshold", "must be >= 0");
+  core::validateFields(c, errors, prefix);
   errors.check(std::isfinite(c.quality_margin), prefix + ".quality_margin", "must be finite");
-  errors.check(c.stuck_threshold >= 0.0, prefix + ".stuck_threshold", "must be >= 0");
-  errors.check(c.orphan_distance >= 0.0, prefix + ".orphan_distance", "must be >= 0");
-  errors.check(c.parent_distance >= 0.0, prefix + ".parent_distance", "must be >= 0");
-  errors.check(c.similar_distance >= 0.0, prefix + ".similar_distance", "must be >= 0");
-  errors.check(c.similar_angle_deg >= 0.0 && c.similar_angle_deg <= 180.0, prefix + ".similar_angle_deg",
-               "must be in [0, 180]");
-  errors.check(c.end_distance > 0.0, prefix + ".end_distance", "must be > 0");
-  errors.check(c.end_wait >= 0.0, prefix + ".end_wait", "must be >= 0");
-  errors.check(c.backtrack_wait >= 0.0, prefix + ".backtrack_wait", "must be >= 0");
-  errors.check(c.min_backtrack_distance >= 0.0, prefix + ".min_backtrack_distance", "must be >= 0");
-  errors.check(c.inside_tolerance >= 0.0, prefix + ".inside_tolerance", "must be >= 0");
 }
 
 double corridorImprovement(const MecoCorridor& parent, const MecoCorridor& child) {

@@ -34,20 +34,9 @@ void sampleSegment(std::vector<Eigen::Vector2d>& out, const Eigen::Vector2d& a, 
 }  // namespace
 
 void validate(const MotionTubeConfig& c, core::Errors& errors, const std::string& prefix) {
-  errors.check(c.length > 0.0, prefix + ".length", "must be > 0");
-  errors.check(c.backward_length > 0.0, prefix + ".backward_length", "must be > 0 (the recovery tubes run backwards by it)");
-  errors.check(c.max_angle_deg >= 0.0 && c.max_angle_deg <= 180.0, prefix + ".max_angle_deg", "must be in [0, 180]");
+  core::validateFields(c, errors, prefix);
   errors.check(c.angle_step_deg > 0.0 && c.max_angle_deg / std::max(c.angle_step_deg, 1e-9) <= 10000.0,
                prefix + ".angle_step_deg", "must be > 0 and give at most 10000 angles");
-  errors.check(c.min_curvature > 0.0, prefix + ".min_curvature", "must be > 0");
-  errors.check(c.radius_factor > 0.0, prefix + ".radius_factor", "must be > 0");
-  errors.check(c.vehicle_width > 0.0, prefix + ".vehicle_width", "must be > 0");
-  errors.check(c.axle_to_front >= 0.0, prefix + ".axle_to_front", "must be >= 0");
-  errors.check(c.axle_to_rear >= 0.0, prefix + ".axle_to_rear", "must be >= 0");
-  errors.check(c.edge_step > 0.0, prefix + ".edge_step", "must be > 0");
-  errors.check(c.whisker_step > 0.0, prefix + ".whisker_step", "must be > 0");
-  errors.check(c.side_whisker_offset >= 0.0, prefix + ".side_whisker_offset", "must be >= 0");
-  errors.check(c.front_whisker_offset >= 0.0, prefix + ".front_whisker_offset", "must be >= 0");
   // The tightest tube turns about a centre at radius_factor / (max angle / length) from the robot
   // centre; the inner whisker must stay on the robot's side of it.
   if (c.length > 0.0 && c.backward_length > 0.0 && c.max_angle_deg > 0.0 && c.radius_factor > 0.0) {

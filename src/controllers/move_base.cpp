@@ -9,14 +9,9 @@
 namespace barn::controllers {
 
 void validate(const MoveBaseRecoveryConfig& r, core::Errors& errors, const std::string& prefix) {
-  errors.check(r.controller_patience > 0.0, prefix + ".controller_patience", "must be > 0");
-  errors.check(r.planner_patience > 0.0, prefix + ".planner_patience", "must be > 0");
-  errors.check(r.max_rotation_speed > 0.0, prefix + ".max_rotation_speed", "must be > 0");
+  core::validateFields(r, errors, prefix);
   errors.check(r.min_rotation_speed > 0.0 && r.min_rotation_speed <= r.max_rotation_speed,
                prefix + ".min_rotation_speed", "must be in (0, max_rotation_speed]");
-  errors.check(r.rotation_acceleration > 0.0, prefix + ".rotation_acceleration", "must be > 0");
-  errors.check(r.rotation_tolerance > 0.0, prefix + ".rotation_tolerance", "must be > 0");
-  errors.check(r.sweep_step > 0.0, prefix + ".sweep_step", "must be > 0");
 }
 
 bool footprintOutlineHits(const nav::Costmap& map, const std::vector<Eigen::Vector2d>& footprint, double x, double y,

@@ -30,15 +30,11 @@ double wrapTo2Pi(double a) {
 }  // namespace
 
 void validate(const PtgConfig& c, core::Errors& errors, const std::string& prefix) {
-  errors.check(c.num_paths >= 3 && c.num_paths <= 65535, prefix + ".num_paths", "must be in [3, 65535]");
-  errors.check(c.ref_distance > 0.0, prefix + ".ref_distance", "must be > 0");
+  core::validateFields(c, errors, prefix);
   errors.check(c.resolution > 0.0 && c.resolution <= c.ref_distance, prefix + ".resolution",
                "must be in (0, ref_distance]");
-  errors.check(c.v_max > 0.0, prefix + ".v_max", "must be > 0");
   errors.check(c.v_falloff >= 0.0 && c.v_falloff * kPi < 1.0, prefix + ".v_falloff",
                "must be in [0, 1 / pi) (every path must drive forward)");
-  errors.check(c.w_max_deg > 0.0, prefix + ".w_max_deg", "must be > 0");
-  errors.check(c.turning_radius_reference >= 0.0, prefix + ".turning_radius_reference", "must be >= 0");
   if (errors.check(c.shape_x.size() == c.shape_y.size(), prefix + ".shape_y", "must have as many values as shape_x"))
     errors.check(c.shape_x.size() >= 3, prefix + ".shape_x", "must have at least 3 vertices");
 }

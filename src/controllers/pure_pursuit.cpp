@@ -7,9 +7,7 @@
 namespace barn::controllers {
 
 void validate(const PurePursuitConfig& c, core::Errors& errors, const std::string& prefix) {
-  errors.check(c.speed > 0.0, prefix + ".speed", "must be > 0");
-  errors.check(c.lookahead > 0.0, prefix + ".lookahead", "must be > 0");
-  errors.check(c.rate > 0.0, prefix + ".rate", "must be > 0");
+  core::validateFields(c, errors, prefix);  // every rule is a field's range
 }
 
 void PurePursuitController::reset(const EpisodeInfo& info) {

@@ -29,7 +29,14 @@ namespace {
 struct Entry {
   const char* type;
   std::function<ControllerFactory(const core::ConfigNode&, std::string&)> make;
+  std::vector<core::FieldRow> (*schema)(const core::ConfigNode&);  // the block's fields, read
 };
+
+// A block's fields as read (defaults for missing keys), with their schema.
+template <class Config>
+std::vector<core::FieldRow> blockSchema(const core::ConfigNode& block) {
+  return core::schemaOf(core::readConfig<Config>(block));
+}
 
 // The effective config text of a block: every field with its value, as a manifest records it.
 template <class Config>
@@ -63,7 +70,8 @@ Entry entry(const char* type) {
             Config config = readValidated<Config>(block, kNoPaths);
             effective = std::string("type: ") + type + "\n" + blockText(type, config);
             return [config] { return std::make_unique<ControllerType>(config); };
-          }};
+          },
+          &blockSchema<Config>};
 }
 
 // A controller with something every episode's controller shares, read-only, made once here
@@ -76,7 +84,8 @@ Entry sharedEntry(const char* type, Resolve resolve, Share share) {
             auto shared = share(config);
             effective = std::string("type: ") + type + "\n" + blockText(type, config);
             return [config, shared] { return std::make_unique<ControllerType>(config, shared); };
-          }};
+          },
+          &blockSchema<Config>};
 }
 
 // The LfLH policy file at `path`, shared read-only.
@@ -169,6 +178,27 @@ PreparedController prepareController(const core::ConfigNode& config) {
     };
   }
   return prepared;
+}
+
+std::vector<core::FieldRow> controllerSchema(const core::ConfigNode& config) {
+  std::string type;
+  return findEntry(config, type).schema(config.child(type));
+}
+
+std::string controllerKeyUnit(const std::string& type, const std::string& key) {
+  core::ConfigNode config;
+  config.set("type", type);
+  std::vector<core::FieldRow> rows;
+  try {
+    rows = controllerSchema(config);
+  } catch (const core::InputError&) {
+    return {};  // not a controller type
+  }
+  const std::string block_prefix = type + ".";
+  const std::string relative = key.starts_with(block_prefix) ? key.substr(block_prefix.size()) : key;
+  for (const core::FieldRow& row : rows)
+    if (row.key == relative) return row.unit;
+  return {};
 }
 
 ControllerFactory makeControllerFactory(const core::ConfigNode& config) { return prepareController(config).factory; }

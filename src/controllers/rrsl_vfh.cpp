@@ -3,8 +3,7 @@
 namespace barn::controllers {
 
 void validate(const RrslVfhConfig& c, core::Errors& errors, const std::string& prefix) {
-  errors.check(c.rate > 0.0, prefix + ".rate", "must be > 0");
-  errors.check(c.goal_stop_radius >= 0.0, prefix + ".goal_stop_radius", "must be >= 0");
+  core::validateFields(c, errors, prefix);
   validate(c.vfh, errors, prefix + ".vfh");
 }
 

@@ -6,9 +6,7 @@
 namespace barn::controllers {
 
 void validate(const StraightConfig& c, core::Errors& errors, const std::string& prefix) {
-  errors.check(c.speed > 0.0, prefix + ".speed", "must be > 0");
-  errors.check(c.heading_gain > 0.0, prefix + ".heading_gain", "must be > 0");
-  errors.check(c.rate > 0.0, prefix + ".rate", "must be > 0");
+  core::validateFields(c, errors, prefix);  // every rule is a field's range
 }
 
 void StraightController::reset(const EpisodeInfo& info) { max_angular_ = info.robot.max_angular_speed; }

@@ -7,30 +7,16 @@
 namespace barn::controllers {
 
 void validate(const UtAmrlConfig& c, core::Errors& errors, const std::string& prefix) {
+  core::validateFields(c, errors, prefix);
   const GraphNavConfig& n = c.navigation;
   const std::string nav = prefix + ".navigation";
-  errors.check(n.rate > 0.0, nav + ".rate", "must be > 0");
+  core::validateFields(n, errors, nav);
   if (n.rate > 0.0) {
     const double ticks = c.plan_period * n.rate;
     errors.check(c.plan_period > 0.0 && std::abs(ticks - std::round(ticks)) < 1e-6 && std::round(ticks) >= 1.0,
                  prefix + ".plan_period", "must be a whole number (>= 1) of control periods (1 / navigation.rate)");
   }
-  errors.check(c.local_goal_distance >= 0.0, prefix + ".local_goal_distance", "must be >= 0");
   validate(c.voronoi, errors, prefix + ".voronoi");
-  errors.check(n.system_latency >= 0.0, nav + ".system_latency", "must be >= 0");
-  errors.check(n.max_linear_speed > 0.0, nav + ".max_linear_speed", "must be > 0");
-  errors.check(n.max_linear_accel > 0.0, nav + ".max_linear_accel", "must be > 0");
-  errors.check(n.max_linear_decel > 0.0, nav + ".max_linear_decel", "must be > 0");
-  errors.check(n.max_angular_speed > 0.0, nav + ".max_angular_speed", "must be > 0");
-  errors.check(n.max_angular_accel > 0.0, nav + ".max_angular_accel", "must be > 0");
-  errors.check(n.max_angular_decel > 0.0, nav + ".max_angular_decel", "must be > 0");
-  errors.check(n.carrot_dist > 0.0, nav + ".carrot_dist", "must be > 0");
-  errors.check(n.local_fov_deg > 0.0 && n.local_fov_deg <= 180.0, nav + ".local_fov_deg", "must be in (0, 180]");
-  errors.check(n.target_dist_tolerance >= 0.0, nav + ".target_dist_tolerance", "must be >= 0");
-  errors.check(n.target_vel_tolerance >= 0.0, nav + ".target_vel_tolerance", "must be >= 0");
-  errors.check(n.target_angle_tolerance > 0.0, nav + ".target_angle_tolerance", "must be > 0");
-  errors.check(n.max_plan_deviation > 0.0, nav + ".max_plan_deviation", "must be > 0");
-  errors.check(n.max_turn_speed >= 0.0, nav + ".max_turn_speed", "must be >= 0");
   validate(n.arcs, errors, nav + ".arcs");
 }
 

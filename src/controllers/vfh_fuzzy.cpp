@@ -367,25 +367,11 @@ FuzzySystemConfig rrslTurnFuzzy() {
 }
 
 void validate(const VfhConfig& c, core::Errors& errors, const std::string& prefix) {
-  errors.check(c.max_range > 0.0, prefix + ".max_range", "must be > 0");
-  errors.check(c.sector_beams >= 1, prefix + ".sector_beams", "must be >= 1");
-  errors.check(c.threshold > 0.0, prefix + ".threshold", "must be > 0");
+  core::validateFields(c, errors, prefix);
   errors.check(c.robot_size > 0.0 && c.robot_size <= 2 * c.threshold, prefix + ".robot_size",
                "must be in (0, 2 threshold] (sectToClear takes asin(robot_size / (2 threshold)))");
-  errors.check(c.wide_valley_min >= 0, prefix + ".wide_valley_min", "must be >= 0");
-  errors.check(c.fov_deg > 0.0 && c.fov_deg <= 360.0, prefix + ".fov_deg", "must be in (0, 360]");
-  errors.check(c.step >= 0.0, prefix + ".step", "must be >= 0");
-  errors.check(c.depth >= 1 && c.depth <= 4, prefix + ".depth", "must be in [1, 4]");
-  errors.check(c.target_weight >= 0.0, prefix + ".target_weight", "must be >= 0");
-  errors.check(c.switch_weight >= 0.0, prefix + ".switch_weight", "must be >= 0");
-  errors.check(c.smoothing_alpha >= 0.0 && c.smoothing_alpha <= 1.0, prefix + ".smoothing_alpha", "must be in [0, 1]");
   errors.check(c.speed_sector_begin >= 0 && c.speed_sector_begin < c.speed_sector_end, prefix + ".speed_sector_begin",
                "must be >= 0 and < speed_sector_end");
-  errors.check(c.clear_half_beams >= 0, prefix + ".clear_half_beams", "must be >= 0");
-  errors.check(c.clear_alignment >= 0.0, prefix + ".clear_alignment", "must be >= 0");
-  errors.check(c.bubble_beams >= 0, prefix + ".bubble_beams", "must be >= 0");
-  errors.check(c.bubble_distance >= 0.0, prefix + ".bubble_distance", "must be >= 0");
-  errors.check(c.bubble_turn >= 0.0, prefix + ".bubble_turn", "must be >= 0");
   validate(c.speed_fuzzy, errors, prefix + ".speed_fuzzy");
   validate(c.turn_fuzzy, errors, prefix + ".turn_fuzzy");
 }

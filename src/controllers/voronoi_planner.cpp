@@ -27,25 +27,11 @@ double manhattan(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
 }  // namespace
 
 void validate(const VoronoiPlannerConfig& c, core::Errors& errors, const std::string& prefix) {
-  errors.check(c.scale > 0.0, prefix + ".scale", "must be > 0");
-  errors.check(c.grid >= 1, prefix + ".grid", "must be >= 1");
-  errors.check(c.clear_inf_range > 0.0, prefix + ".clear_inf_range", "must be > 0");
-  errors.check(c.clear_margin >= 0.0, prefix + ".clear_margin", "must be >= 0");
-  errors.check(c.goal_distance > 0.0, prefix + ".goal_distance", "must be > 0");
+  core::validateFields(c, errors, prefix);
   errors.check(c.ellipse_x >= 0.0 && c.ellipse_y >= 0.0, prefix + ".ellipse_x", "semi-axes must be >= 0");
   errors.check(c.ellipse_points == 0 || c.ellipse_points >= 2, prefix + ".ellipse_points", "must be 0 or >= 2");
-  errors.check(c.end_gap > 0.0, prefix + ".end_gap", "must be > 0");
-  errors.check(c.min_gap >= 0.0, prefix + ".min_gap", "must be >= 0");
-  errors.check(c.gap_weight >= 0.0, prefix + ".gap_weight", "must be >= 0");
   errors.check(c.average_gap_limit > c.end_gap, prefix + ".average_gap_limit",
                "must be > end_gap (the start and goal edges always count)");
-  errors.check(c.old_path_weight >= 0.0, prefix + ".old_path_weight", "must be >= 0");
-  errors.check(c.switch_gap_ratio > 0.0, prefix + ".switch_gap_ratio", "must be > 0");
-  errors.check(c.switch_min_old_points >= 0, prefix + ".switch_min_old_points", "must be >= 0");
-  errors.check(c.switch_hausdorff >= 0.0, prefix + ".switch_hausdorff", "must be >= 0");
-  errors.check(c.switch_length_ratio > 0.0, prefix + ".switch_length_ratio", "must be > 0");
-  errors.check(c.switch_length_gap_ratio > 0.0, prefix + ".switch_length_gap_ratio", "must be > 0");
-  errors.check(c.hausdorff_samples >= 2, prefix + ".hausdorff_samples", "must be >= 2");
 }
 
 std::span<const std::string_view> enumNames(EllipseCentre) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <limits>
 #include <cstdio>
 #include <string_view>
 #include <set>
@@ -361,6 +362,23 @@ std::string ConfigWriter::scalar(const std::vector<std::string>& value) {
   std::string text = "[";
   for (std::size_t i = 0; i < value.size(); ++i) text += (i ? ", " : "") + scalar(value[i]);
   return text + "]";
+}
+
+// ---------------------------------------------------------------------------------------------
+
+std::string Range::text() const {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  if (low == -kInf && high == kInf) return {};
+  if (high == kInf) return (low_open ? "> " : ">= ") + formatDouble(low);
+  if (low == -kInf) return (high_open ? "< " : "<= ") + formatDouble(high);
+  return std::string("in ") + (low_open ? "(" : "[") + formatDouble(low) + ", " + formatDouble(high) + (high_open ? ")" : "]");
+}
+
+void ConfigValidator::check(const std::string& key, double value, const FieldSpec& spec) {
+  if (spec.range.contains(value)) return;
+  const std::string unit = spec.unit.empty() ? std::string() : " " + std::string(spec.unit);
+  errors_.add(prefix_.empty() ? key : prefix_ + "." + key,
+              "must be " + spec.range.text() + unit + ", got " + formatDouble(value) + unit);
 }
 
 }  // namespace barn::core

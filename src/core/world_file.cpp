@@ -163,7 +163,7 @@ class WorldFileWriter {
   }
   static std::string valueText(const GeneratorFields& generator) {
     FlowMap map;
-    const_cast<GeneratorFields&>(generator).visit(map);  // visit only reads through this visitor
+    visitConst(generator, map);
     return " " + map.text();
   }
   static std::string valueText(const MetricsField& field) {

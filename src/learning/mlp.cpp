@@ -4,6 +4,11 @@
 
 namespace barn::learning {
 
+std::span<const std::string_view> enumNames(Activation) {
+  static constexpr std::string_view kNames[] = {"relu", "leaky_relu"};
+  return kNames;
+}
+
 template <class Scalar>
 MlpParameters<Scalar> MlpParameters<Scalar>::zeros(int inputs, int hidden, int outputs) {
   MlpParameters p;

@@ -65,7 +65,7 @@ TrainingResult trainPolicy(const Dataset& data, const TrainConfig& config,
   const int beams = data.beams;
 
   core::Rng rng(config.seed);
-  Mlp<float> net(rows, config.hidden, 2, config.activationKind(), config.leaky_slope);
+  Mlp<float> net(rows, config.hidden, 2, config.activation, config.leaky_slope);
   net.initialise(rng);
   MlpParameters<float> grad = MlpParameters<float>::zeros(rows, config.hidden, 2);
   Adam<float> adam(net.parameters(), config.learning_rate);

@@ -53,15 +53,11 @@ bool anyWasNearest(const std::uint32_t* __restrict at, const std::uint32_t* __re
 }  // namespace
 
 void validate(const CostmapConfig& c, core::Errors& errors, const std::string& prefix) {
-  errors.check(c.resolution > 0.0, prefix + ".resolution", "must be > 0");
+  core::validateFields(c, errors, prefix);
   errors.check(c.width > 0.0 && c.width / std::max(c.resolution, 1e-9) <= 10000, prefix + ".width",
                "must be > 0 and at most 10000 cells");
   errors.check(c.height > 0.0 && c.height / std::max(c.resolution, 1e-9) <= 10000, prefix + ".height",
                "must be > 0 and at most 10000 cells");
-  errors.check(c.obstacle_range > 0.0, prefix + ".obstacle_range", "must be > 0");
-  errors.check(c.raytrace_range > 0.0, prefix + ".raytrace_range", "must be > 0");
-  errors.check(c.inflation_radius >= 0.0, prefix + ".inflation_radius", "must be >= 0");
-  errors.check(c.cost_scaling_factor >= 0.0, prefix + ".cost_scaling_factor", "must be >= 0");
 }
 
 Costmap::Costmap(const CostmapConfig& config, double inscribed_radius)

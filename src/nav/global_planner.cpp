@@ -12,11 +12,7 @@ std::span<const std::string_view> enumNames(PlannerAlgorithm) {
 }
 
 void validate(const PlannerConfig& c, core::Errors& errors, const std::string& prefix) {
-  errors.check(c.rate > 0.0, prefix + ".rate", "must be > 0");
-  errors.check(c.neutral_cost > 0.0 && c.neutral_cost <= 1000.0, prefix + ".neutral_cost", "must be in (0, 1000]");
-  errors.check(c.cost_factor >= 0.0 && c.cost_factor <= 100.0, prefix + ".cost_factor", "must be in [0, 100]");
-  errors.check(c.smoothing_window >= 0, prefix + ".smoothing_window", "must be >= 0");
-  errors.check(c.tolerance >= 0.0 && c.tolerance <= 10.0, prefix + ".tolerance", "must be in [0, 10] [m]");
+  core::validateFields(c, errors, prefix);
   validate(c.global_planner, errors, prefix + ".global_planner");
 }
 

@@ -52,27 +52,27 @@ NavStackConfig NavStackConfig::moveBaseWithNavFn() {
   return c;
 }
 
+std::span<const std::string_view> enumNames(CostmapView) {
+  static constexpr std::string_view kNames[] = {"live", "published"};
+  return kNames;
+}
+
 void validate(const NavStackConfig& c, core::Errors& errors, const std::string& prefix) {
+  core::validateFields(c, errors, prefix);
   validate(c.global_costmap, errors, prefix + ".global_costmap");
   validate(c.local_costmap, errors, prefix + ".local_costmap");
   validate(c.planner, errors, prefix + ".planner");
-  errors.check(c.footprint_length > 0.0, prefix + ".footprint_length", "must be > 0");
-  errors.check(c.footprint_width > 0.0, prefix + ".footprint_width", "must be > 0");
   const double least_padding = -0.5 * std::min(c.footprint_length, c.footprint_width);
   errors.check(c.footprint_padding > least_padding, prefix + ".footprint_padding", "must not shrink the footprint to nothing");
   errors.check(c.footprint_padding + c.global_costmap.inscribed_padding_offset > least_padding,
                prefix + ".global_costmap.inscribed_padding_offset", "must not shrink the footprint to nothing");
   errors.check(c.footprint_padding + c.local_costmap.inscribed_padding_offset > least_padding,
                prefix + ".local_costmap.inscribed_padding_offset", "must not shrink the footprint to nothing");
-  errors.check(c.global_update_rate > 0.0, prefix + ".global_update_rate", "must be > 0");
-  errors.check(c.local_update_rate > 0.0, prefix + ".local_update_rate", "must be > 0");
-  errors.check(c.local_costmap_view == "live" || c.local_costmap_view == "published", prefix + ".local_costmap_view",
-               "must be live or published, got '" + c.local_costmap_view + "'");
 }
 
 NavStack::NavStack(const NavStackConfig& config)
     : config_(config),
-      published_view_(config.local_costmap_view == "published"),
+      published_view_(config.local_costmap_view == CostmapView::Published),
       global_(config.global_costmap, config.inscribedRadius(config.global_costmap)),
       local_(config.local_costmap, config.inscribedRadius(config.local_costmap)),
       global_parameters_(CostmapParameters::of(config.global_costmap)),

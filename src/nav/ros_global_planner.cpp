@@ -28,14 +28,7 @@ std::uint8_t toUnsignedChar(float value) { return static_cast<std::uint8_t>(stat
 }  // namespace
 
 void validate(const RosGlobalPlannerConfig& c, core::Errors& errors, const std::string& prefix) {
-  errors.check(c.cost_factor >= 0.01 && c.cost_factor <= 5.0, prefix + ".cost_factor", "must be in [0.01, 5] (ROS's range)");
-  errors.check(c.neutral_cost >= 1 && c.neutral_cost <= 255, prefix + ".neutral_cost", "must be in [1, 255]");
-  errors.check(c.lethal_cost >= 1 && c.lethal_cost <= 255, prefix + ".lethal_cost", "must be in [1, 255]");
-  errors.check(c.orientation_mode >= 0 && c.orientation_mode <= 6, prefix + ".orientation_mode",
-               "must be 0 ... 6 (none, forward, interpolate, forward then interpolate, backward, leftward, rightward)");
-  errors.check(c.orientation_window_size >= 1 && c.orientation_window_size <= 255, prefix + ".orientation_window_size",
-               "must be in [1, 255]");
-  errors.check(c.default_tolerance >= 0.0, prefix + ".default_tolerance", "must be >= 0");
+  core::validateFields(c, errors, prefix);
 }
 
 RosGlobalPlanner::RosGlobalPlanner(const RosGlobalPlannerConfig& config)

@@ -985,13 +985,12 @@ PYBIND11_MODULE(_core, m) {
   m.def("merge", [](const std::vector<std::string>& shards, const std::string& out) {
         bench::mergeShardRecords(std::vector<std::filesystem::path>(shards.begin(), shards.end()), out);
       }, py::arg("shards"), py::arg("out"), "Merges the shard records of one run into `out`, as barn merge does");
-  m.def("report", [](const std::string& input, const std::string& out, int max_failures, const std::string& controller_configs) {
+  m.def("report", [](const std::string& input, const std::string& out, int max_failures) {
         report::ReportOptions options;
         options.max_failures = max_failures;
-        options.controller_configs = controller_configs;
         py::gil_scoped_release release;  // failed episodes of a built-in controller are re-simulated in C++
         report::writeReport(input, out, options);
-      }, py::arg("input"), py::arg("out"), py::arg("max_failures"), py::arg("controller_configs"),
+      }, py::arg("input"), py::arg("out"), py::arg("max_failures"),
       "The HTML page of a run record or sweep, as barn report writes it");
   py::class_<PyEpisodeBatch>(m, "EpisodeBatch")
       .def(py::init([](const std::string& worlds, const std::string& world_dir, const std::string& sim_config,

@@ -11,7 +11,6 @@
 #include <utility>
 #include <vector>
 
-#include "barn/bench/controller_lookup.hpp"
 #include "barn/bench/report.hpp"
 #include "barn/bench/results_io.hpp"
 #include "barn/bench/run_record.hpp"
@@ -128,8 +127,8 @@ HtmlReport runReport(const fs::path& dir, const fs::path& figures, int max_failu
   return report;
 }
 
-HtmlReport sweepReport(const fs::path& dir, const fs::path& figures, const fs::path& config_file) {
-  const SweepTable table = readSweepTable(dir, config_file);
+HtmlReport sweepReport(const fs::path& dir, const fs::path& figures) {
+  const SweepTable table = readSweepTable(dir);
   HtmlReport report;
   report.title = "Sweep of " + table.controller;
   std::string swept;
@@ -164,9 +163,6 @@ void writeReport(const fs::path& input, const fs::path& output, const ReportOpti
   if (fs::is_directory(output)) throw core::InputError(output.string() + ": is a folder, expected a .html file");
   if (options.max_failures < 0)
     throw core::InputError("max_failures: " + std::to_string(options.max_failures) + " (must be >= 0)");
-  fs::path config_file;
-  if (!is_run && !options.controller_configs.empty())
-    config_file = bench::controllerConfigFile(bench::readSweepFile(input).controller, "", options.controller_configs);
   // Figures are drawn into a scratch folder of this call alone (two reports at once must not
   // draw into each other's), embedded, and removed.
   std::string scratch_name = (fs::temp_directory_path() / "barn_report.XXXXXX").string();
@@ -176,7 +172,7 @@ void writeReport(const fs::path& input, const fs::path& output, const ReportOpti
   std::error_code ec;
   std::string html;
   try {
-    html = renderHtml(is_run ? runReport(input, scratch, options.max_failures) : sweepReport(input, scratch, config_file));
+    html = renderHtml(is_run ? runReport(input, scratch, options.max_failures) : sweepReport(input, scratch));
   } catch (...) {
     fs::remove_all(scratch, ec);
     throw;

@@ -9,10 +9,11 @@
 #include "barn/bench/results_io.hpp"
 #include "barn/bench/run_record.hpp"
 #include "barn/bench/sweep_grid.hpp"
+#include "barn/controllers/registry.hpp"
+#include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/core/protocol.hpp"
 #include "barn/core/text_io.hpp"
-#include "config_units.hpp"
 #include "barn/viz/line_plot.hpp"
 #include "barn/viz/plots.hpp"
 
@@ -130,14 +131,18 @@ viz::LinePlot linePlot(const SweepTable& table, const Metric& metric) {
 
 }  // namespace
 
-SweepTable readSweepTable(const std::filesystem::path& dir, const std::filesystem::path& config_file) {
+std::string sweptKeyUnit(const std::string& controller_config, const std::string& key) {
+  const core::ConfigNode config = core::ConfigNode::parseString(controller_config, "controller_config");
+  std::string type;
+  if (!config.isMap() || !config.child("type").read(type)) return {};
+  return controllers::controllerKeyUnit(type, key);
+}
+
+SweepTable readSweepTable(const std::filesystem::path& dir) {
   const bench::SweepGrid grid = bench::readSweepFile(dir);
   SweepTable table;
   table.controller = grid.controller;
-  for (const auto& p : grid.parameters) {
-    table.keys.push_back(p.key);
-    table.units.push_back(config_file.empty() ? std::string() : configKeyUnit(config_file, p.key));
-  }
+  for (const auto& p : grid.parameters) table.keys.push_back(p.key);
   for (std::size_t c = 0; c < grid.cells.size(); ++c) {
     const std::filesystem::path cell_dir = dir / grid.cells[c];
     if (!bench::readManifest(cell_dir / bench::kManifestFile).complete)
@@ -147,6 +152,7 @@ SweepTable readSweepTable(const std::filesystem::path& dir, const std::filesyste
     if (c == 0) {
       table.protocol = bench::recordProtocol(m, "manifest");
       table.trials = m.trials;
+      for (const auto& p : grid.parameters) table.units.push_back(sweptKeyUnit(m.controller_config, p.key));
     }
     SweepCell cell;
     cell.name = grid.cells[c];

@@ -22,13 +22,7 @@ double clampAbs(double value, double limit) { return std::clamp(value, -limit, l
 }  // namespace
 
 void validate(const PhysicsConfig& c, core::Errors& errors, const std::string& prefix) {
-  errors.check(c.rate >= 10.0 && c.rate <= 100000.0, prefix + ".rate", "must be in [10, 100000] Hz");
-  errors.check(c.velocity_iterations >= 1, prefix + ".velocity_iterations", "must be >= 1");
-  errors.check(c.position_iterations >= 1, prefix + ".position_iterations", "must be >= 1");
-  // Upper bounds (our choice, 100x Box2D's defaults of 8 and 3): more makes an episode take
-  // hours while changing nothing, and a stop (Ctrl-C, SIGTERM) waits for running episodes.
-  errors.check(c.velocity_iterations <= 1000, prefix + ".velocity_iterations", "must be <= 1000");
-  errors.check(c.position_iterations <= 1000, prefix + ".position_iterations", "must be <= 1000");
+  core::validateFields(c, errors, prefix);  // every rule is a field's range
 }
 
 bool rectOverlapsCircle(const core::Pose2& pose, const core::Rect& rect, const Eigen::Vector2d& centre, double radius) {

@@ -165,6 +165,19 @@ TEST(EpisodeConfig, TheProtocolIsReadByNameAndWrittenBackByName) {
   EXPECT_THAT(core::writeConfig(config), HasSubstr("protocol: barn2024\n"));
 }
 
+TEST(EpisodeConfig, AnOutOfRangeFieldNamesTheFileTheKeyTheRangeAndTheUnit) {
+  try {
+    validatedEpisodeConfig(
+        core::ConfigNode::parseString("success_radius: 4\nodometry: {position_stddev: 20}\nlatency: {command: -1}\n", "sim.yaml"),
+        "sim.yaml");
+    FAIL() << "every value is out of range";
+  } catch (const core::InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("sim.yaml: success_radius: must be in (0, 3] m, got 4 m"));
+    EXPECT_THAT(e.what(), HasSubstr("sim.yaml: odometry.position_stddev: must be in [0, 10] m, got 20 m"));
+    EXPECT_THAT(e.what(), HasSubstr("sim.yaml: latency.command: must be in [0, 1] s, got -1 s"));
+  }
+}
+
 TEST(EpisodeConfig, AnUnknownProtocolIsAnErrorNamingTheFieldAndTheKnownNames) {
   try {
     validatedEpisodeConfig(core::ConfigNode::parseString("protocol: barn2099\n", "sim.yaml"), "sim.yaml");

@@ -83,6 +83,15 @@ TEST_F(BarnConfig, ASweepCellsConfigCarriesItsSweptValue) {
   EXPECT_THAT(r.output, AllOf(HasSubstr("sweep folder"), HasSubstr("give a cell folder"), HasSubstr("cell_0_speed=0.3")));
 }
 
+TEST_F(BarnConfig, AControllerNameListsItsFieldsWithUnitsFromTheSchema) {
+  const RunResult r = run("config dwa");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("key"));
+  // configs/controllers/dwa.yaml's value, DwaConfig's unit, range and meaning; columns aligned.
+  EXPECT_THAT(r.output, testing::ContainsRegex("\nmax_vel_x +0.5 +m/s +> 0 +fastest forward speed\n"));
+  EXPECT_THAT(r.output, testing::ContainsRegex("\nacc_lim_theta +20 +rad/s\\^2 +> 0 "));
+}
+
 TEST_F(BarnConfig, FoldersWithoutAConfigOfTheirOwnExitTwo) {
   const fs::path empty = dir_ / "empty";
   fs::create_directories(empty);

@@ -271,7 +271,7 @@ TEST(Dwa, PassesTheStacksKeysOnAndRefusesBadValues) {
   EXPECT_THAT(refusal("vx_samples", 1), ::testing::HasSubstr("dwa.vx_samples: must be >= 2"));
   EXPECT_THAT(refusal("vtheta_samples", 7.5), ::testing::HasSubstr("vtheta_samples: must be a whole number"));
   EXPECT_THAT(refusal("max_vel_x", 0.05), ::testing::HasSubstr("dwa.min_vel_x"));  // below min_vel_x 0.1
-  EXPECT_THAT(refusal("pdist_scale", -1.0), ::testing::HasSubstr("scoring scales must be >= 0"));
+  EXPECT_THAT(refusal("pdist_scale", -1.0), ::testing::HasSubstr("dwa.pdist_scale: must be >= 0, got -1"));
   EXPECT_THAT(refusal("sim_time", 1.0),
               ::testing::AllOf(::testing::HasSubstr("not a settable parameter"), ::testing::HasSubstr("vx_samples"),
                                ::testing::HasSubstr("local_costmap.inflation_radius")));

@@ -125,6 +125,29 @@ TEST(ControllerRegistry, OutOfRangeValueIsNamedWithItsPath) {
               HasSubstr("straight.heading_gain: must be > 0"));
 }
 
+TEST(ControllerRegistry, AnOutOfRangeValueNamesItsUnit) {
+  EXPECT_THAT(factoryError("type: dwa\ndwa: {max_vel_x: -0.5}"),
+              HasSubstr("run.yaml: dwa.max_vel_x: must be > 0 m/s, got -0.5 m/s"));
+}
+
+TEST(ControllerRegistry, AKeysUnitComesFromTheConfigStruct) {
+  // What a sweep's axis shows: DwaConfig's visit() states max_vel_x in m/s.
+  EXPECT_EQ(controllerKeyUnit("dwa", "max_vel_x"), "m/s");
+  EXPECT_EQ(controllerKeyUnit("dwa", "dwa.acc_lim_theta"), "rad/s^2");
+  EXPECT_EQ(controllerKeyUnit("dwa", "vx_samples"), "");  // a count
+  EXPECT_EQ(controllerKeyUnit("dwa", "no_such_key"), "");
+  EXPECT_EQ(controllerKeyUnit("no_such_type", "speed"), "");
+}
+
+TEST(ControllerRegistry, TheSchemaHoldsTheConfigsValues) {
+  const std::vector<core::FieldRow> rows = controllerSchema(yaml("type: pure_pursuit\npure_pursuit: {speed: 0.75}"));
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_EQ(rows[0].key, "speed");
+  EXPECT_EQ(rows[0].value, "0.75");
+  EXPECT_EQ(rows[0].unit, "m/s");
+  EXPECT_EQ(rows[0].range, "> 0");
+}
+
 TEST(ControllerRegistry, EveryProblemIsReportedAtOnce) {
   const std::string error = factoryError("type: straight\nstraight: {speed: -1, rate: 0}");
   EXPECT_THAT(error, AllOf(HasSubstr("straight.speed"), HasSubstr("straight.rate")));

@@ -3,6 +3,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace barn::core {
 namespace {
 
@@ -303,6 +305,82 @@ TEST(Config, TextThatIsNotYamlTextIsRefusedNamingTheLine) {
 
 TEST(Config, AnEmptyKeyIsNamedAsSuch) {
   EXPECT_THAT(errorOf("~: 2\n"), HasSubstr("test.yaml: line 1: a key is empty"));
+}
+
+// A struct whose fields carry their schema in visit().
+struct WithSchema {
+  double speed = 0.5;
+  int samples = 6;
+  double share = 0.25;
+  std::vector<double> gains = {1.0, 2.0};
+  Shape shape = Shape::Box;
+  Inner inner;  // no schema: its own validate() would check it
+  template <class V> void visit(V& v) {
+    v("speed", speed, {.unit = "m/s", .range = kPositive, .doc = "forward speed"});
+    v("samples", samples, {.range = atLeast(2), .doc = "speeds sampled"});
+    v("share", share, {.range = kUnit});
+    v("gains", gains, {.unit = "1/s", .range = kNonNegative});
+    v("shape", shape, {.doc = "outline"});
+    v("inner", inner);
+  }
+};
+
+std::vector<std::string> fieldErrors(const WithSchema& config) {
+  Errors errors;
+  validateFields(config, errors, "c.yaml: block");
+  return errors.messages();
+}
+
+TEST(ConfigSchema, ARangeViolationNamesTheKeyTheRangeAndTheUnit) {
+  WithSchema config;
+  config.speed = -1.0;
+  EXPECT_THAT(fieldErrors(config), ::testing::ElementsAre("c.yaml: block.speed: must be > 0 m/s, got -1 m/s"));
+  config = WithSchema{};
+  config.samples = 1;    // >= 2, dimensionless
+  config.share = 1.5;    // in [0, 1]
+  config.gains[1] = -2;  // each element >= 0
+  EXPECT_THAT(fieldErrors(config), ::testing::ElementsAre("c.yaml: block.samples: must be >= 2, got 1",
+                                                          "c.yaml: block.share: must be in [0, 1], got 1.5",
+                                                          "c.yaml: block.gains[1]: must be >= 0 1/s, got -2 1/s"));
+  // Not-a-number is outside every bounded range.
+  config = WithSchema{};
+  config.speed = std::nan("");
+  EXPECT_THAT(fieldErrors(config), ::testing::SizeIs(1));
+  EXPECT_THAT(fieldErrors(WithSchema{}), ::testing::IsEmpty());
+}
+
+TEST(ConfigSchema, RangesReadAsTheyAreWritten) {
+  EXPECT_EQ(kPositive.text(), "> 0");
+  EXPECT_EQ(atMost(1.5).text(), "<= 1.5");
+  EXPECT_EQ(below(0).text(), "< 0");
+  EXPECT_EQ(openClosed(0, 1).text(), "in (0, 1]");
+  EXPECT_EQ(Range{}.text(), "");
+  // Ends: (0, 1] holds 1 and not 0.
+  EXPECT_TRUE(openClosed(0, 1).contains(1.0));
+  EXPECT_FALSE(openClosed(0, 1).contains(0.0));
+}
+
+TEST(ConfigSchema, TheSchemaListsEveryFieldWithValueUnitRangeAndDoc) {
+  const std::vector<FieldRow> rows = schemaOf(WithSchema{});
+  ASSERT_EQ(rows.size(), 7u);  // five fields, and Inner's two flattened
+  EXPECT_EQ(rows[0].key, "speed");
+  EXPECT_EQ(rows[0].value, "0.5");
+  EXPECT_EQ(rows[0].unit, "m/s");
+  EXPECT_EQ(rows[0].range, "> 0");
+  EXPECT_EQ(rows[0].doc, "forward speed");
+  EXPECT_EQ(rows[3].value, "[1, 2]");
+  EXPECT_EQ(rows[4].value, "box");
+  EXPECT_EQ(rows[4].range, "one of box, disc");
+  EXPECT_EQ(rows[5].key, "inner.offset");
+  EXPECT_EQ(rows[5].unit, "");
+}
+
+TEST(ConfigSchema, TheReaderAndWriterIgnoreTheSchema) {
+  WithSchema config = readConfig<WithSchema>(ConfigNode::parseString("speed: -3\nshape: disc\n", "c.yaml"));
+  EXPECT_EQ(config.speed, -3.0);  // reading does not check ranges; validateFields does
+  EXPECT_EQ(config.shape, Shape::Disc);
+  EXPECT_EQ(writeConfig(config),
+            "speed: -3\nsamples: 6\nshare: 0.25\ngains: [1, 2]\nshape: disc\ninner:\n  offset: 0.04\n  enabled: true\n");
 }
 
 }  // namespace

@@ -38,7 +38,7 @@ TEST(RobotConfig, ValidateNamesEveryBadFieldUnderItsPrefix) {
   robot.max_linear_speed = 0.0;
   robot.turn_slip_speed = 2.0;
   validate(robot, errors, "sim.robot");
-  EXPECT_THAT(errors.messages(), Contains(HasSubstr("sim.robot.max_linear_speed: must be > 0")));
+  EXPECT_THAT(errors.messages(), Contains(HasSubstr("sim.robot.max_linear_speed: must be in (0, 20] m/s, got 0 m/s")));
   EXPECT_THAT(errors.messages(), Contains(HasSubstr("sim.robot.turn_slip_speed: must be in [0, 1]")));
   EXPECT_EQ(errors.messages().size(), 2u);
 }

@@ -162,7 +162,7 @@ TEST(LflhPipelineConfig, UnknownKeysAndBadValuesAreReportedWithTheirPath) {
   EXPECT_THAT(errorOf("hallucination: {clearance_min: 0.2, clearance_max: 0.1}\n"), HasSubstr("hallucination.clearance_max"));
   EXPECT_THAT(errorOf("train: {batch_size: 0}\n"), HasSubstr("train.batch_size"));
   EXPECT_EQ(errorOf("train: {activation: leaky_relu, leaky_slope: 0.01}\n"), "no error");
-  EXPECT_THAT(errorOf("train: {activation: tanh}\n"), HasSubstr("train.activation: must be relu or leaky_relu"));
+  EXPECT_THAT(errorOf("train: {activation: tanh}\n"), HasSubstr("train.activation: expected one of relu, leaky_relu"));
   EXPECT_THAT(errorOf("train: {leaky_slope: 1.0}\n"), HasSubstr("train.leaky_slope: must be in (0, 1)"));
 }
 
@@ -181,7 +181,7 @@ TEST(LflhPipelineConfig, TheShippedConfigsTrainAsThePublishedPipeline) {
   const LflhPipelineConfig slow = readLflhPipelineConfig(dir + "1ms.yaml");
   const LflhPipelineConfig fast = readLflhPipelineConfig(dir + "2ms.yaml");
   for (const LflhPipelineConfig* c : {&slow, &fast}) {
-    EXPECT_EQ(c->train.activation, "leaky_relu");
+    EXPECT_EQ(c->train.activation, Activation::LeakyRelu);
     EXPECT_EQ(c->train.leaky_slope, 0.01);
     EXPECT_EQ(c->train.learning_rate, 3e-4);
     EXPECT_EQ(c->train.batch_size, 32);

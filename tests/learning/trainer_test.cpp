@@ -62,7 +62,7 @@ TEST(Trainer, TrainsTheActivationItsConfigNames) {
   TrainConfig config = tinyTraining();
   config.epochs = 3;
   const TrainingResult relu = trainPolicy(tinyData(), config);
-  config.activation = "leaky_relu";
+  config.activation = Activation::LeakyRelu;
   const TrainingResult a = trainPolicy(tinyData(), config);
   const TrainingResult b = trainPolicy(tinyData(), config);
   EXPECT_EQ(a.weights.w1, b.weights.w1);

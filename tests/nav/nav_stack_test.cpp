@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <string>
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "barn/nav/footprint.hpp"
@@ -178,7 +179,7 @@ TEST(NavStack, ThePublishedLocalCostmapIsTheMapOfTheWindowsLastMove) {
   // costmap_2d publishes the rolling map whole only when the window has moved: a node reading
   // that topic alone keeps the last such map while the robot turns on the spot.
   NavStackConfig published_config;
-  published_config.local_costmap_view = "published";
+  published_config.local_costmap_view = CostmapView::Published;
   NavStack published(published_config), live({});
   const core::LaserScan wall = wallScan(-0.45, 0.45, 1.0);
   const auto wallMarked = [&](const NavStack& nav, const core::Pose2& sensor) {
@@ -242,12 +243,21 @@ TEST(NavStack, TheObstacleLayerShowsTheLocalMapsObstaclesWithoutFoldingItsInflat
 }
 
 TEST(NavStack, RejectsAnUnknownLocalCostmapView) {
+  try {
+    core::readConfig<NavStackConfig>(core::ConfigNode::parseString("local_costmap_view: stale\n", "nav.yaml"));
+    FAIL() << "stale is not a view";
+  } catch (const core::InputError& e) {
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("nav.yaml: local_costmap_view: expected one of live, published"));
+  }
+}
+
+TEST(NavStack, AnOutOfRangeFieldNamesItsPathAndUnit) {
   NavStackConfig config;
-  config.local_costmap_view = "stale";
+  config.local_update_rate = 0.0;
   core::Errors errors;
-  validate(config, errors, "nav");
+  validate(config, errors, "dwa.yaml: dwa.nav");
   ASSERT_EQ(errors.messages().size(), 1u);
-  EXPECT_NE(errors.messages()[0].find("nav.local_costmap_view"), std::string::npos) << errors.messages()[0];
+  EXPECT_EQ(errors.messages()[0], "dwa.yaml: dwa.nav.local_update_rate: must be > 0 Hz, got 0 Hz");
 }
 
 TEST(NavStack, AnInflationRadiusSetWhileRunningTakesEffectAtTheMapsNextUpdate) {

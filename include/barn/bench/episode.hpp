@@ -31,12 +31,16 @@ namespace barn::bench {
 /// integrated dead-reckoning estimate that drifts (`drift`, see odometry_drift.hpp), and/or
 /// white Gaussian noise added on top at every control tick.
 struct OdometryNoise {
-  double position_stddev = 0.0;  // [m] on x and y
-  double yaw_stddev = 0.0;       // [rad]
-  double speed_stddev = 0.0;     // [m/s] on the forward speed; [rad/s] on the yaw rate
+  double position_stddev = 0.0;
+  double yaw_stddev = 0.0;
+  double speed_stddev = 0.0;
   OdometryDriftConfig drift;
+  // Upper bounds, our choice: noise larger than the field (or a turn) means nothing.
   template <class V> void visit(V& v) {
-    v("position_stddev", position_stddev); v("yaw_stddev", yaw_stddev); v("speed_stddev", speed_stddev);
+    v("position_stddev", position_stddev, {.unit = "m", .range = core::closed(0.0, 10.0), .doc = "on x and y"});
+    v("yaw_stddev", yaw_stddev, {.unit = "rad", .range = core::closed(0.0, 10.0)});
+    v("speed_stddev", speed_stddev,
+      {.unit = "m/s, rad/s", .range = core::closed(0.0, 10.0), .doc = "on the forward speed and on the yaw rate"});
     v("drift", drift);
   }
 };
@@ -46,14 +50,17 @@ struct OdometryNoise {
 /// from: costmap updates run in their own thread at 20 Hz, the controller reads whatever map is
 /// there, and cmd_vel crosses a topic. Rounded to whole physics steps.
 struct LatencyConfig {
-  double command = 0.0;  // [s] from the controller's tick to the drive applying its command
-  template <class V> void visit(V& v) { v("command", command); }
+  double command = 0.0;  // none
+  template <class V> void visit(V& v) {
+    v("command", command,
+      {.unit = "s", .range = core::closed(0.0, 1.0), .doc = "from the controller's tick to the drive applying its command"});
+  }
 };
 
 /// Everything about an episode except the world and the controller.
 struct EpisodeConfig {
-  core::ProtocolName protocol = core::ProtocolName::Barn2023;  // preset; YAML names it (barn2023, barn2024)
-  /// [m] robot centre to goal at success. Every edition's run.py uses 1 m; its drafts of
+  core::ProtocolName protocol = core::ProtocolName::Barn2023;
+  /// Robot centre to goal at success. Every edition's run.py uses 1 m; its drafts of
   /// March 2022 used less, so logs of that time compare only at their radius (docs/fidelity.md).
   double success_radius = core::Protocol{}.success_radius;
   sim::PhysicsConfig physics;
@@ -63,8 +70,15 @@ struct EpisodeConfig {
   LatencyConfig latency;
 
   template <class V> void visit(V& v) {
-    v("protocol", protocol); v("success_radius", success_radius); v("physics", physics); v("robot", robot);
-    v("lidar", lidar); v("odometry", odometry); v("latency", latency);
+    v("protocol", protocol, {.doc = "preset; YAML names it (barn2023, barn2024)"});
+    // The goal lies 3.4 m past the obstacle field: a larger disc would reach back into it.
+    v("success_radius", success_radius,
+      {.unit = "m", .range = core::openClosed(0.0, 3.0), .doc = "robot centre to goal at success"});
+    v("physics", physics);
+    v("robot", robot);
+    v("lidar", lidar);
+    v("odometry", odometry);
+    v("latency", latency);
   }
 };
 

@@ -25,6 +25,7 @@
 
 #include "barn/bench/episode.hpp"
 #include "barn/controllers/global_plan_feed.hpp"
+#include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/core/world.hpp"
 
@@ -35,13 +36,18 @@ namespace barn::bench {
 /// d is the distance from the odometry pose to the goal [m] (as barnbench.Env's default reward
 /// computes it). A step that ends in an error (a non-finite action) gets no end term.
 struct RewardConfig {
-  double progress = 1.0;     // [1/m] per metre the goal came closer (Env's default; E2E's goal_reward 1)
-  double step = 0.0;         // [-] every step (E2E's slack_reward; 0 there)
-  double success = 10.0;     // [-] on success (Env's default; E2E: 20)
-  double collision = -10.0;  // [-] on a collision (Env's default; E2E: -1)
-  double timeout = 0.0;      // [-] on a timeout or truncation (E2E's failure_reward; 0 there)
+  double progress = 1.0;
+  double step = 0.0;
+  double success = 10.0;
+  double collision = -10.0;
+  double timeout = 0.0;
   template <class V> void visit(V& v) {
-    v("progress", progress); v("step", step); v("success", success); v("collision", collision); v("timeout", timeout);
+    v("progress", progress,
+      {.unit = "1/m", .doc = "per metre the goal came closer (Env's default; E2E's goal_reward 1)"});
+    v("step", step, {.doc = "every step (E2E's slack_reward; 0 there)"});
+    v("success", success, {.doc = "on success (Env's default; E2E: 20)"});
+    v("collision", collision, {.doc = "on a collision (Env's default; E2E: -1)"});
+    v("timeout", timeout, {.doc = "on a timeout or truncation (E2E's failure_reward; 0 there)"});
   }
 };
 void validate(const RewardConfig& config, core::Errors& errors, const std::string& prefix);

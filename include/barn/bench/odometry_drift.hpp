@@ -16,6 +16,7 @@
 
 #include <cstdint>
 
+#include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/core/rng.hpp"
 #include "barn/core/types.hpp"
@@ -23,18 +24,26 @@
 namespace barn::bench {
 
 struct OdometryDriftConfig {
-  double speed_scale_stddev = 0.01;   // [-] per-episode relative error of the wheel speed
-  double speed_noise_density = 0.005; // [m/s/sqrt(Hz)] white noise on the measured speed
-  double turn_scale_stddev = 0.0;     // [-] per-episode relative error of the estimated yaw rate
-                                      // (skid-steer wheels misjudge turns; the gyro corrects
-                                      // only part of it in the filter)
-  double gyro_bias_stddev = 0.001;    // [rad/s] per-episode constant gyro bias
-  double gyro_noise_density = 0.002;  // [rad/s/sqrt(Hz)] white noise on the measured yaw rate
-  bool see_sideways_slip = false;     // false: sideways slip is not in the estimate (wheels)
+  double speed_scale_stddev = 0.01;
+  double speed_noise_density = 0.005;
+  double turn_scale_stddev = 0.0;
+  double gyro_bias_stddev = 0.001;
+  double gyro_noise_density = 0.002;
+  bool see_sideways_slip = false;
+  // Upper bounds, our choice: a hundred times and more what a wheel encoder or a MEMS gyro
+  // shows, so a typo (1e6) is an error rather than an odometry that means nothing.
   template <class V> void visit(V& v) {
-    v("speed_scale_stddev", speed_scale_stddev); v("speed_noise_density", speed_noise_density);
-    v("turn_scale_stddev", turn_scale_stddev); v("gyro_bias_stddev", gyro_bias_stddev); v("gyro_noise_density", gyro_noise_density);
-    v("see_sideways_slip", see_sideways_slip);
+    v("speed_scale_stddev", speed_scale_stddev,
+      {.range = core::closedOpen(0.0, 0.5), .doc = "per-episode relative error of the wheel speed"});
+    v("speed_noise_density", speed_noise_density,
+      {.unit = "m/s/sqrt(Hz)", .range = core::closed(0.0, 1.0), .doc = "white noise on the measured speed"});
+    v("turn_scale_stddev", turn_scale_stddev,
+      {.range = core::closedOpen(0.0, 0.5), .doc = "per-episode relative error of the estimated yaw rate (skid-steer wheels misjudge turns; the gyro corrects only part of it in the filter)"});
+    v("gyro_bias_stddev", gyro_bias_stddev,
+      {.unit = "rad/s", .range = core::closed(0.0, 1.0), .doc = "per-episode constant gyro bias"});
+    v("gyro_noise_density", gyro_noise_density,
+      {.unit = "rad/s/sqrt(Hz)", .range = core::closed(0.0, 1.0), .doc = "white noise on the measured yaw rate"});
+    v("see_sideways_slip", see_sideways_slip, {.doc = "false: sideways slip is not in the estimate (wheels)"});
   }
   /// No errors at all: the estimate is the ground truth.
   static OdometryDriftConfig groundTruth() {

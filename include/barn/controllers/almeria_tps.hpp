@@ -114,19 +114,27 @@ struct FullEvalPhase {
 /// TOptions() defaults list five factor weights, which the seven-factor code rejects, so a
 /// configuration file has always given them.
 struct FullEvalConfig {
-  std::vector<double> factor_weights = {0.25, 0.1, 1.0, 0.05, 0.5, 1.0, 1.0};  // [-] ini: factorWeights
-  std::vector<double> factor_normalize = {0, 0, 0, 0, 1, 1, 0};                 // [-] ini: factorNormalizeOrNot (0/1)
+  std::vector<double> factor_weights = {0.25, 0.1, 1.0, 0.05, 0.5, 1.0, 1.0};
+  std::vector<double> factor_normalize = {0, 0, 0, 0, 1, 1, 0};
   // [-] ini: PHASE1 [6] 0.5, PHASE2 [4] 0.7, PHASE3 [0 2] 0.7
   std::vector<FullEvalPhase> phases = {{{6}, 0.5}, {{4}, 0.7}, {{0, 2}, 0.7}};
-  double too_close_obstacle = 0.15;                // [-] ini: TOO_CLOSE_OBSTACLE, normalised free distance
-  double target_slow_approaching_distance = 0.10;  // [m] ini: TARGET_SLOW_APPROACHING_DISTANCE
-  double obstacle_slow_down_distance = 0.15;       // [m] ini: OBSTACLE_SLOW_DOWN_DISTANCE
-  double hysteresis_sector_count = 5.0;            // [paths] ini: HYSTERESIS_SECTOR_COUNT
+  double too_close_obstacle = 0.15;
+  double target_slow_approaching_distance = 0.10;
+  double obstacle_slow_down_distance = 0.15;
+  double hysteresis_sector_count = 5.0;
 
   template <class V> void visit(V& v) {
-    v("factor_weights", factor_weights); v("factor_normalize", factor_normalize); v("phases", phases);
-    v("too_close_obstacle", too_close_obstacle); v("target_slow_approaching_distance", target_slow_approaching_distance);
-    v("obstacle_slow_down_distance", obstacle_slow_down_distance); v("hysteresis_sector_count", hysteresis_sector_count);
+    v("factor_weights", factor_weights, {.doc = "ini: factorWeights"});
+    v("factor_normalize", factor_normalize, {.doc = "ini: factorNormalizeOrNot (0/1)"});
+    v("phases", phases);
+    v("too_close_obstacle", too_close_obstacle,
+      {.range = core::closedOpen(0.0, 1.0), .doc = "ini: TOO_CLOSE_OBSTACLE, normalised free distance"});
+    v("target_slow_approaching_distance", target_slow_approaching_distance,
+      {.unit = "m", .range = core::kPositive, .doc = "ini: TARGET_SLOW_APPROACHING_DISTANCE"});
+    v("obstacle_slow_down_distance", obstacle_slow_down_distance,
+      {.unit = "m", .range = core::kNonNegative, .doc = "ini: OBSTACLE_SLOW_DOWN_DISTANCE"});
+    v("hysteresis_sector_count", hysteresis_sector_count,
+      {.unit = "paths", .range = core::kNonNegative, .doc = "ini: HYSTERESIS_SECTOR_COUNT"});
   }
 };
 void validate(const FullEvalConfig& config, core::Errors& errors, const std::string& prefix);
@@ -187,36 +195,53 @@ std::vector<Eigen::Vector2d> planWaypoints(const std::vector<Eigen::Vector2d>& p
                                            double spacing);
 
 struct AlmeriaTpsConfig {
-  AlmeriaTarget target = AlmeriaTarget::PlanWaypoints;  // our choice (see the header comment)
-  double waypoint_spacing = 0.5;           // [m] our choice: waypoints along the plan
-  // [m] mrpt_tps_astar_planner node: mid_waypoints_allowed_distance (the last waypoint, the goal,
+  AlmeriaTarget target = AlmeriaTarget::PlanWaypoints;
+  double waypoint_spacing = 0.5;
+  // Mrpt_tps_astar_planner node: mid_waypoints_allowed_distance (the last waypoint, the goal,
   // has target_allowed_distance)
   double waypoint_allowed_distance = 0.5;
-  int min_timesteps_confirm_skip_waypoints = 1;  // [ticks] ini: [CWaypointsNavigator]
-  double max_distance_to_allow_skip_waypoint = -1.0;  // [m] ini: <= 0 unlimited
-  double nav_period = 0.1;                 // [s] mrpt_reactivenav2d node: nav_period default
-  // [m] mrpt_reactivenav2d node: target_allowed_distance default (and the TPS-A* planner node's
+  int min_timesteps_confirm_skip_waypoints = 1;
+  double max_distance_to_allow_skip_waypoint = -1.0;
+  double nav_period = 0.1;
+  // Mrpt_reactivenav2d node: target_allowed_distance default (and the TPS-A* planner node's
   // final_waypoint_allowed_distance)
   double target_allowed_distance = 0.40;
-  double not_approaching_timeout = 30.0;   // [s] ini: alarm_seems_not_approaching_target_timeout
-  double secure_distance_start = 0.05;     // [-] ini: secure_distance_start (normalised)
-  double secure_distance_end = 0.15;       // [-] ini: secure_distance_end (normalised)
-  double robot_max_v = 1.2;                // [m/s] PTG file: ROBOT_MAX_V (robotMax_V_mps)
-  double robot_max_w_deg = 60.0;           // [deg/s] PTG file: ROBOT_MAX_W (robotMax_W_degps)
-  double speedfilter_tau = 0.0;            // [s] MRPT default (the ini leaves it commented out)
-  PtgConfig ptg;                           // the BARN Jackal PTG (ptg.hpp)
-  FullEvalConfig full_eval;                // reactive2d_default.ini's FullEval
-  nav::NavStackConfig nav = almeriaNav();  // the global plan of plan_waypoints
+  double not_approaching_timeout = 30.0;
+  double secure_distance_start = 0.05;
+  double secure_distance_end = 0.15;
+  double robot_max_v = 1.2;
+  double robot_max_w_deg = 60.0;
+  double speedfilter_tau = 0.0;
+  PtgConfig ptg;
+  FullEvalConfig full_eval;
+  nav::NavStackConfig nav = almeriaNav();
 
   template <class V> void visit(V& v) {
-    v("target", target); v("waypoint_spacing", waypoint_spacing); v("waypoint_allowed_distance", waypoint_allowed_distance);
-    v("min_timesteps_confirm_skip_waypoints", min_timesteps_confirm_skip_waypoints);
-    v("max_distance_to_allow_skip_waypoint", max_distance_to_allow_skip_waypoint);
-    v("nav_period", nav_period); v("target_allowed_distance", target_allowed_distance);
-    v("not_approaching_timeout", not_approaching_timeout); v("secure_distance_start", secure_distance_start);
-    v("secure_distance_end", secure_distance_end); v("robot_max_v", robot_max_v);
-    v("robot_max_w_deg", robot_max_w_deg); v("speedfilter_tau", speedfilter_tau); v("ptg", ptg);
-    v("full_eval", full_eval); v("nav", nav);
+    v("target", target, {.doc = "our choice (see the header comment)"});
+    v("waypoint_spacing", waypoint_spacing,
+      {.unit = "m", .range = core::kPositive, .doc = "our choice: waypoints along the plan"});
+    v("waypoint_allowed_distance", waypoint_allowed_distance, {.unit = "m", .range = core::kNonNegative});
+    v("min_timesteps_confirm_skip_waypoints", min_timesteps_confirm_skip_waypoints,
+      {.unit = "ticks", .range = core::kNonNegative, .doc = "ini: [CWaypointsNavigator]"});
+    v("max_distance_to_allow_skip_waypoint", max_distance_to_allow_skip_waypoint,
+      {.unit = "m", .doc = "ini: <= 0 unlimited"});
+    v("nav_period", nav_period,
+      {.unit = "s", .range = core::kPositive, .doc = "mrpt_reactivenav2d node: nav_period default"});
+    v("target_allowed_distance", target_allowed_distance, {.unit = "m", .range = core::kNonNegative});
+    v("not_approaching_timeout", not_approaching_timeout,
+      {.unit = "s", .range = core::kPositive, .doc = "ini: alarm_seems_not_approaching_target_timeout"});
+    v("secure_distance_start", secure_distance_start,
+      {.range = core::kNonNegative, .doc = "ini: secure_distance_start (normalised)"});
+    v("secure_distance_end", secure_distance_end, {.doc = "ini: secure_distance_end (normalised)"});
+    v("robot_max_v", robot_max_v,
+      {.unit = "m/s", .range = core::kPositive, .doc = "PTG file: ROBOT_MAX_V (robotMax_V_mps)"});
+    v("robot_max_w_deg", robot_max_w_deg,
+      {.unit = "deg/s", .range = core::kPositive, .doc = "PTG file: ROBOT_MAX_W (robotMax_W_degps)"});
+    v("speedfilter_tau", speedfilter_tau,
+      {.unit = "s", .range = core::kNonNegative, .doc = "MRPT default (the ini leaves it commented out)"});
+    v("ptg", ptg, {.doc = "the BARN Jackal PTG (ptg.hpp)"});
+    v("full_eval", full_eval, {.doc = "reactive2d_default.ini's FullEval"});
+    v("nav", nav, {.doc = "the global plan of plan_waypoints"});
   }
 
   /// Our choice: BARN's move_base stack with ROS NavFn (NavStackConfig::moveBaseWithNavFn),

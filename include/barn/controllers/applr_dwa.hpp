@@ -31,6 +31,7 @@
 
 #include "barn/controllers/controller.hpp"
 #include "barn/controllers/dwa.hpp"
+#include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/learning/applr_policy.hpp"
 #include "barn/nav/path_tools.hpp"
@@ -38,16 +39,24 @@
 namespace barn::controllers {
 
 struct ApplrDwaConfig {
-  std::string policy = "configs/policies/applr_dwa.policy";  // relative to the config file's folder
-  double period = 1.0;        // [s] APPLR time_step: new parameters every 1 s of simulated time
-  double los = 1.0;           // [m] APPLR Robot_config.los: the local goal is the first plan point farther than this
-  int smoothing_window = 19;  // [points] APPLR get_global_path: savgol_filter(x, 19, 3) on x and y; 0: no smoothing
-  int smoothing_order = 3;    // [-] ... its polynomial order
-  DwaConfig dwa;              // the DWA it tunes, BARN's (dwa.yaml); its values are the parameters before the first update
+  std::string policy = "configs/policies/applr_dwa.policy";
+  double period = 1.0;
+  double los = 1.0;
+  int smoothing_window = 19;
+  int smoothing_order = 3;
+  DwaConfig dwa;
 
   template <class V> void visit(V& v) {
-    v("policy", policy); v("period", period); v("los", los); v("smoothing_window", smoothing_window);
-    v("smoothing_order", smoothing_order); v("dwa", dwa);
+    v("policy", policy, {.doc = "relative to the config file's folder"});
+    v("period", period,
+      {.unit = "s", .range = core::kPositive, .doc = "APPLR time_step: new parameters every 1 s of simulated time"});
+    v("los", los,
+      {.unit = "m", .range = core::kNonNegative, .doc = "APPLR Robot_config.los: the local goal is the first plan point farther than this"});
+    v("smoothing_window", smoothing_window,
+      {.unit = "points", .doc = "APPLR get_global_path: savgol_filter(x, 19, 3) on x and y; 0: no smoothing"});
+    v("smoothing_order", smoothing_order, {.doc = "... its polynomial order"});
+    v("dwa", dwa,
+      {.doc = "the DWA it tunes, BARN's (dwa.yaml); its values are the parameters before the first update"});
   }
 };
 void validate(const ApplrDwaConfig& config, core::Errors& errors, const std::string& prefix);

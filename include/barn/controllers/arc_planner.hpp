@@ -24,6 +24,7 @@
 
 #include <Eigen/Core>
 
+#include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
 
 namespace barn::controllers {
@@ -42,25 +43,37 @@ struct MotionLimits {
 double timeOptimalSpeed(const MotionLimits& limits, double speed, double distance, double dt);
 
 struct ArcPlannerConfig {
-  double robot_length = 0.5;          // [m] team (graph_navigation navigation.lua)
-  double robot_width = 0.44;          // [m] team
-  double base_link_offset = 0.0;      // [m] team: the box's centre behind the base link
-  double obstacle_margin = 0.05;      // [m] team
-  int num_options = 31;               // team
-  double max_curvature = 2.5;         // [1/m] team (AckermannSampler.max_curvature)
-  double max_free_path_length = 6.0;  // [m] team
-  double max_clearance = 1.0;         // [m] team
-  double clearance_clip = 0.8;        // [-] team (clearance_path_clip_fraction)
-  double dw = 10.0;                   // [-] team (run_graphnav.sh --dw)
-  double cw = 0.2;                    // [1] team (--cw); graph_navigation's default is -0.5
-  double fw = 0.1;                    // [-] team (--fw); graph_navigation's default is -1
-  double subopt = 1.5;                // [-] graph_navigation's default (UT do not set it)
+  double robot_length = 0.5;
+  double robot_width = 0.44;
+  double base_link_offset = 0.0;
+  double obstacle_margin = 0.05;
+  int num_options = 31;
+  double max_curvature = 2.5;
+  double max_free_path_length = 6.0;
+  double max_clearance = 1.0;
+  double clearance_clip = 0.8;
+  double dw = 10.0;
+  double cw = 0.2;
+  double fw = 0.1;
+  double subopt = 1.5;
 
   template <class V> void visit(V& v) {
-    v("robot_length", robot_length); v("robot_width", robot_width); v("base_link_offset", base_link_offset);
-    v("obstacle_margin", obstacle_margin); v("num_options", num_options); v("max_curvature", max_curvature);
-    v("max_free_path_length", max_free_path_length); v("max_clearance", max_clearance);
-    v("clearance_clip", clearance_clip); v("dw", dw); v("cw", cw); v("fw", fw); v("subopt", subopt);
+    v("robot_length", robot_length,
+      {.unit = "m", .range = core::kPositive, .doc = "team (graph_navigation navigation.lua)"});
+    v("robot_width", robot_width, {.unit = "m", .range = core::kPositive, .doc = "team"});
+    v("base_link_offset", base_link_offset, {.unit = "m", .doc = "team: the box's centre behind the base link"});
+    v("obstacle_margin", obstacle_margin, {.unit = "m", .range = core::kNonNegative, .doc = "team"});
+    v("num_options", num_options, {.range = core::atLeast(2), .doc = "team"});
+    v("max_curvature", max_curvature,
+      {.unit = "1/m", .range = core::kPositive, .doc = "team (AckermannSampler.max_curvature)"});
+    v("max_free_path_length", max_free_path_length, {.unit = "m", .range = core::kPositive, .doc = "team"});
+    v("max_clearance", max_clearance, {.unit = "m", .range = core::kNonNegative, .doc = "team"});
+    v("clearance_clip", clearance_clip,
+      {.range = core::openClosed(0.0, 1.0), .doc = "team (clearance_path_clip_fraction)"});
+    v("dw", dw, {.doc = "team (run_graphnav.sh --dw)"});
+    v("cw", cw, {.unit = "1", .doc = "team (--cw); graph_navigation's default is -0.5"});
+    v("fw", fw, {.doc = "team (--fw); graph_navigation's default is -1"});
+    v("subopt", subopt, {.range = core::atLeast(1.0), .doc = "graph_navigation's default (UT do not set it)"});
   }
 };
 void validate(const ArcPlannerConfig& config, core::Errors& errors, const std::string& prefix);

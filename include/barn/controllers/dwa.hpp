@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "barn/controllers/controller.hpp"
+#include "barn/core/config.hpp"
 #include "barn/controllers/move_base.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/nav/nav_stack.hpp"
@@ -38,18 +39,20 @@ namespace barn::controllers {
 /// move_base's patience and recoveries (controllers/move_base.hpp).
 using DwaRecoveryConfig = MoveBaseRecoveryConfig;
 
+/// Each field's unit, range and meaning are in visit(); the values are BARN's move_base
+/// parameters where configs/controllers/dwa.yaml lists them, base_local_planner's otherwise.
 struct DwaConfig {
-  double rate = 20.0;                 // [Hz] controller_frequency
-  double max_vel_x = 0.5;             // [m/s] (fast_dwa: 1.0)
-  double min_vel_x = 0.1;             // [m/s]
-  double max_vel_theta = 1.57;        // [rad/s]
-  double min_in_place_vel_theta = 0.314;  // [rad/s]
-  double acc_lim_x = 10.0;            // [m/s^2]
-  double acc_lim_theta = 20.0;        // [rad/s^2]
-  double sim_time = 2.0;              // [s] roll-out horizon
-  double sim_granularity = 0.02;      // [m] step of the roll-out
-  double angular_sim_granularity = 0.02;  // [rad]
-  int vx_samples = 6;                 // (fast_dwa: 12)
+  double rate = 20.0;
+  double max_vel_x = 0.5;             // fast_dwa: 1.0
+  double min_vel_x = 0.1;
+  double max_vel_theta = 1.57;
+  double min_in_place_vel_theta = 0.314;
+  double acc_lim_x = 10.0;
+  double acc_lim_theta = 20.0;
+  double sim_time = 2.0;
+  double sim_granularity = 0.02;
+  double angular_sim_granularity = 0.02;
+  int vx_samples = 6;                 // fast_dwa: 12
   int vtheta_samples = 20;
   double pdist_scale = 0.75;
   double gdist_scale = 1.0;
@@ -58,27 +61,43 @@ struct DwaConfig {
   // cells. Upstream decides this from a member it never assigns; BARN's config asks for it,
   // and per metre matches Gazebo's per-world times (docs/fidelity.md).
   bool meter_scoring = true;
-  double scoring_window = 3.0;        // [m] half-size of the window the path and goal distances
-                                      // are computed in (ROS: the whole 10 x 10 m local map)
-  double escape_vel = -0.5;           // [m/s]
-  double escape_reset_dist = 0.1;     // [m] escaping ends after backing this far ...
-  double escape_reset_theta = 0.1;    // [rad] ... or turning this much
-  double oscillation_reset_dist = 0.05;  // [m] moving this far from the last in-place turn
-                                         //     forgets the stuck rotations
-  double heading_lookahead = 0.325;   // [m] how far ahead a rotation's end heading is judged
+  double scoring_window = 3.0;        // our choice (ROS: the whole 10 x 10 m local map)
+  double escape_vel = -0.5;
+  double escape_reset_dist = 0.1;
+  double escape_reset_theta = 0.1;
+  double oscillation_reset_dist = 0.05;
+  double heading_lookahead = 0.325;
   DwaRecoveryConfig recovery;
   nav::NavStackConfig nav = nav::NavStackConfig::moveBaseWithNavFn();  // docs/fidelity.md, "The global planner"
 
   template <class V> void visit(V& v) {
-    v("rate", rate); v("max_vel_x", max_vel_x); v("min_vel_x", min_vel_x); v("max_vel_theta", max_vel_theta);
-    v("min_in_place_vel_theta", min_in_place_vel_theta); v("acc_lim_x", acc_lim_x); v("acc_lim_theta", acc_lim_theta);
-    v("sim_time", sim_time); v("sim_granularity", sim_granularity); v("angular_sim_granularity", angular_sim_granularity);
-    v("vx_samples", vx_samples); v("vtheta_samples", vtheta_samples); v("pdist_scale", pdist_scale);
-    v("gdist_scale", gdist_scale); v("occdist_scale", occdist_scale); v("meter_scoring", meter_scoring);
-    v("scoring_window", scoring_window); v("escape_vel", escape_vel);
-    v("escape_reset_dist", escape_reset_dist); v("escape_reset_theta", escape_reset_theta);
-    v("oscillation_reset_dist", oscillation_reset_dist);
-    v("heading_lookahead", heading_lookahead); v("recovery", recovery);
+    using core::kPositive, core::kNonNegative;
+    v("rate", rate, {.unit = "Hz", .range = kPositive, .doc = "controller_frequency"});
+    v("max_vel_x", max_vel_x, {.unit = "m/s", .range = kPositive, .doc = "fastest forward speed"});
+    v("min_vel_x", min_vel_x, {.unit = "m/s", .range = kNonNegative, .doc = "slowest forward speed sampled (<= max_vel_x)"});
+    v("max_vel_theta", max_vel_theta, {.unit = "rad/s", .range = kPositive, .doc = "fastest turn (the window is symmetric)"});
+    v("min_in_place_vel_theta", min_in_place_vel_theta,
+      {.unit = "rad/s", .range = kNonNegative, .doc = "slowest in-place rotation"});
+    v("acc_lim_x", acc_lim_x, {.unit = "m/s^2", .range = kPositive, .doc = "acceleration limit"});
+    v("acc_lim_theta", acc_lim_theta, {.unit = "rad/s^2", .range = kPositive, .doc = "angular acceleration limit"});
+    v("sim_time", sim_time, {.unit = "s", .range = kPositive, .doc = "roll-out horizon"});
+    v("sim_granularity", sim_granularity, {.unit = "m", .range = kPositive, .doc = "step of the roll-out"});
+    v("angular_sim_granularity", angular_sim_granularity, {.unit = "rad", .range = kPositive, .doc = "angular step of the roll-out"});
+    v("vx_samples", vx_samples, {.range = core::atLeast(2), .doc = "forward speeds sampled"});
+    v("vtheta_samples", vtheta_samples, {.range = core::atLeast(2), .doc = "turn rates sampled"});
+    v("pdist_scale", pdist_scale, {.range = kNonNegative, .doc = "weight of the distance to the global path"});
+    v("gdist_scale", gdist_scale, {.range = kNonNegative, .doc = "weight of the distance to the local goal"});
+    v("occdist_scale", occdist_scale, {.range = kNonNegative, .doc = "weight of the highest cost under the footprint"});
+    v("meter_scoring", meter_scoring, {.doc = "path and goal distances in metres rather than cells"});
+    v("scoring_window", scoring_window,
+      {.unit = "m", .range = kPositive, .doc = "half-size of the window the path and goal distances are computed in"});
+    v("escape_vel", escape_vel, {.unit = "m/s", .range = core::below(0.0), .doc = "back-up speed when nothing is valid (backwards)"});
+    v("escape_reset_dist", escape_reset_dist, {.unit = "m", .range = kPositive, .doc = "escaping ends after backing this far ..."});
+    v("escape_reset_theta", escape_reset_theta, {.unit = "rad", .range = kPositive, .doc = "... or turning this much"});
+    v("oscillation_reset_dist", oscillation_reset_dist,
+      {.unit = "m", .doc = "moving this far from the last in-place turn forgets the stuck rotations"});
+    v("heading_lookahead", heading_lookahead, {.unit = "m", .doc = "how far ahead a rotation's end heading is judged"});
+    v("recovery", recovery);
     v("nav", nav);
   }
 };

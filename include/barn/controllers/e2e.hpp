@@ -26,6 +26,7 @@
 
 #include "barn/controllers/controller.hpp"
 #include "barn/controllers/global_plan_feed.hpp"
+#include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/learning/mlp_policy.hpp"
 #include "barn/nav/nav_stack.hpp"
@@ -34,16 +35,21 @@ namespace barn::controllers {
 
 /// The observation encoding (the env's, motion_control_envs.py and jackal_gazebo_envs.py).
 struct E2eEncoding {
-  int frames = 4;            // [-] the env's stack_frame 4
-  double range_clip = 5.0;   // [m] the env's laser_clip 5
-  double goal_scale = 5.0;   // [m] goal input = plan end / 5 - 1 (the env's "roughly (-1, 1)")
-  double min_v = -1.0;       // [m/s] the env's min_v
-  double max_v = 2.0;        // [m/s] the env's max_v
-  double min_w = -3.14;      // [rad/s] the env's min_w
-  double max_w = 3.14;       // [rad/s] the env's max_w
+  int frames = 4;
+  double range_clip = 5.0;
+  double goal_scale = 5.0;
+  double min_v = -1.0;
+  double max_v = 2.0;
+  double min_w = -3.14;
+  double max_w = 3.14;
   template <class V> void visit(V& v) {
-    v("frames", frames); v("range_clip", range_clip); v("goal_scale", goal_scale);
-    v("min_v", min_v); v("max_v", max_v); v("min_w", min_w); v("max_w", max_w);
+    v("frames", frames, {.range = core::closed(1, 64), .doc = "the env's stack_frame 4"});
+    v("range_clip", range_clip, {.unit = "m", .doc = "the env's laser_clip 5"});
+    v("goal_scale", goal_scale, {.unit = "m", .doc = "goal input = plan end / 5 - 1 (the env's \"roughly (-1, 1)\")"});
+    v("min_v", min_v, {.unit = "m/s", .doc = "the env's min_v"});
+    v("max_v", max_v, {.unit = "m/s", .doc = "the env's max_v"});
+    v("min_w", min_w, {.unit = "rad/s", .doc = "the env's min_w"});
+    v("max_w", max_w, {.unit = "rad/s", .doc = "the env's max_w"});
   }
 };
 void validate(const E2eEncoding& encoding, core::Errors& errors, const std::string& prefix);
@@ -63,11 +69,16 @@ void encodeE2eFrame(const Range* ranges, int beams, const Eigen::Vector2d& plan_
                     const E2eEncoding& encoding, float* out);
 
 struct E2eConfig {
-  std::string policy = "configs/policies/e2e.policy";  // relative to the config file's folder
-  double rate = 5.0;        // [Hz] the env's time_step 0.2 s
-  E2eEncoding encoding;     // the env's observation and action space (above)
-  nav::NavStackConfig nav = nav::NavStackConfig::moveBaseWithNavFn();  // the env's move_base: BARN's DWA-baseline stack with NavFn
-  template <class V> void visit(V& v) { v("policy", policy); v("rate", rate); v("encoding", encoding); v("nav", nav); }
+  std::string policy = "configs/policies/e2e.policy";
+  double rate = 5.0;
+  E2eEncoding encoding;
+  nav::NavStackConfig nav = nav::NavStackConfig::moveBaseWithNavFn();
+  template <class V> void visit(V& v) {
+    v("policy", policy, {.doc = "relative to the config file's folder"});
+    v("rate", rate, {.unit = "Hz", .doc = "the env's time_step 0.2 s"});
+    v("encoding", encoding, {.doc = "the env's observation and action space (above)"});
+    v("nav", nav, {.doc = "the env's move_base: BARN's DWA-baseline stack with NavFn"});
+  }
 };
 void validate(const E2eConfig& config, core::Errors& errors, const std::string& prefix);
 

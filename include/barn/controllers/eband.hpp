@@ -46,6 +46,7 @@
 
 #include "barn/controllers/controller.hpp"
 #include "barn/controllers/move_base.hpp"
+#include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/nav/nav_stack.hpp"
 
@@ -54,51 +55,64 @@ namespace barn::controllers {
 /// eband_local_planner's parameters (cfg/EBandPlanner.cfg defaults, ROS names) used by its
 /// differential-drive branch, move_base's cycle and recoveries, and the stack.
 struct EbandConfig {
-  double rate = 20.0;  // [Hz] move_base controller_frequency (eband's Ctrl_Rate is holonomic-only)
+  double rate = 20.0;
   // The band (EBandPlanner).
-  double eband_min_relative_overlap = 0.7;     // bubbles overlap below this x their radii's sum
-  double eband_tiny_bubble_distance = 0.01;    // [m] shorter neighbour distances give no internal force
-  double eband_tiny_bubble_expansion = 0.01;   // [m] a bubble this small counts as in collision
+  double eband_min_relative_overlap = 0.7;
+  double eband_tiny_bubble_distance = 0.01;
+  double eband_tiny_bubble_expansion = 0.01;
   double eband_internal_force_gain = 1.0;
   double eband_external_force_gain = 2.0;
   int num_iterations_eband_optimization = 3;
   int eband_equilibrium_approx_max_recursion_depth = 4;
   double eband_equilibrium_relative_overshoot = 0.75;
   double eband_significant_force_lower_bound = 0.15;
-  double costmap_weight = 10.0;                // [1/m] the inflation's decay, to invert it
+  double costmap_weight = 10.0;
   // The trajectory controller (EBandTrajectoryCtrl, differential_drive true).
-  double max_vel_lin = 0.75;                   // [m/s]
-  double max_vel_th = 1.0;                     // [rad/s]
-  double min_vel_lin = 0.1;                    // [m/s]
-  double min_vel_th = 0.0;                     // [rad/s]
-  double min_in_place_vel_th = 0.0;            // [rad/s]
-  double k_prop = 4.0;                         // [1/s] yaw rate per rad of bearing
+  double max_vel_lin = 0.75;
+  double max_vel_th = 1.0;
+  double min_vel_lin = 0.1;
+  double min_vel_th = 0.0;
+  double min_in_place_vel_th = 0.0;
+  double k_prop = 4.0;
   double bubble_velocity_multiplier = 2.0;
   double rotation_threshold_multiplier = 1.0;
   bool disallow_hysteresis = false;
-  double xy_goal_tolerance = 0.1;              // [m]
-  double yaw_goal_tolerance = 0.05;            // [rad]
+  double xy_goal_tolerance = 0.1;
+  double yaw_goal_tolerance = 0.05;
   MoveBaseRecoveryConfig recovery;
-  nav::NavStackConfig nav = nav::NavStackConfig::moveBaseWithNavFn();  // move_base_eband.launch
+  nav::NavStackConfig nav = nav::NavStackConfig::moveBaseWithNavFn();
 
   template <class V> void visit(V& v) {
-    v("rate", rate);
-    v("eband_min_relative_overlap", eband_min_relative_overlap);
-    v("eband_tiny_bubble_distance", eband_tiny_bubble_distance);
-    v("eband_tiny_bubble_expansion", eband_tiny_bubble_expansion);
-    v("eband_internal_force_gain", eband_internal_force_gain);
-    v("eband_external_force_gain", eband_external_force_gain);
-    v("num_iterations_eband_optimization", num_iterations_eband_optimization);
-    v("eband_equilibrium_approx_max_recursion_depth", eband_equilibrium_approx_max_recursion_depth);
-    v("eband_equilibrium_relative_overshoot", eband_equilibrium_relative_overshoot);
-    v("eband_significant_force_lower_bound", eband_significant_force_lower_bound);
-    v("costmap_weight", costmap_weight);
-    v("max_vel_lin", max_vel_lin); v("max_vel_th", max_vel_th); v("min_vel_lin", min_vel_lin);
-    v("min_vel_th", min_vel_th); v("min_in_place_vel_th", min_in_place_vel_th); v("k_prop", k_prop);
-    v("bubble_velocity_multiplier", bubble_velocity_multiplier);
-    v("rotation_threshold_multiplier", rotation_threshold_multiplier);
-    v("disallow_hysteresis", disallow_hysteresis); v("xy_goal_tolerance", xy_goal_tolerance);
-    v("yaw_goal_tolerance", yaw_goal_tolerance); v("recovery", recovery); v("nav", nav);
+    v("rate", rate,
+      {.unit = "Hz", .range = core::kPositive, .doc = "move_base controller_frequency (eband's Ctrl_Rate is holonomic-only)"});
+    v("eband_min_relative_overlap", eband_min_relative_overlap,
+      {.range = core::kPositive, .doc = "bubbles overlap below this x their radii's sum"});
+    v("eband_tiny_bubble_distance", eband_tiny_bubble_distance,
+      {.unit = "m", .range = core::kPositive, .doc = "shorter neighbour distances give no internal force"});
+    v("eband_tiny_bubble_expansion", eband_tiny_bubble_expansion,
+      {.unit = "m", .range = core::kPositive, .doc = "a bubble this small counts as in collision"});
+    v("eband_internal_force_gain", eband_internal_force_gain, {.range = core::kNonNegative});
+    v("eband_external_force_gain", eband_external_force_gain, {.range = core::kNonNegative});
+    v("num_iterations_eband_optimization", num_iterations_eband_optimization, {.range = core::kNonNegative});
+    v("eband_equilibrium_approx_max_recursion_depth", eband_equilibrium_approx_max_recursion_depth,
+      {.range = core::kNonNegative});
+    v("eband_equilibrium_relative_overshoot", eband_equilibrium_relative_overshoot, {.range = core::kNonNegative});
+    v("eband_significant_force_lower_bound", eband_significant_force_lower_bound, {.range = core::kNonNegative});
+    v("costmap_weight", costmap_weight,
+      {.unit = "1/m", .range = core::kPositive, .doc = "the inflation's decay, to invert it"});
+    v("max_vel_lin", max_vel_lin, {.unit = "m/s", .range = core::kPositive});
+    v("max_vel_th", max_vel_th, {.unit = "rad/s", .range = core::kPositive});
+    v("min_vel_lin", min_vel_lin, {.unit = "m/s"});
+    v("min_vel_th", min_vel_th, {.unit = "rad/s"});
+    v("min_in_place_vel_th", min_in_place_vel_th, {.unit = "rad/s"});
+    v("k_prop", k_prop, {.unit = "1/s", .range = core::kPositive, .doc = "yaw rate per rad of bearing"});
+    v("bubble_velocity_multiplier", bubble_velocity_multiplier, {.range = core::kPositive});
+    v("rotation_threshold_multiplier", rotation_threshold_multiplier, {.range = core::kPositive});
+    v("disallow_hysteresis", disallow_hysteresis);
+    v("xy_goal_tolerance", xy_goal_tolerance, {.unit = "m", .range = core::kPositive});
+    v("yaw_goal_tolerance", yaw_goal_tolerance, {.unit = "rad", .range = core::kPositive});
+    v("recovery", recovery);
+    v("nav", nav, {.doc = "move_base_eband.launch"});
   }
 };
 void validate(const EbandConfig& config, core::Errors& errors, const std::string& prefix);

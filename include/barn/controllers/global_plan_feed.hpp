@@ -15,6 +15,7 @@
 #include <string_view>
 
 #include "barn/controllers/controller.hpp"
+#include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/nav/nav_stack.hpp"
 
@@ -24,13 +25,13 @@ struct GlobalPlanConfig {
   // The stack: costmaps, footprint and planner, with the keys of nav::NavStackConfig. The
   // defaults are BARN's move_base as its DWA and E-Band baselines ran it (NavFn at 20 Hz).
   nav::NavStackConfig stack = nav::NavStackConfig::moveBaseWithNavFn();
-  bool send_local_costmap = false;   // the observation carries the local costmap
-  bool send_global_costmap = false;  // ... and/or the global one
+  bool send_local_costmap = false;
+  bool send_global_costmap = false;
 
   template <class V> void visit(V& v) {
     stack.visit(v);
-    v("send_local_costmap", send_local_costmap);
-    v("send_global_costmap", send_global_costmap);
+    v("send_local_costmap", send_local_costmap, {.doc = "the observation carries the local costmap"});
+    v("send_global_costmap", send_global_costmap, {.doc = "... and/or the global one"});
   }
 };
 

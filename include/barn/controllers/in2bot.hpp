@@ -18,6 +18,7 @@
 #include "barn/controllers/controller.hpp"
 #include "barn/controllers/in2bot_map.hpp"
 #include "barn/controllers/vfh_fuzzy.hpp"
+#include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
 
 namespace barn::controllers {
@@ -26,17 +27,17 @@ namespace barn::controllers {
 FuzzySystemConfig in2botSpeedFuzzy();
 
 struct In2botConfig {
-  double rate = 10.0;                // [Hz] team: rospy.Rate(10)
-  double lookahead = 0.8;            // [m] team: lookahead_distance, along the path from the nearest point
-  double goal_lock_distance = 3.0;   // [m] team: within this of the path's end, steer at the end
-  int nearest_window = 50;           // [points] team: the nearest point is searched +-50 around the last
-  double nearest_reset = 2.0;        // [m] team: ... and over the whole path when that is farther
-  double turn_in_place_deg = 42.0;   // [deg] team: turn in place beyond this bearing to the target
-  double turn_in_place_rate = 1.0;   // [rad/s] team
+  double rate = 10.0;
+  double lookahead = 0.8;
+  double goal_lock_distance = 3.0;
+  int nearest_window = 50;
+  double nearest_reset = 2.0;
+  double turn_in_place_deg = 42.0;
+  double turn_in_place_rate = 1.0;
   In2botMapConfig map;
   In2botEsdfConfig esdf;
   In2botPlannerConfig planner;
-  VfhConfig vfh = in2botVfh();       // RRSL's, less the smoothing, with the 1.25 speed sets
+  VfhConfig vfh = in2botVfh();
 
   static VfhConfig in2botVfh() {
     VfhConfig c;
@@ -46,10 +47,22 @@ struct In2botConfig {
   }
 
   template <class V> void visit(V& v) {
-    v("rate", rate); v("lookahead", lookahead); v("goal_lock_distance", goal_lock_distance);
-    v("nearest_window", nearest_window); v("nearest_reset", nearest_reset);
-    v("turn_in_place_deg", turn_in_place_deg); v("turn_in_place_rate", turn_in_place_rate);
-    v("map", map); v("esdf", esdf); v("planner", planner); v("vfh", vfh);
+    v("rate", rate, {.unit = "Hz", .range = core::kPositive, .doc = "team: rospy.Rate(10)"});
+    v("lookahead", lookahead,
+      {.unit = "m", .range = core::kNonNegative, .doc = "team: lookahead_distance, along the path from the nearest point"});
+    v("goal_lock_distance", goal_lock_distance,
+      {.unit = "m", .range = core::kNonNegative, .doc = "team: within this of the path's end, steer at the end"});
+    v("nearest_window", nearest_window,
+      {.unit = "points", .range = core::kNonNegative, .doc = "team: the nearest point is searched +-50 around the last"});
+    v("nearest_reset", nearest_reset,
+      {.unit = "m", .range = core::kNonNegative, .doc = "team: ... and over the whole path when that is farther"});
+    v("turn_in_place_deg", turn_in_place_deg,
+      {.unit = "deg", .range = core::openClosed(0.0, 180.0), .doc = "team: turn in place beyond this bearing to the target"});
+    v("turn_in_place_rate", turn_in_place_rate, {.unit = "rad/s", .range = core::kNonNegative, .doc = "team"});
+    v("map", map);
+    v("esdf", esdf);
+    v("planner", planner);
+    v("vfh", vfh, {.doc = "RRSL's, less the smoothing, with the 1.25 speed sets"});
   }
 };
 void validate(const In2botConfig& config, core::Errors& errors, const std::string& prefix);

@@ -14,6 +14,7 @@
 
 #include <Eigen/Core>
 
+#include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/core/types.hpp"
 
@@ -22,23 +23,35 @@ namespace barn::controllers {
 /// The grid (gmapping's map in the team's stack), in the odom frame, which is the team's map
 /// frame: both start at the robot's start pose.
 struct In2botMapConfig {
-  double origin_x = -4.0;         // [m] team: gmapping xmin
-  double origin_y = -5.0;         // [m] team: ymin
-  double size_x = 8.0;            // [m] team: xmax - xmin (xmax 4)
-  double size_y = 17.0;           // [m] team: ymax - ymin (ymax 12)
-  double resolution = 0.04;       // [m] team: delta
-  double max_range = 10.0;        // [m] team: maxRange; longer readings are not used at all
-  double usable_range = 8.0;      // [m] team: maxUrange; longer readings clear this far, mark nothing
-  double inf_range = 20.0;        // [m] team: scan_preprocessor replace_inf_range (so, with
-                                  //     max_range 10, a beam that saw nothing is not used)
-  double occupied_ratio = 0.25;   // [-] slam_gmapping's occ_thresh (default): occupied above
-  double linear_update = 0.2;     // [m] team: linearUpdate; a scan is added after this much travel
-  double angular_update = 0.05;   // [rad] team: angularUpdate; ... or this much turning
+  double origin_x = -4.0;
+  double origin_y = -5.0;
+  double size_x = 8.0;
+  double size_y = 17.0;
+  double resolution = 0.04;
+  double max_range = 10.0;
+  double usable_range = 8.0;
+  double inf_range = 20.0;
+  double occupied_ratio = 0.25;
+  double linear_update = 0.2;
+  double angular_update = 0.05;
   template <class V> void visit(V& v) {
-    v("origin_x", origin_x); v("origin_y", origin_y); v("size_x", size_x); v("size_y", size_y);
-    v("resolution", resolution); v("max_range", max_range); v("usable_range", usable_range);
-    v("inf_range", inf_range); v("occupied_ratio", occupied_ratio); v("linear_update", linear_update);
-    v("angular_update", angular_update);
+    v("origin_x", origin_x, {.unit = "m", .doc = "team: gmapping xmin"});
+    v("origin_y", origin_y, {.unit = "m", .doc = "team: ymin"});
+    v("size_x", size_x, {.unit = "m", .doc = "team: xmax - xmin (xmax 4)"});
+    v("size_y", size_y, {.unit = "m", .doc = "team: ymax - ymin (ymax 12)"});
+    v("resolution", resolution, {.unit = "m", .range = core::kPositive, .doc = "team: delta"});
+    v("max_range", max_range,
+      {.unit = "m", .range = core::kPositive, .doc = "team: maxRange; longer readings are not used at all"});
+    v("usable_range", usable_range,
+      {.unit = "m", .doc = "team: maxUrange; longer readings clear this far, mark nothing"});
+    v("inf_range", inf_range,
+      {.unit = "m", .range = core::kPositive, .doc = "team: scan_preprocessor replace_inf_range (so, with max_range 10, a beam that saw nothing is not used)"});
+    v("occupied_ratio", occupied_ratio,
+      {.range = core::closedOpen(0.0, 1.0), .doc = "slam_gmapping's occ_thresh (default): occupied above"});
+    v("linear_update", linear_update,
+      {.unit = "m", .range = core::kNonNegative, .doc = "team: linearUpdate; a scan is added after this much travel"});
+    v("angular_update", angular_update,
+      {.unit = "rad", .range = core::kNonNegative, .doc = "team: angularUpdate; ... or this much turning"});
   }
 };
 void validate(const In2botMapConfig& config, core::Errors& errors, const std::string& prefix);
@@ -84,14 +97,21 @@ class ScanCountGrid {
 
 /// The distance-field costs (the team's esdf node).
 struct In2botEsdfConfig {
-  double max_distance = 1.0;    // [m] team: D_MAX; cost = (1 - min(d, D_MAX) / D_MAX) * 100
-  double unknown_decay = 0.8;   // [-] team: unknown_decay_factor; unknown cells' cost x this
-  bool wall_rule = true;        // team: cells outside BARN's containment walls are obstacles
-  int wall_row = 100;           // [cell] team: the rule scans rows from this one up (y = -1 m)
-  int wall_column = 96;         // [cell] team: ... until the walls found straddle this column
+  double max_distance = 1.0;
+  double unknown_decay = 0.8;
+  bool wall_rule = true;
+  int wall_row = 100;
+  int wall_column = 96;
   template <class V> void visit(V& v) {
-    v("max_distance", max_distance); v("unknown_decay", unknown_decay); v("wall_rule", wall_rule);
-    v("wall_row", wall_row); v("wall_column", wall_column);
+    v("max_distance", max_distance,
+      {.unit = "m", .range = core::kPositive, .doc = "team: D_MAX; cost = (1 - min(d, D_MAX) / D_MAX) * 100"});
+    v("unknown_decay", unknown_decay,
+      {.range = core::kUnit, .doc = "team: unknown_decay_factor; unknown cells' cost x this"});
+    v("wall_rule", wall_rule, {.doc = "team: cells outside BARN's containment walls are obstacles"});
+    v("wall_row", wall_row,
+      {.unit = "cell", .range = core::kNonNegative, .doc = "team: the rule scans rows from this one up (y = -1 m)"});
+    v("wall_column", wall_column,
+      {.unit = "cell", .range = core::kNonNegative, .doc = "team: ... until the walls found straddle this column"});
   }
 };
 void validate(const In2botEsdfConfig& config, core::Errors& errors, const std::string& prefix);
@@ -111,17 +131,24 @@ std::vector<std::int8_t> esdfCosts(const std::vector<std::int8_t>& occupancy, in
 
 /// The team's A* and path check.
 struct In2botPlannerConfig {
-  double rate = 2.0;              // [Hz] team: planning_frequency; each tick replans if the
-                                  //     path is gone or collides
-  int cost_threshold = 85;        // [0-100] team: a cell is passable below this
-  double vehicle_width = 0.3;     // [m] team: along x of the grid for the box, across the path for the check
-  double vehicle_length = 0.35;   // [m] team
-  int footprint_padding = 0;      // [cells] team (added to the box; to the path check's metres as the code does)
-  int goal_search_radius = 10;    // [cells] team: findNearestValidCell's default
+  double rate = 2.0;
+  int cost_threshold = 85;
+  double vehicle_width = 0.3;
+  double vehicle_length = 0.35;
+  int footprint_padding = 0;
+  int goal_search_radius = 10;
   template <class V> void visit(V& v) {
-    v("rate", rate); v("cost_threshold", cost_threshold); v("vehicle_width", vehicle_width);
-    v("vehicle_length", vehicle_length); v("footprint_padding", footprint_padding);
-    v("goal_search_radius", goal_search_radius);
+    v("rate", rate,
+      {.unit = "Hz", .range = core::kPositive, .doc = "team: planning_frequency; each tick replans if the path is gone or collides"});
+    v("cost_threshold", cost_threshold,
+      {.unit = "0-100", .range = core::openClosed(0, 101), .doc = "team: a cell is passable below this"});
+    v("vehicle_width", vehicle_width,
+      {.unit = "m", .doc = "team: along x of the grid for the box, across the path for the check"});
+    v("vehicle_length", vehicle_length, {.unit = "m", .doc = "team"});
+    v("footprint_padding", footprint_padding,
+      {.unit = "cells", .range = core::kNonNegative, .doc = "team (added to the box; to the path check's metres as the code does)"});
+    v("goal_search_radius", goal_search_radius,
+      {.unit = "cells", .range = core::kNonNegative, .doc = "team: findNearestValidCell's default"});
   }
 };
 void validate(const In2botPlannerConfig& config, core::Errors& errors, const std::string& prefix);

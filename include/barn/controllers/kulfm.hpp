@@ -67,46 +67,78 @@ struct KulfmConfig {
   // [Hz] 2025 code: a move_base local planner at controller_frequency 20 (its acceleration limit
   // assumes 20 Hz); the 2023 node's rate is not public
   double rate = 20.0;
-  MotionTubeConfig tubes;            // 2025 code (see motion_tubes.hpp)
-  int orientation_points = 10;       // [-] 2025 code: local goal orientation from the point 10 indices before it
-  int head_points = 10;              // [-] 2025 code: head orientation from plan points 0 and 10
-  double goal_bin = 0.2;             // [m] 2025 code: goal distance bins
-  int goal_bin_slack = 1;            // [-] 2025 code: drop tubes more than 1 bin worse than the best so far
-  int max_goal_bin = 6;              // [-] 2025 code: drop tubes beyond bin 6
-  // [m] 2025 code: the end box the goal distance is measured to is 2 x vehicle_width / 4 wide
+  MotionTubeConfig tubes;
+  int orientation_points = 10;
+  int head_points = 10;
+  double goal_bin = 0.2;
+  int goal_bin_slack = 1;
+  int max_goal_bin = 6;
+  // 2025 code: the end box the goal distance is measured to is 2 x vehicle_width / 4 wide
   // (its corners at +-width / 4) and axle_to_rear + axle_to_front long
   double goal_box_width = 0.25;
-  double orientation_bin_deg = 20.0; // [deg] 2025 code: pi / 9
-  double max_orientation_deg = 90.0; // [deg] 2025 code: drop tubes ending more than pi / 2 off
-  // [m/s] 2025 code defaults (min_speed = max_speed = 0.5); the 2023 launch passes the node no
+  double orientation_bin_deg = 20.0;
+  double max_orientation_deg = 90.0;
+  // 2025 code defaults (min_speed = max_speed = 0.5); the 2023 launch passes the node no
   // parameters, and 0.5 m/s reaches BARN's k = 4 cap (docs/systems/kulfm.md)
   double min_speed = 0.5;
-  double max_speed = 0.5;            // [m/s] 2025 code default
-  double low_ratio = 0.1;            // [-] 2025 code: feasible ratio below this: min_speed
-  double high_ratio = 0.75;          // [-] 2025 code: above this: max_speed
-  double min_speed_weight = 0.4;     // [-] 2025 code: in between, 0.4 min_speed + 0.6 max_speed
-  double max_acceleration = 1.0;     // [m/s^2] 2025 code: 1 m/s^2 at 20 Hz (0.05 m/s per tick)
-  double stop_speed = 0.025;         // [m/s], [rad/s] 2025 code: StopToRecover waits for |v|, |w| below
-  double resume_speed = 0.05;        // [m/s], [rad/s] 2025 code: StopToNormal waits for |v| or |w| below
-  double ring_radius = 0.4;          // [m] 2025 code: the rotation ring about the robot centre
-  double rotate_rate = 0.7853981633974483;  // [rad/s] 2025 code: pi / 4
-  double backward_speed = 0.5;       // [m/s] 2025 code: MoveBackward and Blind reverse at 0.5
-  double backward_goal_bin = 0.4;    // [m] 2025 code: goal bins of the backward tubes
-  int backward_bin_slack = 2;        // [-] 2025 code: backward tubes within 2 bins of the best
-  double resume_ratio = 0.2;         // [-] 2025 code: recoveries end at a feasible ratio >= 0.2 ...
-  int resume_goal_bin = 1;           // [-] 2025 code: ... with the chosen tube's goal bin <= 1
+  double max_speed = 0.5;
+  double low_ratio = 0.1;
+  double high_ratio = 0.75;
+  double min_speed_weight = 0.4;
+  double max_acceleration = 1.0;
+  double stop_speed = 0.025;
+  double resume_speed = 0.05;
+  double ring_radius = 0.4;
+  double rotate_rate = 0.7853981633974483;
+  double backward_speed = 0.5;
+  double backward_goal_bin = 0.4;
+  int backward_bin_slack = 2;
+  double resume_ratio = 0.2;
+  int resume_goal_bin = 1;
   nav::NavStackConfig nav = kulfmNav();
 
   template <class V> void visit(V& v) {
-    v("rate", rate); v("tubes", tubes); v("orientation_points", orientation_points); v("head_points", head_points);
-    v("goal_bin", goal_bin); v("goal_bin_slack", goal_bin_slack); v("max_goal_bin", max_goal_bin);
-    v("goal_box_width", goal_box_width); v("orientation_bin_deg", orientation_bin_deg);
-    v("max_orientation_deg", max_orientation_deg); v("min_speed", min_speed); v("max_speed", max_speed);
-    v("low_ratio", low_ratio); v("high_ratio", high_ratio); v("min_speed_weight", min_speed_weight);
-    v("max_acceleration", max_acceleration); v("stop_speed", stop_speed); v("resume_speed", resume_speed);
-    v("ring_radius", ring_radius); v("rotate_rate", rotate_rate); v("backward_speed", backward_speed);
-    v("backward_goal_bin", backward_goal_bin); v("backward_bin_slack", backward_bin_slack);
-    v("resume_ratio", resume_ratio); v("resume_goal_bin", resume_goal_bin); v("nav", nav);
+    v("rate", rate, {.range = core::kPositive});
+    v("tubes", tubes, {.doc = "2025 code (see motion_tubes.hpp)"});
+    v("orientation_points", orientation_points,
+      {.range = core::kNonNegative, .doc = "2025 code: local goal orientation from the point 10 indices before it"});
+    v("head_points", head_points,
+      {.range = core::atLeast(1), .doc = "2025 code: head orientation from plan points 0 and 10"});
+    v("goal_bin", goal_bin, {.unit = "m", .range = core::kPositive, .doc = "2025 code: goal distance bins"});
+    v("goal_bin_slack", goal_bin_slack,
+      {.range = core::kNonNegative, .doc = "2025 code: drop tubes more than 1 bin worse than the best so far"});
+    v("max_goal_bin", max_goal_bin, {.range = core::kNonNegative, .doc = "2025 code: drop tubes beyond bin 6"});
+    v("goal_box_width", goal_box_width, {.unit = "m", .range = core::kPositive});
+    v("orientation_bin_deg", orientation_bin_deg,
+      {.unit = "deg", .range = core::kPositive, .doc = "2025 code: pi / 9"});
+    v("max_orientation_deg", max_orientation_deg,
+      {.unit = "deg", .range = core::closed(0.0, 180.0), .doc = "2025 code: drop tubes ending more than pi / 2 off"});
+    v("min_speed", min_speed, {.unit = "m/s", .range = core::kNonNegative});
+    v("max_speed", max_speed, {.unit = "m/s", .range = core::kNonNegative, .doc = "2025 code default"});
+    v("low_ratio", low_ratio, {.range = core::kUnit, .doc = "2025 code: feasible ratio below this: min_speed"});
+    v("high_ratio", high_ratio, {.doc = "2025 code: above this: max_speed"});
+    v("min_speed_weight", min_speed_weight,
+      {.range = core::kUnit, .doc = "2025 code: in between, 0.4 min_speed + 0.6 max_speed"});
+    v("max_acceleration", max_acceleration,
+      {.unit = "m/s^2", .range = core::kPositive, .doc = "2025 code: 1 m/s^2 at 20 Hz (0.05 m/s per tick)"});
+    v("stop_speed", stop_speed,
+      {.unit = "m/s", .range = core::kPositive, .doc = ", [rad/s] 2025 code: StopToRecover waits for |v|, |w| below"});
+    v("resume_speed", resume_speed,
+      {.unit = "m/s", .range = core::kPositive, .doc = ", [rad/s] 2025 code: StopToNormal waits for |v| or |w| below"});
+    v("ring_radius", ring_radius,
+      {.unit = "m", .range = core::kPositive, .doc = "2025 code: the rotation ring about the robot centre"});
+    v("rotate_rate", rotate_rate, {.unit = "rad/s", .range = core::kPositive, .doc = "2025 code: pi / 4"});
+    v("backward_speed", backward_speed,
+      {.unit = "m/s", .range = core::kNonNegative, .doc = "2025 code: MoveBackward and Blind reverse at 0.5"});
+    v("backward_goal_bin", backward_goal_bin,
+      {.unit = "m", .range = core::kPositive, .doc = "2025 code: goal bins of the backward tubes"});
+    v("backward_bin_slack", backward_bin_slack,
+      {.range = core::kNonNegative, .doc = "2025 code: backward tubes within 2 bins of the best"});
+    v("resume_ratio", resume_ratio,
+      {.range = core::kUnit, .doc = "2025 code: recoveries end at a feasible ratio >= 0.2 ..."});
+    v("resume_goal_bin", resume_goal_bin,
+      {.range = core::kNonNegative, .doc = "2025 code: ... with the chosen tube's goal bin <= 1"});
+    v("nav", nav);
   }
 
   /// The team's move_base stack (romulortr/barn-kul-fm@e23b647, jackal_helper/configs/params/):

@@ -30,30 +30,50 @@
 namespace barn::controllers {
 
 struct LflhConfig {
-  std::string policy = "configs/policies/lflh_1ms.policy";  // relative to the config file's folder
-  double rate = 25.0;            // [Hz] (the original publishes every 0.04 s)
-  double local_goal_distance = 1.5;  // [m] along the global path
-  double max_speed = 1.0;        // [m/s] |v| clip (the policy's own speed)
-  double max_turn_rate = 4.0;    // [rad/s] |w| clip (the Jackal's limit)
-  double range_clip = 0.0;       // [m] scan clip for the policy; 0: the policy file's (published deployment: 2.0 for both models)
-  bool deployed = true;          // published deployment: hard turn + safety check + fallbacks; false = bare policy
-  double hard_turn_enter_deg = 60.0;  // published deployment: hard turn when |heading error| > pi/3
-  double hard_turn_exit_deg = 10.0;   // published deployment: ... until |heading error| < pi/18
-  double turn_gain = 2.0;        // [1/s] published deployment: w = 2 * heading error (hard turn and fallback turn)
-  double backup_speed = 0.2;     // [m/s] published deployment: v = -0.2, w = 0 when the turn is unsafe too
+  std::string policy = "configs/policies/lflh_1ms.policy";
+  double rate = 25.0;
+  double local_goal_distance = 1.5;
+  double max_speed = 1.0;
+  double max_turn_rate = 4.0;
+  double range_clip = 0.0;
+  bool deployed = true;
+  double hard_turn_enter_deg = 60.0;
+  double hard_turn_exit_deg = 10.0;
+  double turn_gain = 2.0;
+  double backup_speed = 0.2;
   // The safety check tests the stack's unpadded footprint, nav.footprint() (published
   // deployment: the same 0.42 x 0.33 rectangle).
-  double safety_tolerance = 0.0; // [m] published deployment: tolerance 0.0 (Inventec's code: 0.02)
-  int safety_steps = 20;         // published deployment: 20 Euler steps ...
-  double safety_dt = 0.01;       // [s] published deployment: ... of 0.01 s, final pose only
+  double safety_tolerance = 0.0;
+  int safety_steps = 20;
+  double safety_dt = 0.01;
   nav::NavStackConfig nav = lflhNav();
 
   template <class V> void visit(V& v) {
-    v("policy", policy); v("rate", rate); v("local_goal_distance", local_goal_distance); v("max_speed", max_speed);
-    v("max_turn_rate", max_turn_rate); v("range_clip", range_clip); v("deployed", deployed); v("hard_turn_enter_deg", hard_turn_enter_deg);
-    v("hard_turn_exit_deg", hard_turn_exit_deg); v("turn_gain", turn_gain); v("backup_speed", backup_speed);
-    v("safety_tolerance", safety_tolerance);
-    v("safety_steps", safety_steps); v("safety_dt", safety_dt); v("nav", nav);
+    v("policy", policy, {.doc = "relative to the config file's folder"});
+    v("rate", rate, {.unit = "Hz", .range = core::kPositive, .doc = "(the original publishes every 0.04 s)"});
+    v("local_goal_distance", local_goal_distance,
+      {.unit = "m", .range = core::kPositive, .doc = "along the global path"});
+    v("max_speed", max_speed, {.unit = "m/s", .range = core::kPositive, .doc = "|v| clip (the policy's own speed)"});
+    v("max_turn_rate", max_turn_rate,
+      {.unit = "rad/s", .range = core::kPositive, .doc = "|w| clip (the Jackal's limit)"});
+    v("range_clip", range_clip,
+      {.unit = "m", .range = core::kNonNegative, .doc = "scan clip for the policy; 0: the policy file's (published deployment: 2.0 for both models)"});
+    v("deployed", deployed, {.doc = "published deployment: hard turn + safety check + fallbacks; false = bare policy"});
+    v("hard_turn_enter_deg", hard_turn_enter_deg,
+      {.unit = "deg", .range = core::atMost(180.0), .doc = "published deployment: hard turn when |heading error| > pi/3"});
+    v("hard_turn_exit_deg", hard_turn_exit_deg,
+      {.unit = "deg", .doc = "published deployment: ... until |heading error| < pi/18"});
+    v("turn_gain", turn_gain,
+      {.unit = "1/s", .range = core::kPositive, .doc = "published deployment: w = 2 * heading error (hard turn and fallback turn)"});
+    v("backup_speed", backup_speed,
+      {.unit = "m/s", .range = core::kNonNegative, .doc = "published deployment: v = -0.2, w = 0 when the turn is unsafe too"});
+    v("safety_tolerance", safety_tolerance,
+      {.unit = "m", .range = core::kNonNegative, .doc = "published deployment: tolerance 0.0 (Inventec's code: 0.02)"});
+    v("safety_steps", safety_steps,
+      {.range = core::closed(1, 10000), .doc = "published deployment: 20 Euler steps ..."});
+    v("safety_dt", safety_dt,
+      {.unit = "s", .range = core::kPositive, .doc = "published deployment: ... of 0.01 s, final pose only"});
+    v("nav", nav);
   }
 
   /// The LfLH/Inventec move_base costmaps (the Inventec team's published move_base

@@ -42,6 +42,7 @@
 #include <Eigen/Core>
 
 #include "barn/controllers/controller.hpp"
+#include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/learning/transformer_policy.hpp"
 #include "barn/nav/nav_stack.hpp"
@@ -53,35 +54,57 @@ struct LicsConfig {
   // The policy file (`barnbench-transformer-policy`), relative to the config file's folder;
   // tools/import_lics_weights.py writes it from the published transformer_99.pth.
   std::string policy = "configs/policies/lics_transformer_99.policy";
-  double rate = 20.0;                 // [Hz] team: run.py CONTROL_FREQ 20
-  double local_goal_distance = 2.0;   // [m] team: config.yaml los 2.0
-  double plan_start_tolerance = 0.05; // [m] team: robot.py, the plan's first point is the origin if farther
-  int smoothing_window = 19;          // [-] team: robot.py savgol_filter(x, 19, 3)
-  int smoothing_order = 3;            // [-] team
-  double max_speed = 1.5;             // [m/s] team: config.yaml max_v (v = v_hat x 1.5 x m)
-  double min_speed = -0.5;            // [m/s] team: config.yaml min_v
-  double max_turn_rate = 1.2;         // [rad/s] team: config.yaml max_w (w = w_hat x 1.2)
-  double min_turn_rate = -1.2;        // [rad/s] team: config.yaml min_w
-  double slow_down_distance = 2.5;    // [m] team: config.yaml threshold_dist
-  int front_first_beam = 253;         // [-] team: robot.py laser[253:467]
-  int front_last_beam = 466;          // [-] team (inclusive)
-  double empty_plan_multiplier = 0.3; // [-] team: robot.py, an empty plan
-  bool dynamic_inflation = true;      // team: robot.py sets the global inflation radius from the speed
-  double min_inflation_radius = 0.3;  // [m] team: config.yaml
-  double max_inflation_radius = 1.0;  // [m] team: config.yaml
-  double inflation_speed_threshold = 0.0;  // [-] team: config.yaml threshold_v (compared with v / max_speed)
-  double plan_phase = 0.02;           // [s] our choice: the race model (header comment, docs/systems/lics.md)
+  double rate = 20.0;
+  double local_goal_distance = 2.0;
+  double plan_start_tolerance = 0.05;
+  int smoothing_window = 19;
+  int smoothing_order = 3;
+  double max_speed = 1.5;
+  double min_speed = -0.5;
+  double max_turn_rate = 1.2;
+  double min_turn_rate = -1.2;
+  double slow_down_distance = 2.5;
+  int front_first_beam = 253;
+  int front_last_beam = 466;
+  double empty_plan_multiplier = 0.3;
+  bool dynamic_inflation = true;
+  double min_inflation_radius = 0.3;
+  double max_inflation_radius = 1.0;
+  double inflation_speed_threshold = 0.0;
+  double plan_phase = 0.02;
   nav::NavStackConfig nav = licsNav();
 
   template <class V> void visit(V& v) {
-    v("policy", policy); v("rate", rate); v("local_goal_distance", local_goal_distance);
-    v("plan_start_tolerance", plan_start_tolerance); v("smoothing_window", smoothing_window);
-    v("smoothing_order", smoothing_order); v("max_speed", max_speed); v("min_speed", min_speed);
-    v("max_turn_rate", max_turn_rate); v("min_turn_rate", min_turn_rate); v("slow_down_distance", slow_down_distance);
-    v("front_first_beam", front_first_beam); v("front_last_beam", front_last_beam);
-    v("empty_plan_multiplier", empty_plan_multiplier); v("dynamic_inflation", dynamic_inflation);
-    v("min_inflation_radius", min_inflation_radius); v("max_inflation_radius", max_inflation_radius);
-    v("inflation_speed_threshold", inflation_speed_threshold); v("plan_phase", plan_phase); v("nav", nav);
+    v("policy", policy);
+    v("rate", rate, {.unit = "Hz", .range = core::kPositive, .doc = "team: run.py CONTROL_FREQ 20"});
+    v("local_goal_distance", local_goal_distance,
+      {.unit = "m", .range = core::kPositive, .doc = "team: config.yaml los 2.0"});
+    v("plan_start_tolerance", plan_start_tolerance,
+      {.unit = "m", .range = core::kNonNegative, .doc = "team: robot.py, the plan's first point is the origin if farther"});
+    v("smoothing_window", smoothing_window, {.doc = "team: robot.py savgol_filter(x, 19, 3)"});
+    v("smoothing_order", smoothing_order, {.doc = "team"});
+    v("max_speed", max_speed,
+      {.unit = "m/s", .range = core::kPositive, .doc = "team: config.yaml max_v (v = v_hat x 1.5 x m)"});
+    v("min_speed", min_speed, {.unit = "m/s", .doc = "team: config.yaml min_v"});
+    v("max_turn_rate", max_turn_rate,
+      {.unit = "rad/s", .range = core::kPositive, .doc = "team: config.yaml max_w (w = w_hat x 1.2)"});
+    v("min_turn_rate", min_turn_rate, {.unit = "rad/s", .doc = "team: config.yaml min_w"});
+    v("slow_down_distance", slow_down_distance,
+      {.unit = "m", .range = core::kPositive, .doc = "team: config.yaml threshold_dist"});
+    v("front_first_beam", front_first_beam, {.doc = "team: robot.py laser[253:467]"});
+    v("front_last_beam", front_last_beam, {.doc = "team (inclusive)"});
+    v("empty_plan_multiplier", empty_plan_multiplier,
+      {.range = core::kNonNegative, .doc = "team: robot.py, an empty plan"});
+    v("dynamic_inflation", dynamic_inflation,
+      {.doc = "team: robot.py sets the global inflation radius from the speed"});
+    v("min_inflation_radius", min_inflation_radius,
+      {.unit = "m", .range = core::kNonNegative, .doc = "team: config.yaml"});
+    v("max_inflation_radius", max_inflation_radius, {.unit = "m", .doc = "team: config.yaml"});
+    v("inflation_speed_threshold", inflation_speed_threshold,
+      {.doc = "team: config.yaml threshold_v (compared with v / max_speed)"});
+    v("plan_phase", plan_phase,
+      {.unit = "s", .doc = "our choice: the race model (header comment, docs/systems/lics.md)"});
+    v("nav", nav);
   }
 
   /// The team's move_base (jackal_helper/launch/move_base.launch and configs/params at

@@ -42,44 +42,65 @@
 namespace barn::controllers {
 
 struct MecoNavigatorConfig {
-  double rate = 10.0;                    // [Hz] team: navigator_rate
-  double robot_length = 0.43;            // [m] team: a
-  double margin = 0.10;                  // [m] team: m
-  double max_speed = 0.5;                // [m/s] team: v_max (v_min -0.5 bounds nothing the planner uses)
-  double max_turn_rate = 0.3;            // [rad/s] team: omega_max
-  double backtrack_gain = 0.75;          // [-] team (submission): backtracking at 0.75 x the bounds
-  double goal_offset = 0.3;              // [m] team: goal point 0.3 m short of a corridor's front edge
-  double final_speed = 2.0;              // [m/s] team: the last segment toward the goal
-  double semi_backtrack_fraction = 0.8;  // [-] team: reverse 0.8 of the way from the back edge to the corner
-  double min_radius = 1e-3;              // [m] team: the alignment radius's floor
-  double inside_tolerance = 1e-3;        // [m] team: check_inside_one_point's tolerance
+  double rate = 10.0;
+  double robot_length = 0.43;
+  double margin = 0.10;
+  double max_speed = 0.5;
+  double max_turn_rate = 0.3;
+  double backtrack_gain = 0.75;
+  double goal_offset = 0.3;
+  double final_speed = 2.0;
+  double semi_backtrack_fraction = 0.8;
+  double min_radius = 1e-3;
+  double inside_tolerance = 1e-3;
 
   template <class V> void visit(V& v) {
-    v("rate", rate); v("robot_length", robot_length); v("margin", margin); v("max_speed", max_speed);
-    v("max_turn_rate", max_turn_rate); v("backtrack_gain", backtrack_gain); v("goal_offset", goal_offset);
-    v("final_speed", final_speed); v("semi_backtrack_fraction", semi_backtrack_fraction); v("min_radius", min_radius);
-    v("inside_tolerance", inside_tolerance);
+    v("rate", rate, {.unit = "Hz", .range = core::kPositive, .doc = "team: navigator_rate"});
+    v("robot_length", robot_length, {.unit = "m", .range = core::kPositive, .doc = "team: a"});
+    v("margin", margin, {.unit = "m", .range = core::kNonNegative, .doc = "team: m"});
+    v("max_speed", max_speed,
+      {.unit = "m/s", .range = core::kPositive, .doc = "team: v_max (v_min -0.5 bounds nothing the planner uses)"});
+    v("max_turn_rate", max_turn_rate, {.unit = "rad/s", .range = core::kPositive, .doc = "team: omega_max"});
+    v("backtrack_gain", backtrack_gain,
+      {.range = core::kPositive, .doc = "team (submission): backtracking at 0.75 x the bounds"});
+    v("goal_offset", goal_offset,
+      {.unit = "m", .range = core::kNonNegative, .doc = "team: goal point 0.3 m short of a corridor's front edge"});
+    v("final_speed", final_speed,
+      {.unit = "m/s", .range = core::kPositive, .doc = "team: the last segment toward the goal"});
+    v("semi_backtrack_fraction", semi_backtrack_fraction,
+      {.range = core::kUnit, .doc = "team: reverse 0.8 of the way from the back edge to the corner"});
+    v("min_radius", min_radius, {.unit = "m", .range = core::kPositive, .doc = "team: the alignment radius's floor"});
+    v("inside_tolerance", inside_tolerance,
+      {.unit = "m", .range = core::kNonNegative, .doc = "team: check_inside_one_point's tolerance"});
   }
 };
 void validate(const MecoNavigatorConfig& config, core::Errors& errors, const std::string& prefix);
 
 struct MecoConfig {
-  double rate = 100.0;                   // [Hz] team: controller_rate
-  double filter_gain = 0.05;             // [-] team: cmd = 0.05 new + 0.95 previous
-  double stretch_duration = 1.0;         // [s] team: a shorter first segment is stretched to 1 s
-  double stretch_min_speed = 0.4;        // [m/s] team: ... when it runs at >= 0.4 m/s
-  double stretch_next_max_speed = 0.1;   // [m/s] team: ... and the next at <= 0.1 m/s
-  double turn_stop_rate = 0.2;           // [rad/s] team: v = 0 when |w| > 0.2 ...
-  double turn_stop_speed = 0.1;          // [m/s] team: ... and v < 0.1
+  double rate = 100.0;
+  double filter_gain = 0.05;
+  double stretch_duration = 1.0;
+  double stretch_min_speed = 0.4;
+  double stretch_next_max_speed = 0.1;
+  double turn_stop_rate = 0.2;
+  double turn_stop_speed = 0.1;
   MecoFitterConfig fitter;
   MecoManagerConfig manager;
   MecoNavigatorConfig navigator;
 
   template <class V> void visit(V& v) {
-    v("rate", rate); v("filter_gain", filter_gain); v("stretch_duration", stretch_duration);
-    v("stretch_min_speed", stretch_min_speed); v("stretch_next_max_speed", stretch_next_max_speed);
-    v("turn_stop_rate", turn_stop_rate); v("turn_stop_speed", turn_stop_speed); v("fitter", fitter);
-    v("manager", manager); v("navigator", navigator);
+    v("rate", rate, {.unit = "Hz", .range = core::kPositive, .doc = "team: controller_rate"});
+    v("filter_gain", filter_gain, {.range = core::openClosed(0.0, 1.0), .doc = "team: cmd = 0.05 new + 0.95 previous"});
+    v("stretch_duration", stretch_duration,
+      {.unit = "s", .range = core::kNonNegative, .doc = "team: a shorter first segment is stretched to 1 s"});
+    v("stretch_min_speed", stretch_min_speed, {.unit = "m/s", .doc = "team: ... when it runs at >= 0.4 m/s"});
+    v("stretch_next_max_speed", stretch_next_max_speed, {.unit = "m/s", .doc = "team: ... and the next at <= 0.1 m/s"});
+    v("turn_stop_rate", turn_stop_rate,
+      {.unit = "rad/s", .range = core::kNonNegative, .doc = "team: v = 0 when |w| > 0.2 ..."});
+    v("turn_stop_speed", turn_stop_speed, {.unit = "m/s", .doc = "team: ... and v < 0.1"});
+    v("fitter", fitter);
+    v("manager", manager);
+    v("navigator", navigator);
   }
 };
 void validate(const MecoConfig& config, core::Errors& errors, const std::string& prefix);

@@ -44,6 +44,7 @@
 #include <Eigen/Core>
 
 #include "barn/controllers/meco_corridor.hpp"
+#include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/core/lidar_config.hpp"
 #include "barn/core/types.hpp"
@@ -51,41 +52,58 @@
 namespace barn::controllers {
 
 struct MecoFitterConfig {
-  double rate = 2.0;                   // [Hz] team: sweeper_fitter_rate
-  int beams = 480;                     // [-] team (submission): the central 480 of 720 beams
-  int sectors = 8;                     // [-] team (submission): 8 sectors, and 9 shifted ones
-  double inf_range = 10.0;             // [m] team: +inf read as 10 m
-  double min_range = 0.1;              // [m] team: nearer candidate ranges are skipped
-  double robot_radius = 0.25;          // [m] team
-  double safety_radius = 0.1;          // [m] team
+  double rate = 2.0;
+  int beams = 480;
+  int sectors = 8;
+  double inf_range = 10.0;
+  double min_range = 0.1;
+  double robot_radius = 0.25;
+  double safety_radius = 0.1;
   // team: the directions as the team's code computes them: a plain sector's half a sector to
   // the right of the beams it was found at, a shifted sector's half a sector to the left
   // (their start angles are swapped between the two loops). false: the beams' own angles.
   bool team_sector_angles = true;
-  int point_stride = 4;                // [-] team: every 4th return is a point
-  double child_width = 0.6;            // [m] team
-  double child_length = 1.0;           // [m] team
-  double growth_step = 0.5;            // [m] team: Corridor.DELTA
-  int growth_steps = 5;                // [-] team
-  int backoff_divisions = 5;           // [-] team: back off by growth_step / 5
-  // [m] team: GOAL_2 = (-2, 11); the team compares it with map-frame corners, whose origin is
+  int point_stride = 4;
+  double child_width = 0.6;
+  double child_length = 1.0;
+  double growth_step = 0.5;
+  int growth_steps = 5;
+  int backoff_divisions = 5;
+  // Team: GOAL_2 = (-2, 11); the team compares it with map-frame corners, whose origin is
   // the start: 1 m beyond the goal line (docs/systems/meco.md)
   double forward_limit_y = 11.0;
-  double fallback_tilt_deg = 60.0;     // [deg] team: no opening: children at 0 and pi / 3
-  double final_width = 1.5;            // [m] team
-  double final_length = 1.0;           // [m] team
-  double final_step_multiplier = 3.0;  // [-] team: grow_edge(step_multiplier=3)
-  double final_max_bearing_deg = 45.0; // [deg] team (submission): the goal within +-45 deg
-  int published = 2;                   // [-] team: the two best children
+  double fallback_tilt_deg = 60.0;
+  double final_width = 1.5;
+  double final_length = 1.0;
+  double final_step_multiplier = 3.0;
+  double final_max_bearing_deg = 45.0;
+  int published = 2;
 
   template <class V> void visit(V& v) {
-    v("rate", rate); v("beams", beams); v("sectors", sectors); v("inf_range", inf_range); v("min_range", min_range);
-    v("robot_radius", robot_radius); v("safety_radius", safety_radius); v("team_sector_angles", team_sector_angles);
-    v("point_stride", point_stride); v("child_width", child_width); v("child_length", child_length);
-    v("growth_step", growth_step); v("growth_steps", growth_steps); v("backoff_divisions", backoff_divisions);
-    v("forward_limit_y", forward_limit_y); v("fallback_tilt_deg", fallback_tilt_deg); v("final_width", final_width);
-    v("final_length", final_length); v("final_step_multiplier", final_step_multiplier);
-    v("final_max_bearing_deg", final_max_bearing_deg); v("published", published);
+    v("rate", rate, {.unit = "Hz", .range = core::kPositive, .doc = "team: sweeper_fitter_rate"});
+    v("beams", beams, {.range = core::kPositive, .doc = "team (submission): the central 480 of 720 beams"});
+    v("sectors", sectors, {.range = core::kPositive, .doc = "team (submission): 8 sectors, and 9 shifted ones"});
+    v("inf_range", inf_range, {.unit = "m", .range = core::kPositive, .doc = "team: +inf read as 10 m"});
+    v("min_range", min_range,
+      {.unit = "m", .range = core::kNonNegative, .doc = "team: nearer candidate ranges are skipped"});
+    v("robot_radius", robot_radius, {.unit = "m", .range = core::kPositive, .doc = "team"});
+    v("safety_radius", safety_radius, {.unit = "m", .range = core::kNonNegative, .doc = "team"});
+    v("team_sector_angles", team_sector_angles);
+    v("point_stride", point_stride, {.range = core::atLeast(1), .doc = "team: every 4th return is a point"});
+    v("child_width", child_width, {.unit = "m", .range = core::kPositive, .doc = "team"});
+    v("child_length", child_length, {.unit = "m", .range = core::kPositive, .doc = "team"});
+    v("growth_step", growth_step, {.unit = "m", .range = core::kPositive, .doc = "team: Corridor.DELTA"});
+    v("growth_steps", growth_steps, {.range = core::kNonNegative, .doc = "team"});
+    v("backoff_divisions", backoff_divisions, {.range = core::atLeast(1), .doc = "team: back off by growth_step / 5"});
+    v("forward_limit_y", forward_limit_y, {.unit = "m"});
+    v("fallback_tilt_deg", fallback_tilt_deg, {.unit = "deg", .doc = "team: no opening: children at 0 and pi / 3"});
+    v("final_width", final_width, {.unit = "m", .range = core::kPositive, .doc = "team"});
+    v("final_length", final_length, {.unit = "m", .range = core::kPositive, .doc = "team"});
+    v("final_step_multiplier", final_step_multiplier,
+      {.range = core::kPositive, .doc = "team: grow_edge(step_multiplier=3)"});
+    v("final_max_bearing_deg", final_max_bearing_deg,
+      {.unit = "deg", .range = core::closed(0.0, 180.0), .doc = "team (submission): the goal within +-45 deg"});
+    v("published", published, {.range = core::atLeast(1), .doc = "team: the two best children"});
   }
 };
 void validate(const MecoFitterConfig& config, core::Errors& errors, const std::string& prefix);

@@ -40,31 +40,50 @@
 #include <Eigen/Core>
 
 #include "barn/controllers/meco_corridor.hpp"
+#include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
 
 namespace barn::controllers {
 
 struct MecoManagerConfig {
-  double rate = 10.0;                    // [Hz] team: manager_rate
-  double quality_threshold = 0.5;        // [-] team: select a child of quality >= 0.5
-  double quality_margin = 0.2;           // [m] team: add_child_corridor(margin=.2)
-  double stuck_threshold = 0.4;          // [m] team: check_stuck's default threshold
-  double orphan_distance = 2.0;          // [m] team: distance_threshold=2.0 against the orphanage
-  double parent_distance = 1.0;          // [m] team: add_child_corridor's check against the parent's parent
-  double similar_distance = 1.0;         // [m] team: check_significantly_different's default
-  double similar_angle_deg = 22.5;       // [deg] team: its default pi / 8
-  double end_distance = 0.5;             // [m] team: check_end_of_corridor_reached(..., 0.5)
-  double end_wait = 0.5;                 // [s] team: end_reached_waiting_time
-  double backtrack_wait = 1.5;           // [s] team: backtrack_waiting_time
-  double min_backtrack_distance = 1.5;   // [m] team: minimal_backtrack_distance
-  double inside_tolerance = 1e-3;        // [m] team: check_inside_one_point's tolerance
+  double rate = 10.0;
+  double quality_threshold = 0.5;
+  double quality_margin = 0.2;
+  double stuck_threshold = 0.4;
+  double orphan_distance = 2.0;
+  double parent_distance = 1.0;
+  double similar_distance = 1.0;
+  double similar_angle_deg = 22.5;
+  double end_distance = 0.5;
+  double end_wait = 0.5;
+  double backtrack_wait = 1.5;
+  double min_backtrack_distance = 1.5;
+  double inside_tolerance = 1e-3;
 
   template <class V> void visit(V& v) {
-    v("rate", rate); v("quality_threshold", quality_threshold); v("quality_margin", quality_margin);
-    v("stuck_threshold", stuck_threshold); v("orphan_distance", orphan_distance); v("parent_distance", parent_distance);
-    v("similar_distance", similar_distance); v("similar_angle_deg", similar_angle_deg); v("end_distance", end_distance);
-    v("end_wait", end_wait); v("backtrack_wait", backtrack_wait); v("min_backtrack_distance", min_backtrack_distance);
-    v("inside_tolerance", inside_tolerance);
+    v("rate", rate, {.unit = "Hz", .range = core::kPositive, .doc = "team: manager_rate"});
+    v("quality_threshold", quality_threshold,
+      {.range = core::kNonNegative, .doc = "team: select a child of quality >= 0.5"});
+    v("quality_margin", quality_margin, {.unit = "m", .doc = "team: add_child_corridor(margin=.2)"});
+    v("stuck_threshold", stuck_threshold,
+      {.unit = "m", .range = core::kNonNegative, .doc = "team: check_stuck's default threshold"});
+    v("orphan_distance", orphan_distance,
+      {.unit = "m", .range = core::kNonNegative, .doc = "team: distance_threshold=2.0 against the orphanage"});
+    v("parent_distance", parent_distance,
+      {.unit = "m", .range = core::kNonNegative, .doc = "team: add_child_corridor's check against the parent's parent"});
+    v("similar_distance", similar_distance,
+      {.unit = "m", .range = core::kNonNegative, .doc = "team: check_significantly_different's default"});
+    v("similar_angle_deg", similar_angle_deg,
+      {.unit = "deg", .range = core::closed(0.0, 180.0), .doc = "team: its default pi / 8"});
+    v("end_distance", end_distance,
+      {.unit = "m", .range = core::kPositive, .doc = "team: check_end_of_corridor_reached(..., 0.5)"});
+    v("end_wait", end_wait, {.unit = "s", .range = core::kNonNegative, .doc = "team: end_reached_waiting_time"});
+    v("backtrack_wait", backtrack_wait,
+      {.unit = "s", .range = core::kNonNegative, .doc = "team: backtrack_waiting_time"});
+    v("min_backtrack_distance", min_backtrack_distance,
+      {.unit = "m", .range = core::kNonNegative, .doc = "team: minimal_backtrack_distance"});
+    v("inside_tolerance", inside_tolerance,
+      {.unit = "m", .range = core::kNonNegative, .doc = "team: check_inside_one_point's tolerance"});
   }
 };
 void validate(const MecoManagerConfig& config, core::Errors& errors, const std::string& prefix);

@@ -30,6 +30,7 @@
 
 #include <Eigen/Core>
 
+#include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/core/lidar_config.hpp"
 #include "barn/core/types.hpp"
@@ -39,26 +40,42 @@ namespace barn::controllers {
 /// The geometry of the tube library. Defaults: the 2025 code's (romulortr/fsmt_ros@75febc5,
 /// fsmt/src/navigation/navigation_with_global_wp_plan.c and src/fsmt_base_local_planner.cpp).
 struct MotionTubeConfig {
-  double length = 0.75;           // [m] 2025 code: nominal tube arc length
-  double backward_length = 0.75;  // [m] 2025 code: the recovery tubes run -0.75 m
-  double max_angle_deg = 90.0;    // [deg] 2025 code: nominal heading change 0 ... 90 deg, both sides
-  double angle_step_deg = 0.5;    // [deg] 2025 code: 2 (90 / 0.5 + 1) = 362 tubes
-  double min_curvature = 0.001;   // [1/m] 2025 code: curvature alpha / L floored here (the straight tubes)
-  double radius_factor = 0.9;     // [-] 2025 code: stored radius 0.9 / curvature (tighter than nominal)
-  double vehicle_width = 0.5;     // [m] 2025 code: box width (Jackal: 0.43 with the wheels)
-  double axle_to_front = 0.2;     // [m] 2025 code
-  double axle_to_rear = 0.2;      // [m] 2025 code
-  double edge_step = 0.1;         // [m] 2025 code: sampling step of the edge
-  double whisker_step = 0.1;      // [m] 2025 code: sampling step of the whiskers
-  double side_whisker_offset = 0.1;   // [m] 2025 code: whiskers_distance.side
-  double front_whisker_offset = 0.05; // [m] 2025 code: whiskers_distance.front
+  double length = 0.75;
+  double backward_length = 0.75;
+  double max_angle_deg = 90.0;
+  double angle_step_deg = 0.5;
+  double min_curvature = 0.001;
+  double radius_factor = 0.9;
+  double vehicle_width = 0.5;
+  double axle_to_front = 0.2;
+  double axle_to_rear = 0.2;
+  double edge_step = 0.1;
+  double whisker_step = 0.1;
+  double side_whisker_offset = 0.1;
+  double front_whisker_offset = 0.05;
 
   template <class V> void visit(V& v) {
-    v("length", length); v("backward_length", backward_length); v("max_angle_deg", max_angle_deg);
-    v("angle_step_deg", angle_step_deg); v("min_curvature", min_curvature); v("radius_factor", radius_factor);
-    v("vehicle_width", vehicle_width); v("axle_to_front", axle_to_front); v("axle_to_rear", axle_to_rear);
-    v("edge_step", edge_step); v("whisker_step", whisker_step); v("side_whisker_offset", side_whisker_offset);
-    v("front_whisker_offset", front_whisker_offset);
+    v("length", length, {.unit = "m", .range = core::kPositive, .doc = "2025 code: nominal tube arc length"});
+    v("backward_length", backward_length,
+      {.unit = "m", .range = core::kPositive, .doc = "2025 code: the recovery tubes run -0.75 m"});
+    v("max_angle_deg", max_angle_deg,
+      {.unit = "deg", .range = core::closed(0.0, 180.0), .doc = "2025 code: nominal heading change 0 ... 90 deg, both sides"});
+    v("angle_step_deg", angle_step_deg, {.unit = "deg", .doc = "2025 code: 2 (90 / 0.5 + 1) = 362 tubes"});
+    v("min_curvature", min_curvature,
+      {.unit = "1/m", .range = core::kPositive, .doc = "2025 code: curvature alpha / L floored here (the straight tubes)"});
+    v("radius_factor", radius_factor,
+      {.range = core::kPositive, .doc = "2025 code: stored radius 0.9 / curvature (tighter than nominal)"});
+    v("vehicle_width", vehicle_width,
+      {.unit = "m", .range = core::kPositive, .doc = "2025 code: box width (Jackal: 0.43 with the wheels)"});
+    v("axle_to_front", axle_to_front, {.unit = "m", .range = core::kNonNegative, .doc = "2025 code"});
+    v("axle_to_rear", axle_to_rear, {.unit = "m", .range = core::kNonNegative, .doc = "2025 code"});
+    v("edge_step", edge_step, {.unit = "m", .range = core::kPositive, .doc = "2025 code: sampling step of the edge"});
+    v("whisker_step", whisker_step,
+      {.unit = "m", .range = core::kPositive, .doc = "2025 code: sampling step of the whiskers"});
+    v("side_whisker_offset", side_whisker_offset,
+      {.unit = "m", .range = core::kNonNegative, .doc = "2025 code: whiskers_distance.side"});
+    v("front_whisker_offset", front_whisker_offset,
+      {.unit = "m", .range = core::kNonNegative, .doc = "2025 code: whiskers_distance.front"});
   }
 };
 void validate(const MotionTubeConfig& config, core::Errors& errors, const std::string& prefix);

@@ -27,29 +27,39 @@ namespace barn::controllers {
 /// found a path (its PLANNING state).
 struct MoveBaseRecoveryConfig {
   bool enabled = true;
-  double controller_patience = 15.0;       // [s] without a valid command before recovering
-  double planner_patience = 5.0;           // [s] waiting for a plan before recovering
+  double controller_patience = 15.0;
+  double planner_patience = 5.0;
   // BARN's clearing recoveries clear nothing: ClearCostmapRecovery resets only layers named
   // "obstacles", and BARN's obstacle layer is called "obstacles_layer". true clears as intended.
   bool clear_costmaps = false;
-  double conservative_reset_distance = 3.0;  // [m] first clearing keeps obstacles within this
-  double aggressive_reset_distance = 1.84;   // [m] 4 x the default circumscribed radius (0.46)
+  double conservative_reset_distance = 3.0;
+  double aggressive_reset_distance = 1.84;
   // rotate_recovery (it reads ~TrajectoryPlannerROS, BARN's base_local_planner_params.yaml,
   // which the E-Band launch loads too): always counter-clockwise, a full turn, at
   // clamp(sqrt(2 acc remaining), min, max); the footprint is checked over the whole remaining
   // sweep every tick and any hit ends the behaviour at once.
-  double max_rotation_speed = 1.57;        // [rad/s] max_vel_theta
-  double min_rotation_speed = 0.314;       // [rad/s] min_in_place_vel_theta
-  double rotation_acceleration = 20.0;     // [rad/s^2] acc_lim_theta
-  double rotation_tolerance = 0.157;       // [rad] yaw_goal_tolerance
-  double sweep_step = 0.017;               // [rad] sim_granularity of the sweep check
+  double max_rotation_speed = 1.57;
+  double min_rotation_speed = 0.314;
+  double rotation_acceleration = 20.0;
+  double rotation_tolerance = 0.157;
+  double sweep_step = 0.017;
   template <class V> void visit(V& v) {
-    v("enabled", enabled); v("controller_patience", controller_patience);
-    v("planner_patience", planner_patience); v("clear_costmaps", clear_costmaps);
-    v("conservative_reset_distance", conservative_reset_distance);
-    v("aggressive_reset_distance", aggressive_reset_distance); v("max_rotation_speed", max_rotation_speed);
-    v("min_rotation_speed", min_rotation_speed); v("rotation_acceleration", rotation_acceleration);
-    v("rotation_tolerance", rotation_tolerance); v("sweep_step", sweep_step);
+    v("enabled", enabled);
+    v("controller_patience", controller_patience,
+      {.unit = "s", .range = core::kPositive, .doc = "without a valid command before recovering"});
+    v("planner_patience", planner_patience,
+      {.unit = "s", .range = core::kPositive, .doc = "waiting for a plan before recovering"});
+    v("clear_costmaps", clear_costmaps);
+    v("conservative_reset_distance", conservative_reset_distance,
+      {.unit = "m", .doc = "first clearing keeps obstacles within this"});
+    v("aggressive_reset_distance", aggressive_reset_distance,
+      {.unit = "m", .doc = "4 x the default circumscribed radius (0.46)"});
+    v("max_rotation_speed", max_rotation_speed, {.unit = "rad/s", .range = core::kPositive, .doc = "max_vel_theta"});
+    v("min_rotation_speed", min_rotation_speed, {.unit = "rad/s", .doc = "min_in_place_vel_theta"});
+    v("rotation_acceleration", rotation_acceleration,
+      {.unit = "rad/s^2", .range = core::kPositive, .doc = "acc_lim_theta"});
+    v("rotation_tolerance", rotation_tolerance, {.unit = "rad", .range = core::kPositive, .doc = "yaw_goal_tolerance"});
+    v("sweep_step", sweep_step, {.unit = "rad", .range = core::kPositive, .doc = "sim_granularity of the sweep check"});
   }
 };
 void validate(const MoveBaseRecoveryConfig& config, core::Errors& errors, const std::string& prefix);

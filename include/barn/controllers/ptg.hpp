@@ -52,6 +52,7 @@
 
 #include <Eigen/Core>
 
+#include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/core/types.hpp"
 
@@ -60,25 +61,33 @@ namespace barn::controllers {
 /// The PTG's parameters. Defaults: PTG0 of the BARN Jackal file (ptgs_jackal.ini at
 /// mrpt-ros-pkg/mrpt_navigation@58fe36f), or MRPT's default where the file sets none.
 struct PtgConfig {
-  int num_paths = 151;           // [-] ini: PTG0_num_paths
-  double ref_distance = 3.0;     // [m] ini: PTG0_refDistance = NAV_MAX_REF_DIST
-  double resolution = 0.05;      // [m] ini: PTG0_resolution, the collision grid's cell size
-  double v_max = 1.2;            // [m/s] ini: ROBOT_MAX_V
-  // [1/rad] ini: PTG0_v_max_mps = ROBOT_MAX_V * (1 - abs(dir) / 3.2), dir read as alpha [rad]
+  int num_paths = 151;
+  double ref_distance = 3.0;
+  double resolution = 0.05;
+  double v_max = 1.2;
+  // Ini: PTG0_v_max_mps = ROBOT_MAX_V * (1 - abs(dir) / 3.2), dir read as alpha [rad]
   // (our reading; 3.2 > pi keeps v > 0 on the hard-turn paths). 0: every path at v_max, as in
   // MRPT's plain CPTG_DiffDrive_C.
   double v_falloff = 1.0 / 3.2;
-  double w_max_deg = 60.0;       // [deg/s] ini: PTG0_w_max_dps = ROBOT_MAX_W
-  double turning_radius_reference = 0.10;  // [m] MRPT default (CPTG_DiffDrive_CollisionGridBased)
-  // [m] ini: RobotModel_shape2D_xs/ys, the Jackal's +-0.265 x +-0.225 box grown to +-0.30 x +-0.27
+  double w_max_deg = 60.0;
+  double turning_radius_reference = 0.10;
+  // Ini: RobotModel_shape2D_xs/ys, the Jackal's +-0.265 x +-0.225 box grown to +-0.30 x +-0.27
   // ("Barn map obstacles are points, we must ADD the cylinders radius"). A simple polygon.
   std::vector<double> shape_x = {0.30, 0.30, -0.30, -0.30};
-  std::vector<double> shape_y = {-0.27, 0.27, 0.27, -0.27};  // [m]
+  std::vector<double> shape_y = {-0.27, 0.27, 0.27, -0.27};
 
   template <class V> void visit(V& v) {
-    v("num_paths", num_paths); v("ref_distance", ref_distance); v("resolution", resolution);
-    v("v_max", v_max); v("v_falloff", v_falloff); v("w_max_deg", w_max_deg);
-    v("turning_radius_reference", turning_radius_reference); v("shape_x", shape_x); v("shape_y", shape_y);
+    v("num_paths", num_paths, {.range = core::closed(3, 65535), .doc = "ini: PTG0_num_paths"});
+    v("ref_distance", ref_distance,
+      {.unit = "m", .range = core::kPositive, .doc = "ini: PTG0_refDistance = NAV_MAX_REF_DIST"});
+    v("resolution", resolution, {.unit = "m", .doc = "ini: PTG0_resolution, the collision grid's cell size"});
+    v("v_max", v_max, {.unit = "m/s", .range = core::kPositive, .doc = "ini: ROBOT_MAX_V"});
+    v("v_falloff", v_falloff, {.unit = "1/rad"});
+    v("w_max_deg", w_max_deg, {.unit = "deg/s", .range = core::kPositive, .doc = "ini: PTG0_w_max_dps = ROBOT_MAX_W"});
+    v("turning_radius_reference", turning_radius_reference,
+      {.unit = "m", .range = core::kNonNegative, .doc = "MRPT default (CPTG_DiffDrive_CollisionGridBased)"});
+    v("shape_x", shape_x, {.unit = "m"});
+    v("shape_y", shape_y, {.unit = "m"});
   }
 };
 void validate(const PtgConfig& config, core::Errors& errors, const std::string& prefix);

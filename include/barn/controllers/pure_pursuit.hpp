@@ -5,15 +5,20 @@
 /// say how the simulator treats a robot on BARN's own path, not how good a method is.
 
 #include "barn/controllers/controller.hpp"
+#include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
 
 namespace barn::controllers {
 
 struct PurePursuitConfig {
-  double speed = 0.5;      // [m/s] forward speed
-  double lookahead = 0.5;  // [m] distance of the pursued point along the path
-  double rate = 20.0;      // [Hz] control rate
-  template <class V> void visit(V& v) { v("speed", speed); v("lookahead", lookahead); v("rate", rate); }
+  double speed = 0.5;      // our choice
+  double lookahead = 0.5;  // our choice
+  double rate = 20.0;      // our choice
+  template <class V> void visit(V& v) {
+    v("speed", speed, {.unit = "m/s", .range = core::kPositive, .doc = "forward speed"});
+    v("lookahead", lookahead, {.unit = "m", .range = core::kPositive, .doc = "distance of the pursued point along the path"});
+    v("rate", rate, {.unit = "Hz", .range = core::kPositive, .doc = "control rate"});
+  }
 };
 void validate(const PurePursuitConfig& config, core::Errors& errors, const std::string& prefix);
 

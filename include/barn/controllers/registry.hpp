@@ -29,6 +29,14 @@ struct PreparedController {
 ///     pure_pursuit: {speed: 0.5}
 /// before any episode runs (InputError names the key); a policy file is loaded once, here.
 PreparedController prepareController(const core::ConfigNode& config);
+/// Every field of the config's controller block (the file's values, defaults for the rest) with
+/// its unit, range and doc, keys relative to the block ("nav.planner.rate"): `barn config
+/// <controller>`. InputError as prepareController for a missing or unknown type or a bad value.
+std::vector<core::FieldRow> controllerSchema(const core::ConfigNode& config);
+/// The unit controller type `type`'s config states for `key` (relative to the type's block, or
+/// starting with the type: "safety.front_pad_x", "inventec.safety.front_pad_x"): a sweep
+/// axis's unit. "" if the key is dimensionless, states no unit or is not a key of the type.
+std::string controllerKeyUnit(const std::string& type, const std::string& key);
 /// prepareController's factory alone.
 ControllerFactory makeControllerFactory(const core::ConfigNode& config);
 /// prepareController's effective config alone.

@@ -13,15 +13,21 @@
 
 #include "barn/controllers/controller.hpp"
 #include "barn/controllers/vfh_fuzzy.hpp"
+#include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
 
 namespace barn::controllers {
 
 struct RrslVfhConfig {
-  double rate = 10.0;              // [Hz] team: rospy.Rate(10)
-  double goal_stop_radius = 0.5;   // [m] team: stop (and quit) within 0.5 m of the goal
-  VfhConfig vfh;                   // the team's VFH* and fuzzy systems (vfh_fuzzy.hpp)
-  template <class V> void visit(V& v) { v("rate", rate); v("goal_stop_radius", goal_stop_radius); v("vfh", vfh); }
+  double rate = 10.0;
+  double goal_stop_radius = 0.5;
+  VfhConfig vfh;
+  template <class V> void visit(V& v) {
+    v("rate", rate, {.unit = "Hz", .range = core::kPositive, .doc = "team: rospy.Rate(10)"});
+    v("goal_stop_radius", goal_stop_radius,
+      {.unit = "m", .range = core::kNonNegative, .doc = "team: stop (and quit) within 0.5 m of the goal"});
+    v("vfh", vfh, {.doc = "the team's VFH* and fuzzy systems (vfh_fuzzy.hpp)"});
+  }
 };
 void validate(const RrslVfhConfig& config, core::Errors& errors, const std::string& prefix);
 

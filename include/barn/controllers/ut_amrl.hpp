@@ -43,38 +43,54 @@ namespace barn::controllers {
 
 /// graph_navigation's navigation parameters (navigation.lua at the `data` tag, unless noted).
 struct GraphNavConfig {
-  double rate = 40.0;                  // [Hz] team: dt 0.025
-  double system_latency = 0.24;        // [s] team
-  double max_linear_speed = 2.0;       // [m/s] team
-  double max_linear_accel = 0.5;       // [m/s^2] team
-  double max_linear_decel = 0.5;       // [m/s^2] team
-  double max_angular_speed = 5.0;      // [rad/s] team
-  double max_angular_accel = 5.0;      // [rad/s^2] team
-  double max_angular_decel = 5.0;      // [rad/s^2] team
-  double carrot_dist = 3.0;            // [m] team
-  double local_fov_deg = 30.0;         // [deg] team: turn in place when the carrot is farther off
-  double laser_x = 0.12;               // [m] team: laser_loc.x (barnbench's sensor, like Gazebo's, is at 0.055)
-  double target_dist_tolerance = 0.1;  // [m] team: the local goal counts as reached within this ...
-  double target_vel_tolerance = 0.1;   // [m/s] team: ... below this speed
-  double target_angle_tolerance = 0.05;  // [rad] team: then it turns to the goal's heading to within this
-  double max_plan_deviation = 0.5;     // [m] graph_navigation's default: re-plan when farther from the plan
-  double max_turn_speed = 0.1;         // [m/s] graph_navigation: TurnInPlace brakes above this speed
+  double rate = 40.0;
+  double system_latency = 0.24;
+  double max_linear_speed = 2.0;
+  double max_linear_accel = 0.5;
+  double max_linear_decel = 0.5;
+  double max_angular_speed = 5.0;
+  double max_angular_accel = 5.0;
+  double max_angular_decel = 5.0;
+  double carrot_dist = 3.0;
+  double local_fov_deg = 30.0;
+  double laser_x = 0.12;
+  double target_dist_tolerance = 0.1;
+  double target_vel_tolerance = 0.1;
+  double target_angle_tolerance = 0.05;
+  double max_plan_deviation = 0.5;
+  double max_turn_speed = 0.1;
   // Whether the arcs see the scan. The `data` tag's navigation.lua subscribes to
   // "/velodyne_2dscan" (UT's own Jackal), which the BARN simulation does not publish (its scan
   // is front/scan), and nothing in the team's launch files remaps it; false is graph_navigation
   // as that configuration ran in BARN, blind (docs/systems/ut_amrl.md, "What ran in 2023").
-  bool see_obstacles = true;           // our choice: the configuration's evident intent
+  bool see_obstacles = true;
   ArcPlannerConfig arcs;
 
   template <class V> void visit(V& v) {
-    v("rate", rate); v("system_latency", system_latency); v("max_linear_speed", max_linear_speed);
-    v("max_linear_accel", max_linear_accel); v("max_linear_decel", max_linear_decel);
-    v("max_angular_speed", max_angular_speed); v("max_angular_accel", max_angular_accel);
-    v("max_angular_decel", max_angular_decel); v("carrot_dist", carrot_dist); v("local_fov_deg", local_fov_deg);
-    v("laser_x", laser_x); v("target_dist_tolerance", target_dist_tolerance);
-    v("target_vel_tolerance", target_vel_tolerance); v("target_angle_tolerance", target_angle_tolerance);
-    v("max_plan_deviation", max_plan_deviation); v("max_turn_speed", max_turn_speed);
-    v("see_obstacles", see_obstacles); v("arcs", arcs);
+    v("rate", rate, {.unit = "Hz", .range = core::kPositive, .doc = "team: dt 0.025"});
+    v("system_latency", system_latency, {.unit = "s", .range = core::kNonNegative, .doc = "team"});
+    v("max_linear_speed", max_linear_speed, {.unit = "m/s", .range = core::kPositive, .doc = "team"});
+    v("max_linear_accel", max_linear_accel, {.unit = "m/s^2", .range = core::kPositive, .doc = "team"});
+    v("max_linear_decel", max_linear_decel, {.unit = "m/s^2", .range = core::kPositive, .doc = "team"});
+    v("max_angular_speed", max_angular_speed, {.unit = "rad/s", .range = core::kPositive, .doc = "team"});
+    v("max_angular_accel", max_angular_accel, {.unit = "rad/s^2", .range = core::kPositive, .doc = "team"});
+    v("max_angular_decel", max_angular_decel, {.unit = "rad/s^2", .range = core::kPositive, .doc = "team"});
+    v("carrot_dist", carrot_dist, {.unit = "m", .range = core::kPositive, .doc = "team"});
+    v("local_fov_deg", local_fov_deg,
+      {.unit = "deg", .range = core::openClosed(0.0, 180.0), .doc = "team: turn in place when the carrot is farther off"});
+    v("laser_x", laser_x, {.unit = "m", .doc = "team: laser_loc.x (barnbench's sensor, like Gazebo's, is at 0.055)"});
+    v("target_dist_tolerance", target_dist_tolerance,
+      {.unit = "m", .range = core::kNonNegative, .doc = "team: the local goal counts as reached within this ..."});
+    v("target_vel_tolerance", target_vel_tolerance,
+      {.unit = "m/s", .range = core::kNonNegative, .doc = "team: ... below this speed"});
+    v("target_angle_tolerance", target_angle_tolerance,
+      {.unit = "rad", .range = core::kPositive, .doc = "team: then it turns to the goal's heading to within this"});
+    v("max_plan_deviation", max_plan_deviation,
+      {.unit = "m", .range = core::kPositive, .doc = "graph_navigation's default: re-plan when farther from the plan"});
+    v("max_turn_speed", max_turn_speed,
+      {.unit = "m/s", .range = core::kNonNegative, .doc = "graph_navigation: TurnInPlace brakes above this speed"});
+    v("see_obstacles", see_obstacles, {.doc = "our choice: the configuration's evident intent"});
+    v("arcs", arcs);
   }
   MotionLimits linear() const { return {max_linear_speed, max_linear_accel, max_linear_decel}; }
   MotionLimits angular() const { return {max_angular_speed, max_angular_accel, max_angular_decel}; }
@@ -84,12 +100,15 @@ struct UtAmrlConfig {
   // [s] our choice: the Python Voronoi node ran as fast as its cycle allowed (a few hundred
   // points through Qhull, a Python A* and two searches); a whole number of control periods.
   double plan_period = 0.1;
-  double local_goal_distance = 0.3;  // [m] team: localgoal_2023.py, mode "2023"
+  double local_goal_distance = 0.3;
   VoronoiPlannerConfig voronoi;
   GraphNavConfig navigation;
 
   template <class V> void visit(V& v) {
-    v("plan_period", plan_period); v("local_goal_distance", local_goal_distance); v("voronoi", voronoi);
+    v("plan_period", plan_period);
+    v("local_goal_distance", local_goal_distance,
+      {.unit = "m", .range = core::kNonNegative, .doc = "team: localgoal_2023.py, mode \"2023\""});
+    v("voronoi", voronoi);
     v("navigation", navigation);
   }
 };

@@ -71,7 +71,11 @@ struct FuzzySystemConfig {
   FuzzyUniverse input;
   FuzzyUniverse output;
   std::vector<FuzzyRule> rules;
-  template <class V> void visit(V& v) { v("input", input); v("output", output); v("rules", rules); }
+  template <class V> void visit(V& v) {
+    v("input", input);
+    v("output", output);
+    v("rules", rules);
+  }
 };
 void validate(const FuzzySystemConfig& config, core::Errors& errors, const std::string& prefix);
 
@@ -166,43 +170,68 @@ FuzzySystemConfig rrslSpeedFuzzy();
 FuzzySystemConfig rrslTurnFuzzy();
 
 struct VfhConfig {
-  double max_range = 4.0;          // [m] team: max_range
-  int sector_beams = 8;            // [beams] team: sector_size
-  double threshold = 0.9;          // [-] team: threshold (blocked above threshold + 2 danger)
-  double robot_size = 0.6;         // [m] team: robotDim (sectToClear)
-  int wide_valley_min = 22;        // [sectors] team: WidevalleyMin
-  double fov_deg = 270.0;          // [deg] team: calc_Target clips to +-135 and maps 270 deg
-  double step = 0.6;               // [m] team: ds = robotDim
-  int depth = 2;                   // [-] team: ng
-  double target_weight = 0.1;      // [1/sector] team: cost_trajectory
-  double switch_weight = 0.2;      // [1/sector] team: cost_trajectory switching penalty
+  double max_range = 4.0;
+  int sector_beams = 8;
+  double threshold = 0.9;
+  double robot_size = 0.6;
+  int wide_valley_min = 22;
+  double fov_deg = 270.0;
+  double step = 0.6;
+  int depth = 2;
+  double target_weight = 0.1;
+  double switch_weight = 0.2;
   // Heading smoothing: heading = alpha * candidate + (1 - alpha) * previous heading, the
   // previous heading also feeding the switching penalty (RRSL). Without it the heading is the
   // candidate and the penalty's previous heading stays the target sector (IN2BOT, whose
   // prev_heading is never set).
-  bool smoothing = true;           // team (RRSL): on
-  double smoothing_alpha = 0.5;    // [-] team: alpha
-  int speed_sector_begin = 35;     // [sector, 0-based] team: min(h[35:55]), the central +-30 deg
-  int speed_sector_end = 55;       // [sector, 0-based] excluded
-  int clear_half_beams = 60;       // [beams] team: centre +- 60 (121 beams, +-22.5 deg)
-  double clear_alignment = 5.0;    // [sectors] team: |heading - target| < 5
-  double clear_speed = 2.0;        // [m/s] team
-  int bubble_beams = 180;          // [beams] team: safety_bubble_width (181 beams, +-33.75 deg)
-  double bubble_distance = 0.45;   // [m] team: safety_distance
-  double bubble_speed = -0.4;      // [m/s] team
-  double bubble_turn = 0.5;        // [rad/s] team, toward the clearer half
+  bool smoothing = true;
+  double smoothing_alpha = 0.5;
+  int speed_sector_begin = 35;
+  int speed_sector_end = 55;
+  int clear_half_beams = 60;
+  double clear_alignment = 5.0;
+  double clear_speed = 2.0;
+  int bubble_beams = 180;
+  double bubble_distance = 0.45;
+  double bubble_speed = -0.4;
+  double bubble_turn = 0.5;
   FuzzySystemConfig speed_fuzzy = rrslSpeedFuzzy();
   FuzzySystemConfig turn_fuzzy = rrslTurnFuzzy();
 
   template <class V> void visit(V& v) {
-    v("max_range", max_range); v("sector_beams", sector_beams); v("threshold", threshold);
-    v("robot_size", robot_size); v("wide_valley_min", wide_valley_min); v("fov_deg", fov_deg); v("step", step);
-    v("depth", depth); v("target_weight", target_weight); v("switch_weight", switch_weight);
-    v("smoothing", smoothing); v("smoothing_alpha", smoothing_alpha);
-    v("speed_sector_begin", speed_sector_begin); v("speed_sector_end", speed_sector_end);
-    v("clear_half_beams", clear_half_beams); v("clear_alignment", clear_alignment); v("clear_speed", clear_speed);
-    v("bubble_beams", bubble_beams); v("bubble_distance", bubble_distance); v("bubble_speed", bubble_speed);
-    v("bubble_turn", bubble_turn); v("speed_fuzzy", speed_fuzzy); v("turn_fuzzy", turn_fuzzy);
+    v("max_range", max_range, {.unit = "m", .range = core::kPositive, .doc = "team: max_range"});
+    v("sector_beams", sector_beams, {.unit = "beams", .range = core::atLeast(1), .doc = "team: sector_size"});
+    v("threshold", threshold,
+      {.range = core::kPositive, .doc = "team: threshold (blocked above threshold + 2 danger)"});
+    v("robot_size", robot_size, {.unit = "m", .doc = "team: robotDim (sectToClear)"});
+    v("wide_valley_min", wide_valley_min,
+      {.unit = "sectors", .range = core::kNonNegative, .doc = "team: WidevalleyMin"});
+    v("fov_deg", fov_deg,
+      {.unit = "deg", .range = core::openClosed(0.0, 360.0), .doc = "team: calc_Target clips to +-135 and maps 270 deg"});
+    v("step", step, {.unit = "m", .range = core::kNonNegative, .doc = "team: ds = robotDim"});
+    v("depth", depth, {.range = core::closed(1, 4), .doc = "team: ng"});
+    v("target_weight", target_weight,
+      {.unit = "1/sector", .range = core::kNonNegative, .doc = "team: cost_trajectory"});
+    v("switch_weight", switch_weight,
+      {.unit = "1/sector", .range = core::kNonNegative, .doc = "team: cost_trajectory switching penalty"});
+    v("smoothing", smoothing, {.doc = "team (RRSL): on"});
+    v("smoothing_alpha", smoothing_alpha, {.range = core::kUnit, .doc = "team: alpha"});
+    v("speed_sector_begin", speed_sector_begin,
+      {.unit = "sector, 0-based", .doc = "team: min(h[35:55]), the central +-30 deg"});
+    v("speed_sector_end", speed_sector_end, {.unit = "sector, 0-based", .doc = "excluded"});
+    v("clear_half_beams", clear_half_beams,
+      {.unit = "beams", .range = core::kNonNegative, .doc = "team: centre +- 60 (121 beams, +-22.5 deg)"});
+    v("clear_alignment", clear_alignment,
+      {.unit = "sectors", .range = core::kNonNegative, .doc = "team: |heading - target| < 5"});
+    v("clear_speed", clear_speed, {.unit = "m/s", .doc = "team"});
+    v("bubble_beams", bubble_beams,
+      {.unit = "beams", .range = core::kNonNegative, .doc = "team: safety_bubble_width (181 beams, +-33.75 deg)"});
+    v("bubble_distance", bubble_distance, {.unit = "m", .range = core::kNonNegative, .doc = "team: safety_distance"});
+    v("bubble_speed", bubble_speed, {.unit = "m/s", .doc = "team"});
+    v("bubble_turn", bubble_turn,
+      {.unit = "rad/s", .range = core::kNonNegative, .doc = "team, toward the clearer half"});
+    v("speed_fuzzy", speed_fuzzy);
+    v("turn_fuzzy", turn_fuzzy);
   }
 };
 void validate(const VfhConfig& config, core::Errors& errors, const std::string& prefix);

@@ -40,6 +40,7 @@
 
 #include <Eigen/Core>
 
+#include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/core/types.hpp"
 
@@ -50,41 +51,66 @@ enum class EllipseCentre { Start, Origin };
 std::span<const std::string_view> enumNames(EllipseCentre);
 
 struct VoronoiPlannerConfig {
-  double scale = 10.0;            // [1/m] team: coordinates in decimetres (x 10)
-  int grid = 2;                   // [dm] team: points rounded to even decimetres
-  double clear_inf_range = 5.0;   // [m] team: an inf beam reaches 5 m in the clearing polygon
-  double clear_margin = 0.005;    // [m] team: added to every range of the clearing polygon
-  double goal_distance = 10.0;    // [m] team: the goal, 100 dm along the first heading
+  double scale = 10.0;
+  int grid = 2;
+  double clear_inf_range = 5.0;
+  double clear_margin = 0.005;
+  double goal_distance = 10.0;
   // The half ellipse: the team's (20 cos a, 15 sin a) dm in the odom frame's own axes, a from
   // the first heading + 90 to + 270 degrees. Their odom frame, like barnbench's, starts facing
   // +y, so it reaches 2 m to each side and 1.5 m back.
-  double ellipse_x = 2.0;         // [m] team: semi-axis along the odom x axis (20 dm)
-  double ellipse_y = 1.5;         // [m] team: semi-axis along the odom y axis (15 dm)
-  int ellipse_points = 20;        // team: points on the half ellipse, ends included
+  double ellipse_x = 2.0;
+  double ellipse_y = 1.5;
+  int ellipse_points = 20;
   // Where it is centred: on the start (the robot, each cycle), as the description of the
   // `data`-tag planner says, or at the odom origin, as the node's later stored versions have it
   // (docs/systems/ut_amrl.md: at the origin the robot circles short of the goal).
-  EllipseCentre ellipse_centre = EllipseCentre::Start;  // team (description); see above
-  double end_gap = 10.0;          // [dm] team: gap of the start's and goal's connections
-  double min_gap = 5.0;           // [dm] team: edges with a smaller gap are skipped
-  double gap_weight = 800.0;      // [dm^2] team: f += gap_weight / gap
-  double average_gap_limit = 50.0;  // [dm] team: only gaps below this count in the average
-  double old_path_weight = 50.0;  // [-] team: re-plan f += weight x L1 distance to the old path
-  double switch_gap_ratio = 1.05;   // team: fresh average gap > 1.05 x the re-planned one ...
-  int switch_min_old_points = 8;    // team: ... and the old path has more than 8 points
-  double switch_hausdorff = 5.0;    // [dm] team: old vs re-planned path farther apart than this
-  double switch_length_ratio = 0.8;      // team: fresh path shorter than 0.8 x the old one ...
-  double switch_length_gap_ratio = 0.95; // team: ... with at least 0.95 x the re-planned gap
-  int hausdorff_samples = 10;     // team (the node's later version): points per path segment
+  EllipseCentre ellipse_centre = EllipseCentre::Start;
+  double end_gap = 10.0;
+  double min_gap = 5.0;
+  double gap_weight = 800.0;
+  double average_gap_limit = 50.0;
+  double old_path_weight = 50.0;
+  double switch_gap_ratio = 1.05;
+  int switch_min_old_points = 8;
+  double switch_hausdorff = 5.0;
+  double switch_length_ratio = 0.8;
+  double switch_length_gap_ratio = 0.95;
+  int hausdorff_samples = 10;
 
   template <class V> void visit(V& v) {
-    v("scale", scale); v("grid", grid); v("clear_inf_range", clear_inf_range); v("clear_margin", clear_margin);
-    v("goal_distance", goal_distance); v("ellipse_x", ellipse_x); v("ellipse_y", ellipse_y);
-    v("ellipse_points", ellipse_points); v("ellipse_centre", ellipse_centre); v("end_gap", end_gap); v("min_gap", min_gap); v("gap_weight", gap_weight);
-    v("average_gap_limit", average_gap_limit); v("old_path_weight", old_path_weight);
-    v("switch_gap_ratio", switch_gap_ratio); v("switch_min_old_points", switch_min_old_points);
-    v("switch_hausdorff", switch_hausdorff); v("switch_length_ratio", switch_length_ratio);
-    v("switch_length_gap_ratio", switch_length_gap_ratio); v("hausdorff_samples", hausdorff_samples);
+    v("scale", scale, {.unit = "1/m", .range = core::kPositive, .doc = "team: coordinates in decimetres (x 10)"});
+    v("grid", grid, {.unit = "dm", .range = core::atLeast(1), .doc = "team: points rounded to even decimetres"});
+    v("clear_inf_range", clear_inf_range,
+      {.unit = "m", .range = core::kPositive, .doc = "team: an inf beam reaches 5 m in the clearing polygon"});
+    v("clear_margin", clear_margin,
+      {.unit = "m", .range = core::kNonNegative, .doc = "team: added to every range of the clearing polygon"});
+    v("goal_distance", goal_distance,
+      {.unit = "m", .range = core::kPositive, .doc = "team: the goal, 100 dm along the first heading"});
+    v("ellipse_x", ellipse_x, {.unit = "m", .doc = "team: semi-axis along the odom x axis (20 dm)"});
+    v("ellipse_y", ellipse_y, {.unit = "m", .doc = "team: semi-axis along the odom y axis (15 dm)"});
+    v("ellipse_points", ellipse_points, {.doc = "team: points on the half ellipse, ends included"});
+    v("ellipse_centre", ellipse_centre, {.doc = "team (description); see above"});
+    v("end_gap", end_gap,
+      {.unit = "dm", .range = core::kPositive, .doc = "team: gap of the start's and goal's connections"});
+    v("min_gap", min_gap,
+      {.unit = "dm", .range = core::kNonNegative, .doc = "team: edges with a smaller gap are skipped"});
+    v("gap_weight", gap_weight, {.unit = "dm^2", .range = core::kNonNegative, .doc = "team: f += gap_weight / gap"});
+    v("average_gap_limit", average_gap_limit, {.unit = "dm", .doc = "team: only gaps below this count in the average"});
+    v("old_path_weight", old_path_weight,
+      {.range = core::kNonNegative, .doc = "team: re-plan f += weight x L1 distance to the old path"});
+    v("switch_gap_ratio", switch_gap_ratio,
+      {.range = core::kPositive, .doc = "team: fresh average gap > 1.05 x the re-planned one ..."});
+    v("switch_min_old_points", switch_min_old_points,
+      {.range = core::kNonNegative, .doc = "team: ... and the old path has more than 8 points"});
+    v("switch_hausdorff", switch_hausdorff,
+      {.unit = "dm", .range = core::kNonNegative, .doc = "team: old vs re-planned path farther apart than this"});
+    v("switch_length_ratio", switch_length_ratio,
+      {.range = core::kPositive, .doc = "team: fresh path shorter than 0.8 x the old one ..."});
+    v("switch_length_gap_ratio", switch_length_gap_ratio,
+      {.range = core::kPositive, .doc = "team: ... with at least 0.95 x the re-planned gap"});
+    v("hausdorff_samples", hausdorff_samples,
+      {.range = core::atLeast(2), .doc = "team (the node's later version): points per path segment"});
   }
 };
 void validate(const VoronoiPlannerConfig& config, core::Errors& errors, const std::string& prefix);

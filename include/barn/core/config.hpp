@@ -24,9 +24,20 @@
 ///
 ///     enum class SafetyCheck { Front, Fi };
 ///     std::span<const std::string_view> enumNames(SafetyCheck);
+///
+/// A field's schema (its unit, the values it may take and one line of doc) is written once,
+/// as a third argument of its visit call:
+///
+///     v("range_max", range_max, {.unit = "m", .range = kPositive, .doc = "farthest return"});
+///
+/// Every visitor takes the call with or without it. ConfigValidator checks the ranges
+/// (validateFields), so a struct's validate() keeps only its cross-field rules; schemaOf lists
+/// key, value, unit, range and doc (`barn config <controller>`, sweep axes). The unit is the
+/// only place a field's unit is stated in code.
 
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <span>
 #include <string>
@@ -61,6 +72,52 @@ bool enumFromName(std::string_view name, E& value) {
       return true;
     }
   return false;
+}
+
+/// The values a numeric field may take: an interval, each end closed, open or absent (the
+/// default, all of them).
+struct Range {
+  double low = -std::numeric_limits<double>::infinity();
+  double high = std::numeric_limits<double>::infinity();
+  bool low_open = false;   // low itself excluded
+  bool high_open = false;  // high itself excluded
+
+  bool contains(double value) const {
+    return (low_open ? value > low : value >= low) && (high_open ? value < high : value <= high);
+  }
+  bool unbounded() const { return low == -std::numeric_limits<double>::infinity() && high == std::numeric_limits<double>::infinity(); }
+  /// "> 0", ">= 2", "< 0", "<= 1", "in [0, 1]", "in (0, 1]"; "" if unbounded.
+  std::string text() const;
+};
+
+constexpr Range above(double low) { return {low, std::numeric_limits<double>::infinity(), true, false}; }
+constexpr Range atLeast(double low) { return {low, std::numeric_limits<double>::infinity(), false, false}; }
+constexpr Range below(double high) { return {-std::numeric_limits<double>::infinity(), high, false, true}; }
+constexpr Range atMost(double high) { return {-std::numeric_limits<double>::infinity(), high, false, false}; }
+/// [low, high]
+constexpr Range closed(double low, double high) { return {low, high, false, false}; }
+/// (low, high)
+constexpr Range open(double low, double high) { return {low, high, true, true}; }
+/// (low, high]
+constexpr Range openClosed(double low, double high) { return {low, high, true, false}; }
+/// [low, high)
+constexpr Range closedOpen(double low, double high) { return {low, high, false, true}; }
+inline constexpr Range kPositive = above(0.0);
+inline constexpr Range kNonNegative = atLeast(0.0);
+inline constexpr Range kUnit = closed(0.0, 1.0);  // a share or a probability
+
+/// A field's schema, the third argument of its visit call (see the header comment).
+struct FieldSpec {
+  std::string_view unit = {};  // e.g. "m/s", "rad", "Hz"; "" = dimensionless or not a quantity
+  Range range = {};            // checked by validateFields on numbers (each element of a list)
+  std::string_view doc = {};   // one line: what the field means
+};
+
+/// Calls `config.visit(v)` on a const config, for visitors that only read (the one place the
+/// const is cast away).
+template <class T, class V>
+void visitConst(const T& config, V& v) {
+  const_cast<T&>(config).visit(v);
 }
 
 /// A node of a parsed YAML document, remembering its key path ("controller.fi.offset") and
@@ -167,6 +224,12 @@ class ConfigReader {
     }
   }
 
+  /// The schema is not the reader's business: ranges are validateFields's.
+  template <class T>
+  void operator()(const char* key, T& value, const FieldSpec&) {
+    (*this)(key, value);
+  }
+
   /// Records "unknown key" and "duplicate key" errors for the keys no field claimed.
   void finish();
 
@@ -220,18 +283,30 @@ class ConfigWriter {
     if constexpr (requires(ConfigWriter& w) { const_cast<T&>(value).visit(w); }) {
       line(key, "");
       ConfigWriter nested(indent_ + 2);
-      const_cast<T&>(value).visit(nested);
+      visitConst(value, nested);
       text_ += nested.text_;
     } else if constexpr (requires(ConfigWriter& w) { const_cast<T&>(value).front().visit(w); }) {
       writeList(key, value);
-    } else if constexpr (NamedEnum<T>) {
-      line(key, scalar(std::string(enumName(value))));
     } else {
-      line(key, scalar(value));
+      line(key, valueText(value));
     }
+  }
+  template <class T>
+  void operator()(const char* key, const T& value, const FieldSpec&) {
+    (*this)(key, value);
   }
 
   const std::string& text() const { return text_; }
+
+  /// A scalar's (a number, a string, a list of them, an enum's name) value as YAML text.
+  template <class T>
+  static std::string valueText(const T& value) {
+    if constexpr (NamedEnum<T>) {
+      return scalar(std::string(enumName(value)));
+    } else {
+      return scalar(value);
+    }
+  }
 
  private:
   // A block list of maps, each element's first field after "- ".
@@ -240,7 +315,7 @@ class ConfigWriter {
     line(key, values.empty() ? "[]" : "");
     for (const T& element : values) {
       ConfigWriter nested(indent_ + 4);
-      const_cast<T&>(element).visit(nested);
+      visitConst(element, nested);
       if (nested.text_.empty()) nested.text_ = std::string(static_cast<std::size_t>(indent_ + 4), ' ') + "{}\n";
       text_ += nested.text_.replace(static_cast<std::size_t>(indent_ + 2), 2, "- ");
     }
@@ -282,8 +357,94 @@ T readConfig(const ConfigNode& node) {
 template <class T>
 std::string writeConfig(const T& config) {
   ConfigWriter writer;
-  const_cast<T&>(config).visit(writer);
+  visitConst(config, writer);
   return writer.text();
+}
+
+/// Checks each field of one struct against its FieldSpec's range, recording "prefix.key: must
+/// be > 0 m/s, got -1 m/s". Nested structs are not entered: each struct's validate() calls
+/// validateFields for its own fields (see validateFields).
+class ConfigValidator {
+ public:
+  ConfigValidator(Errors& errors, std::string prefix) : errors_(errors), prefix_(std::move(prefix)) {}
+
+  template <class T>
+  void operator()(const char*, const T&) {}  // no schema: nothing to check
+  template <class T>
+  void operator()(const char* key, const T& value, const FieldSpec& spec) {
+    if constexpr (std::is_arithmetic_v<T> && !std::is_same_v<T, bool>) {
+      check(key, static_cast<double>(value), spec);
+    } else if constexpr (std::is_same_v<T, std::vector<double>>) {
+      for (std::size_t i = 0; i < value.size(); ++i) check(std::string(key) + "[" + std::to_string(i) + "]", value[i], spec);
+    }
+  }
+
+ private:
+  void check(const std::string& key, double value, const FieldSpec& spec);
+
+  Errors& errors_;
+  std::string prefix_;  // "file: block" as validate() gets it
+};
+
+/// Range checks of `config`'s own fields (not of nested structs), each error naming
+/// `prefix.key`, the range and the unit. A struct's validate() calls it first, then adds its
+/// cross-field rules and validates its nested structs.
+template <class T>
+void validateFields(const T& config, Errors& errors, const std::string& prefix) {
+  ConfigValidator validator(errors, prefix);
+  visitConst(config, validator);
+}
+
+/// One field of a config as `barn config <controller>` lists it.
+struct FieldRow {
+  std::string key;    // dotted path from the struct ("nav.global_costmap.inflation_radius")
+  std::string value;  // as the config writer writes it
+  std::string unit;   // "" = dimensionless or not stated
+  std::string range;  // Range::text(), or an enum's names; "" = any
+  std::string doc;
+};
+
+/// Lists a struct's fields, nested structs flattened into dotted keys (a list of structs is
+/// one row).
+class ConfigSchema {
+ public:
+  explicit ConfigSchema(std::string prefix = {}) : prefix_(std::move(prefix)) {}
+
+  template <class T>
+  void operator()(const char* key, const T& value) {
+    (*this)(key, value, FieldSpec{});
+  }
+  template <class T>
+  void operator()(const char* key, const T& value, const FieldSpec& spec) {
+    const std::string path = prefix_ + key;
+    if constexpr (requires(ConfigSchema& s) { const_cast<T&>(value).visit(s); }) {
+      ConfigSchema nested(path + ".");
+      visitConst(value, nested);
+      rows_.insert(rows_.end(), nested.rows_.begin(), nested.rows_.end());
+    } else if constexpr (requires(ConfigSchema& s) { const_cast<T&>(value).front().visit(s); }) {
+      rows_.push_back({path, "[" + std::to_string(value.size()) + " entries]", std::string(spec.unit), "", std::string(spec.doc)});
+    } else if constexpr (NamedEnum<T>) {
+      std::string names;
+      for (std::string_view n : enumNames(value)) names += (names.empty() ? "one of " : ", ") + std::string(n);
+      rows_.push_back({path, ConfigWriter::valueText(value), std::string(spec.unit), names, std::string(spec.doc)});
+    } else {
+      rows_.push_back({path, ConfigWriter::valueText(value), std::string(spec.unit), spec.range.text(), std::string(spec.doc)});
+    }
+  }
+
+  const std::vector<FieldRow>& rows() const { return rows_; }
+
+ private:
+  std::string prefix_;
+  std::vector<FieldRow> rows_;
+};
+
+/// Every field of `config` with its value and schema, in visit order.
+template <class T>
+std::vector<FieldRow> schemaOf(const T& config) {
+  ConfigSchema schema;
+  visitConst(config, schema);
+  return schema.rows();
 }
 
 }  // namespace barn::core

@@ -8,6 +8,7 @@
 
 #include <string>
 
+#include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/core/types.hpp"
 
@@ -15,20 +16,27 @@ namespace barn::core {
 
 /// Defaults: the UST-10LX Gazebo model of jackal_description, mounted as run.py mounts it.
 struct LidarConfig {
-  int beams = 720;                 // [-]
-  double angle_min = -2.35619;     // [rad] beam 0, at the robot's right rear
-  double angle_max = 2.35619;      // [rad] last beam
-  double range_min = 0.1;          // [m]
-  double range_max = 30.0;         // [m] farther returns report +inf
-  double noise_stddev = 0.001;     // [m] Gaussian range noise
-  double rate = 50.0;              // [Hz]
-  double mount_x = 0.055;          // [m] sensor origin ahead of the robot centre
-  double mount_y = 0.0;            // [m]
+  int beams = 720;
+  double angle_min = -2.35619;
+  double angle_max = 2.35619;
+  double range_min = 0.1;
+  double range_max = 30.0;
+  double noise_stddev = 0.001;
+  double rate = 50.0;
+  double mount_x = 0.055;
+  double mount_y = 0.0;
 
+  // Upper bounds (our choice) lie far beyond any LiDAR, so a typo (1e308) is an error.
   template <class V> void visit(V& v) {
-    v("beams", beams); v("angle_min", angle_min); v("angle_max", angle_max);
-    v("range_min", range_min); v("range_max", range_max); v("noise_stddev", noise_stddev);
-    v("rate", rate); v("mount_x", mount_x); v("mount_y", mount_y);
+    v("beams", beams, {.range = core::closed(2, 100000)});
+    v("angle_min", angle_min, {.unit = "rad", .doc = "beam 0, at the robot's right rear"});
+    v("angle_max", angle_max, {.unit = "rad", .doc = "last beam"});
+    v("range_min", range_min, {.unit = "m", .range = core::kNonNegative});
+    v("range_max", range_max, {.unit = "m", .range = core::atMost(1000.0), .doc = "farther returns report +inf"});
+    v("noise_stddev", noise_stddev, {.unit = "m", .range = core::closed(0.0, 10.0), .doc = "Gaussian range noise"});
+    v("rate", rate, {.unit = "Hz", .range = core::openClosed(0.0, 10000.0)});
+    v("mount_x", mount_x, {.unit = "m", .range = core::closed(-10.0, 10.0), .doc = "sensor origin ahead of the robot centre"});
+    v("mount_y", mount_y, {.unit = "m", .range = core::closed(-10.0, 10.0)});
   }
 
   double angleIncrement() const { return (angle_max - angle_min) / (beams - 1); }

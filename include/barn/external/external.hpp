@@ -12,24 +12,28 @@
 #include <string>
 #include <vector>
 
-#include "barn/external/child_process_pool.hpp"
 #include "barn/controllers/controller.hpp"
-#include "barn/external/external_protocol.hpp"
+#include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
+#include "barn/external/child_process_pool.hpp"
+#include "barn/external/external_protocol.hpp"
 
 namespace barn::external {
 
 struct ExternalConfig {
-  std::vector<std::string> command;  // program and arguments, no shell (e.g. [python3, my_ctrl.py])
-  double rate = 20.0;                // [Hz] control rate: an observation every 1 / rate s of simulated time
-  double timeout = 5.0;              // [s] wall time to wait for each command answer
-  double reset_timeout = 30.0;       // [s] wall time to wait for the answer to reset; a fresh
-                                     // process starts up within it (imports, loading a model)
-  std::string working_dir;           // the program's folder; "" = the config file's folder
+  std::vector<std::string> command;
+  double rate = 20.0;
+  double timeout = 5.0;
+  double reset_timeout = 30.0;
+  std::string working_dir;
 
   template <class V> void visit(V& v) {
-    v("command", command); v("rate", rate); v("timeout", timeout); v("reset_timeout", reset_timeout);
-    v("working_dir", working_dir);
+    v("command", command, {.doc = "program and arguments, no shell (e.g. [python3, my_ctrl.py])"});
+    v("rate", rate, {.unit = "Hz", .doc = "control rate: an observation every 1 / rate s of simulated time"});
+    v("timeout", timeout, {.unit = "s", .doc = "wall time to wait for each command answer"});
+    v("reset_timeout", reset_timeout,
+      {.unit = "s", .doc = "wall time to wait for the answer to reset; a fresh process starts up within it (imports, loading a model)"});
+    v("working_dir", working_dir, {.doc = "the program's folder; \"\" = the config file's folder"});
   }
 };
 

@@ -13,6 +13,8 @@
 /// run is bit-reproducible on one machine.
 
 #include <cstddef>
+#include <span>
+#include <string_view>
 
 #include <Eigen/Core>
 
@@ -22,6 +24,8 @@ namespace barn::learning {
 
 /// The hidden layers' activation (see the header comment); the slope is leaky_relu's.
 enum class Activation { Relu, LeakyRelu };
+/// The config names, in enum order: "relu", "leaky_relu" (makes Activation a core::NamedEnum).
+std::span<const std::string_view> enumNames(Activation);
 
 template <class Scalar>
 struct MlpParameters {

@@ -23,6 +23,7 @@
 #include <Eigen/Core>
 
 #include "barn/core/beam_directions.hpp"
+#include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/core/types.hpp"
 
@@ -34,31 +35,43 @@ inline constexpr std::uint8_t kLethalCost = 254;
 inline constexpr std::uint8_t kUnknownCost = 255;
 
 struct CostmapConfig {
-  double resolution = 0.05;         // [m] cell size
-  double width = 10.0;              // [m] along x
-  double height = 10.0;             // [m] along y
-  double origin_x = -5.0;           // [m] odom frame: lower-left corner of a fixed map (a rolling
-  double origin_y = -5.0;           //     window is centred on the robot instead)
-  bool rolling = false;             // the window follows the robot (local costmap)
-  double obstacle_range = 2.5;      // [m] returns closer than this mark obstacles
-  double raytrace_range = 3.0;      // [m] free space is cleared up to here along each ray
-  bool clearing = true;             // the scan clears along its rays (costmap_2d observation source `clearing`)
-  bool inf_is_valid = false;        // a beam without a return clears (it never does in BARN)
-  bool track_unknown = false;       // unseen cells are unknown (255) rather than free
+  double resolution = 0.05;
+  double width = 10.0;
+  double height = 10.0;
+  double origin_x = -5.0;
+  double origin_y = -5.0;
+  bool rolling = false;
+  double obstacle_range = 2.5;
+  double raytrace_range = 3.0;
+  bool clearing = true;
+  bool inf_is_valid = false;
+  bool track_unknown = false;
   // The inscribed radius is no setting: nav::NavStack derives it from the footprint (see
   // NavStackConfig::inscribedRadius). ROS sets footprint_padding per costmap; this is the
   // difference of this map's from the stack's, seen by its inflation only (the footprint
   // clearing and the move_base checks use the stack's padding).
-  double inscribed_padding_offset = 0.0;  // [m] our choice: 0, the stack's padding
-  double inflation_radius = 0.30;   // [m]
-  double cost_scaling_factor = 10.0;  // [1/m] costmap_2d default
+  double inscribed_padding_offset = 0.0;
+  double inflation_radius = 0.30;
+  double cost_scaling_factor = 10.0;
 
   template <class V> void visit(V& v) {
-    v("resolution", resolution); v("width", width); v("height", height); v("origin_x", origin_x);
-    v("origin_y", origin_y); v("rolling", rolling); v("obstacle_range", obstacle_range);
-    v("raytrace_range", raytrace_range); v("clearing", clearing); v("inf_is_valid", inf_is_valid); v("track_unknown", track_unknown);
-    v("inscribed_padding_offset", inscribed_padding_offset);
-    v("inflation_radius", inflation_radius); v("cost_scaling_factor", cost_scaling_factor);
+    v("resolution", resolution, {.unit = "m", .range = core::kPositive, .doc = "cell size"});
+    v("width", width, {.unit = "m", .doc = "along x"});
+    v("height", height, {.unit = "m", .doc = "along y"});
+    v("origin_x", origin_x, {.unit = "m", .doc = "odom frame: lower-left corner of a fixed map (a rolling"});
+    v("origin_y", origin_y, {.doc = "window is centred on the robot instead)"});
+    v("rolling", rolling, {.doc = "the window follows the robot (local costmap)"});
+    v("obstacle_range", obstacle_range,
+      {.unit = "m", .range = core::kPositive, .doc = "returns closer than this mark obstacles"});
+    v("raytrace_range", raytrace_range,
+      {.unit = "m", .range = core::kPositive, .doc = "free space is cleared up to here along each ray"});
+    v("clearing", clearing, {.doc = "the scan clears along its rays (costmap_2d observation source `clearing`)"});
+    v("inf_is_valid", inf_is_valid, {.doc = "a beam without a return clears (it never does in BARN)"});
+    v("track_unknown", track_unknown, {.doc = "unseen cells are unknown (255) rather than free"});
+    v("inscribed_padding_offset", inscribed_padding_offset, {.unit = "m", .doc = "our choice: 0, the stack's padding"});
+    v("inflation_radius", inflation_radius, {.unit = "m", .range = core::kNonNegative});
+    v("cost_scaling_factor", cost_scaling_factor,
+      {.unit = "1/m", .range = core::kNonNegative, .doc = "costmap_2d default"});
   }
 };
 

@@ -23,6 +23,7 @@
 
 #include <Eigen/Core>
 
+#include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/nav/costmap.hpp"
 #include "barn/nav/goal_field.hpp"
@@ -40,22 +41,30 @@ enum class PlannerAlgorithm {
 std::span<const std::string_view> enumNames(PlannerAlgorithm);
 
 struct PlannerConfig {
-  double rate = 20.0;          // [Hz] replanning rate (BARN's move_base configs: 20)
-  bool allow_unknown = false;  // NavFn allow_unknown (navfn, dijkstra)
-  double neutral_cost = 50.0;  // cost of entering a free cell (navfn, dijkstra)
-  double cost_factor = 0.8;    // weight of the costmap cost (navfn, dijkstra)
-  int smoothing_window = 0;    // cells of moving-average smoothing (0 = raw cell path; dijkstra only)
-  // [m] NavfnROS default_tolerance (navfn only; ROS default, and BARN's, 0): when the goal
+  double rate = 20.0;
+  bool allow_unknown = false;
+  double neutral_cost = 50.0;
+  double cost_factor = 0.8;
+  int smoothing_window = 0;
+  // NavfnROS default_tolerance (navfn only; ROS default, and BARN's, 0): when the goal
   // cannot be reached, plan to the reachable point of a square grid of this half-width around
   // it, one cell apart, that is nearest to the goal.
   double tolerance = 0.0;
-  PlannerAlgorithm algorithm = PlannerAlgorithm::Dijkstra;  // our choice (see the header comment)
-  RosGlobalPlannerConfig global_planner;  // algorithm global_planner only, ROS names and defaults
+  PlannerAlgorithm algorithm = PlannerAlgorithm::Dijkstra;
+  RosGlobalPlannerConfig global_planner;
 
   template <class V> void visit(V& v) {
-    v("algorithm", algorithm); v("rate", rate); v("allow_unknown", allow_unknown); v("neutral_cost", neutral_cost);
-    v("cost_factor", cost_factor); v("smoothing_window", smoothing_window); v("tolerance", tolerance);
-    v("global_planner", global_planner);
+    v("algorithm", algorithm, {.doc = "our choice (see the header comment)"});
+    v("rate", rate, {.unit = "Hz", .range = core::kPositive, .doc = "replanning rate (BARN's move_base configs: 20)"});
+    v("allow_unknown", allow_unknown, {.doc = "NavFn allow_unknown (navfn, dijkstra)"});
+    v("neutral_cost", neutral_cost,
+      {.range = core::openClosed(0.0, 1000.0), .doc = "cost of entering a free cell (navfn, dijkstra)"});
+    v("cost_factor", cost_factor,
+      {.range = core::closed(0.0, 100.0), .doc = "weight of the costmap cost (navfn, dijkstra)"});
+    v("smoothing_window", smoothing_window,
+      {.range = core::kNonNegative, .doc = "cells of moving-average smoothing (0 = raw cell path; dijkstra only)"});
+    v("tolerance", tolerance, {.unit = "m", .range = core::closed(0.0, 10.0)});
+    v("global_planner", global_planner, {.doc = "algorithm global_planner only, ROS names and defaults"});
   }
 };
 

@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "barn/core/config.hpp"
 #include "barn/core/rect.hpp"
 #include "barn/nav/costmap.hpp"
 #include "barn/nav/global_planner.hpp"
@@ -17,32 +18,42 @@
 
 namespace barn::nav {
 
+/// How a controller sees the local costmap: Live, every update (a local planner inside
+/// move_base, or a node that also reads the costmap_updates topic); Published, the map as
+/// costmap_2d publishes it whole, which it does only when the rolling window has moved (in
+/// between it sends partial updates): a node reading the costmap topic alone keeps the map of
+/// the window's last move, e.g. while the robot turns on the spot.
+enum class CostmapView { Live, Published };
+/// The config names, in enum order: "live", "published".
+std::span<const std::string_view> enumNames(CostmapView);
+
 /// The footprint and its padding are defined here once; every number derived from them (the
 /// costmaps' inscribed radius, the padded corners, E-Band's circumscribed radius, the checks'
 /// rectangles) is computed from them, as costmap_2d derives them from its footprint.
+/// Units, ranges and meanings are in visit().
 struct NavStackConfig {
-  double footprint_length = 0.42;   // [m] BARN's costmap footprint 0.42 x 0.33 (x by y), the organisers'
-  double footprint_width = 0.33;    // [m]   costmap_common_params.yaml
-  double footprint_padding = 0.1;   // [m] added on every side (BARN's costmap_common_params.yaml)
-  bool footprint_clearing = true;   // free the cells under the padded footprint (costmap_2d)
+  double footprint_length = 0.42;   // BARN's costmap footprint 0.42 x 0.33 (x by y), the organisers'
+  double footprint_width = 0.33;    //   costmap_common_params.yaml
+  double footprint_padding = 0.1;   // BARN's costmap_common_params.yaml
+  bool footprint_clearing = true;   // costmap_2d
   CostmapConfig global_costmap = defaultGlobalCostmap();
   CostmapConfig local_costmap = defaultLocalCostmap();
-  double global_update_rate = 10.0;  // [Hz] (BARN: global 10, local 20)
-  double local_update_rate = 20.0;   // [Hz]
-  // How the controller sees the local costmap: "live", every update (a local planner inside
-  // move_base, or a node that also reads the costmap_updates topic); "published", the map as
-  // costmap_2d publishes it whole, which it does only when the rolling window has moved (in
-  // between it sends partial updates): a node reading the costmap topic alone keeps the map
-  // of the window's last move, e.g. while the robot turns on the spot.
-  std::string local_costmap_view = "live";
+  double global_update_rate = 10.0;  // BARN: global 10, local 20
+  double local_update_rate = 20.0;   // BARN
+  CostmapView local_costmap_view = CostmapView::Live;  // move_base's local planners
   PlannerConfig planner;
 
   template <class V> void visit(V& v) {
-    v("footprint_length", footprint_length); v("footprint_width", footprint_width);
-    v("footprint_padding", footprint_padding); v("footprint_clearing", footprint_clearing);
+    using core::kPositive;
+    v("footprint_length", footprint_length, {.unit = "m", .range = kPositive, .doc = "footprint along x (forward)"});
+    v("footprint_width", footprint_width, {.unit = "m", .range = kPositive, .doc = "footprint along y"});
+    v("footprint_padding", footprint_padding, {.unit = "m", .doc = "added on every side"});
+    v("footprint_clearing", footprint_clearing, {.doc = "free the cells under the padded footprint"});
     v("global_costmap", global_costmap); v("local_costmap", local_costmap);
-    v("global_update_rate", global_update_rate); v("local_update_rate", local_update_rate);
-    v("local_costmap_view", local_costmap_view); v("planner", planner);
+    v("global_update_rate", global_update_rate, {.unit = "Hz", .range = kPositive, .doc = "global costmap updates"});
+    v("local_update_rate", local_update_rate, {.unit = "Hz", .range = kPositive, .doc = "local costmap updates"});
+    v("local_costmap_view", local_costmap_view, {.doc = "how the controller sees the local costmap (CostmapView)"});
+    v("planner", planner);
   }
 
   /// The footprint rectangle in the robot frame, without padding.
@@ -159,7 +170,7 @@ class NavStack {
   void applyLocalUpdate(const LocalUpdate& update) const;
 
   NavStackConfig config_;
-  bool published_view_;  // config_.local_costmap_view is "published" (read a few times a tick)
+  bool published_view_;  // config_.local_costmap_view is Published (read a few times a tick)
   Costmap global_;
   // The local costmap is only read by some controllers (DWA every tick, Inventec's rear check
   // now and then, LfLH never), so its updates are queued and applied (and folded in, update()),

@@ -49,6 +49,7 @@
 
 #include <Eigen/Core>
 
+#include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/core/types.hpp"
 #include "barn/nav/costmap.hpp"
@@ -60,30 +61,41 @@ namespace barn::nav {
 /// planner_core.cpp for the node parameters, cfg/GlobalPlanner.cfg for the dynamically
 /// reconfigurable ones, which move_base applies at start-up).
 struct RosGlobalPlannerConfig {
-  bool use_dijkstra = true;         // ROS default. false: A*
-  bool use_quadratic = true;        // ROS default. false: lowest neighbour + cost
-  bool use_grid_path = false;       // ROS default. false: gradient descent
-  bool old_navfn_behavior = false;  // ROS default. true: NavFn's conventions (see header)
-  bool allow_unknown = true;        // ROS default. unknown (255) cells are passable
-  bool outline_map = true;          // ROS default. the outer rows and columns are lethal
-  // [m] ROS default. ROS reads it and passes it to makePlan, which does not use it (no goal
+  bool use_dijkstra = true;
+  bool use_quadratic = true;
+  bool use_grid_path = false;
+  bool old_navfn_behavior = false;
+  bool allow_unknown = true;
+  bool outline_map = true;
+  // ROS default. ROS reads it and passes it to makePlan, which does not use it (no goal
   // search): kept so a team's parameter file reads, with no effect here either.
   double default_tolerance = 0.0;
-  double cost_factor = 3.0;         // ROS default. weight of the costmap cost (cfg: 0.01 ... 5)
-  int neutral_cost = 50;            // ROS default. cost of a step into a free cell (1 ... 255)
-  int lethal_cost = 253;            // ROS default. impassable from this cost (1 ... 255)
+  double cost_factor = 3.0;
+  int neutral_cost = 50;
+  int lethal_cost = 253;
   // ROS default 1 (the cfg's; OrientationFilter's own NONE is overridden at start-up).
   // 0 none, 1 forward, 2 interpolate, 3 forward then interpolate, 4 backward, 5 leftward,
   // 6 rightward: an integer as in ROS parameter files (see OrientationMode).
   int orientation_mode = 1;
-  int orientation_window_size = 1;  // [poses] ROS default. half-width of the forward difference
+  int orientation_window_size = 1;
 
   template <class V> void visit(V& v) {
-    v("use_dijkstra", use_dijkstra); v("use_quadratic", use_quadratic); v("use_grid_path", use_grid_path);
-    v("old_navfn_behavior", old_navfn_behavior); v("allow_unknown", allow_unknown); v("outline_map", outline_map);
-    v("default_tolerance", default_tolerance); v("cost_factor", cost_factor); v("neutral_cost", neutral_cost);
-    v("lethal_cost", lethal_cost); v("orientation_mode", orientation_mode);
-    v("orientation_window_size", orientation_window_size);
+    v("use_dijkstra", use_dijkstra, {.doc = "ROS default. false: A*"});
+    v("use_quadratic", use_quadratic, {.doc = "ROS default. false: lowest neighbour + cost"});
+    v("use_grid_path", use_grid_path, {.doc = "ROS default. false: gradient descent"});
+    v("old_navfn_behavior", old_navfn_behavior, {.doc = "ROS default. true: NavFn's conventions (see header)"});
+    v("allow_unknown", allow_unknown, {.doc = "ROS default. unknown (255) cells are passable"});
+    v("outline_map", outline_map, {.doc = "ROS default. the outer rows and columns are lethal"});
+    v("default_tolerance", default_tolerance, {.unit = "m", .range = core::kNonNegative});
+    v("cost_factor", cost_factor,
+      {.range = core::closed(0.01, 5.0), .doc = "ROS default. weight of the costmap cost (cfg: 0.01 ... 5)"});
+    v("neutral_cost", neutral_cost,
+      {.range = core::closed(1, 255), .doc = "ROS default. cost of a step into a free cell (1 ... 255)"});
+    v("lethal_cost", lethal_cost,
+      {.range = core::closed(1, 255), .doc = "ROS default. impassable from this cost (1 ... 255)"});
+    v("orientation_mode", orientation_mode, {.range = core::closed(0, 6)});
+    v("orientation_window_size", orientation_window_size,
+      {.unit = "poses", .range = core::closed(1, 255), .doc = "ROS default. half-width of the forward difference"});
   }
 };
 

@@ -11,18 +11,14 @@ namespace barn::report {
 
 struct ReportOptions {
   int max_failures = 12;  // [-] failed episodes drawn at most (recorded, else re-simulated); our choice
-  // Folder of the controllers' config files (configs/controllers): a sweep's axes take the units
-  // its controller's file (<controller>.yaml) states; none when empty or the file is not there.
-  std::filesystem::path controller_configs;
 };
 
 /// The page of the complete run record in `record`, its figures drawn into `scratch`.
 HtmlReport runReport(const std::filesystem::path& record, const std::filesystem::path& scratch, int max_failures);
 
 /// The page of the finished sweep in `sweep`, its figures drawn into `scratch`; axis units from
-/// `config_file` (the controller's config; none if empty).
-HtmlReport sweepReport(const std::filesystem::path& sweep, const std::filesystem::path& scratch,
-                       const std::filesystem::path& config_file);
+/// the controller config's schema.
+HtmlReport sweepReport(const std::filesystem::path& sweep, const std::filesystem::path& scratch);
 
 /// Writes the page of `input` (a run record, manifest.yaml, or a sweep, sweep.yaml) to `output`
 /// (a .html file, written atomically). The figures go through a scratch folder of this call

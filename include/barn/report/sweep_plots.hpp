@@ -21,16 +21,20 @@ struct SweepCell {
 struct SweepTable {
   std::string controller;
   std::vector<std::string> keys;   // swept keys
-  std::vector<std::string> units;  // per key, as the controller's config file states it; "" = unknown
+  std::vector<std::string> units;  // per key, from the controller config's schema; "" = none
   core::ProtocolName protocol = core::ProtocolName::Barn2023;  // the cells' protocol: fixes the score scale
   int trials = 0;                  // per world, in every cell
   std::vector<SweepCell> cells;    // odometer order, last key fastest
 };
 
-/// The table of a finished sweep folder: its grid (sweep.yaml) and every cell's episodes.csv.
-/// Units come from `config_file` (the controller's config; none if empty). InputError if a
-/// cell is not complete.
-SweepTable readSweepTable(const std::filesystem::path& dir, const std::filesystem::path& config_file);
+/// The unit of swept `key` in a cell's controller config (its manifest's text): the unit the
+/// config struct's schema states (controllers::controllerKeyUnit); "" if none.
+std::string sweptKeyUnit(const std::string& controller_config, const std::string& key);
+
+/// The table of a finished sweep folder: its grid (sweep.yaml) and every cell's episodes.csv;
+/// units from the controller's config schema (sweptKeyUnit). InputError if a cell is not
+/// complete.
+SweepTable readSweepTable(const std::filesystem::path& dir);
 
 /// One row per cell: the parameter values, score, success/collision/timeout rates, avg time.
 std::string sweepCsv(const SweepTable& table);

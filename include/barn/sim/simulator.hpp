@@ -26,6 +26,7 @@
 
 #include <Eigen/Core>
 
+#include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/core/rng.hpp"
 #include "barn/core/robot_config.hpp"
@@ -36,12 +37,18 @@
 namespace barn::sim {
 
 struct PhysicsConfig {
-  double rate = 200.0;          // [Hz] fixed physics step (Gazebo: 1000); see the README for the choice
-  int velocity_iterations = 8;  // Box2D solver iterations
+  double rate = 200.0;
+  int velocity_iterations = 8;
   int position_iterations = 3;
 
+  // Iterations' upper bounds (our choice, 100x Box2D's defaults of 8 and 3): more makes an
+  // episode take hours while changing nothing, and a stop (Ctrl-C, SIGTERM) waits for running
+  // episodes.
   template <class V> void visit(V& v) {
-    v("rate", rate); v("velocity_iterations", velocity_iterations); v("position_iterations", position_iterations);
+    v("rate", rate,
+      {.unit = "Hz", .range = core::closed(10.0, 100000.0), .doc = "fixed physics step (Gazebo: 1000); see the README for the choice"});
+    v("velocity_iterations", velocity_iterations, {.range = core::closed(1, 1000), .doc = "Box2D solver iterations"});
+    v("position_iterations", position_iterations, {.range = core::closed(1, 1000)});
   }
   double dt() const { return 1.0 / rate; }
 };

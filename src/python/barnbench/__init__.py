@@ -415,7 +415,7 @@ def report(record, out, max_failures=12):
     re-simulated, at most `max_failures`). Returns `out`."""
     if isinstance(max_failures, bool) or not isinstance(max_failures, int) or not 0 <= max_failures <= 1000:
         raise InputError(f"max_failures: a whole number from 0 to 1000 (got {max_failures!r})")
-    _core.report(str(record), str(out), max_failures, os.path.join(_SOURCE_DIR, "configs", "controllers"))
+    _core.report(str(record), str(out), max_failures)
     return str(out)
 
 
