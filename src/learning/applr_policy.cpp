@@ -1,7 +1,6 @@
 #include "barn/learning/applr_policy.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -184,11 +183,8 @@ ApplrPolicy::ApplrPolicy(ApplrPolicyInfo info, MlpParameters<float> weights) : i
   if (!(info_.range_clip > 0.0) || !std::isfinite(info_.range_clip)) fail("range_clip must be > 0");
 }
 
-ApplrPolicy ApplrPolicy::load(const std::filesystem::path& path) {
-  // readTextFile refuses folders, devices and fifos, and reads a regular file at its own size,
-  // so a header cannot make this allocate more than the file holds.
-  return parse(core::readTextFile(path), path.string());
-}
+// Read as Policy::load reads (core::readTextFile: regular files only, at their own size).
+ApplrPolicy ApplrPolicy::load(const std::filesystem::path& path) { return parse(core::readTextFile(path), path.string()); }
 
 ApplrPolicy ApplrPolicy::parse(const std::string& file, const std::string& source_name) {
   const std::string where = source_name + ": ";
@@ -208,18 +204,7 @@ ApplrPolicy ApplrPolicy::parse(const std::string& file, const std::string& sourc
   info.source = fields.source;
 
   // Architecture "inputs-hidden-hidden-outputs" against the input layout and the actions.
-  int sizes[4] = {0, 0, 0, 0};
-  {
-    const std::string& text = fields.architecture;
-    const char* p = text.data();
-    const char* end = text.data() + text.size();
-    for (int k = 0; k < 4; ++k) {
-      const auto [next, ec] = std::from_chars(p, end, sizes[k]);
-      if (ec != std::errc() || sizes[k] < 1 || (k < 3 ? (next == end || *next != '-') : next != end))
-        fail("header: architecture '" + text + "': expected inputs-hidden-hidden-outputs, e.g. 721-512-512-7");
-      p = next + 1;
-    }
-  }
+  const std::array<int, 4> sizes = header::parseArchitecture(fields.architecture, "721-512-512-7", where);
   if (sizes[0] != info.beams + 1)
     fail("wrong shape: architecture " + fields.architecture + " has " + std::to_string(sizes[0]) +
          " inputs, the input layout needs beams + 1 = " + std::to_string(info.beams + 1));

@@ -1,7 +1,6 @@
 #include "barn/learning/policy.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -163,18 +162,7 @@ Policy Policy::parse(const std::string& file, const std::string& source_name) {
   info.mean_predictor_loss = fields.mean_predictor_loss.value;
 
   // Architecture "inputs-hidden-hidden-outputs" against the input layout.
-  int sizes[4] = {0, 0, 0, 0};
-  {
-    const std::string& text = fields.architecture;
-    const char* p = text.data();
-    const char* end = text.data() + text.size();
-    for (int k = 0; k < 4; ++k) {
-      const auto [next, ec] = std::from_chars(p, end, sizes[k]);
-      if (ec != std::errc() || sizes[k] < 1 || (k < 3 ? (next == end || *next != '-') : next != end))
-        fail("header: architecture '" + text + "': expected inputs-hidden-hidden-outputs, e.g. 722-256-256-2");
-      p = next + 1;
-    }
-  }
+  const std::array<int, 4> sizes = header::parseArchitecture(fields.architecture, "722-256-256-2", where);
   if (sizes[0] != info.beams + 2)
     fail("wrong shape: architecture " + fields.architecture + " has " + std::to_string(sizes[0]) +
          " inputs, the input layout needs beams + 2 = " + std::to_string(info.beams + 2));

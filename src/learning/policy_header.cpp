@@ -95,6 +95,20 @@ double HeaderReader::number(const char* key) const {
 // ---------------------------------------------------------------------------------------------
 // Lines and payload
 
+std::array<int, 4> parseArchitecture(const std::string& text, const std::string& example, const std::string& where) {
+  std::array<int, 4> sizes{};
+  const char* p = text.data();
+  const char* end = text.data() + text.size();
+  for (int k = 0; k < 4; ++k) {
+    const auto [next, ec] = std::from_chars(p, end, sizes[k]);
+    if (ec != std::errc() || sizes[k] < 1 || (k < 3 ? (next == end || *next != '-') : next != end))
+      throw core::InputError(where + "header: architecture '" + text + "': expected inputs-hidden-hidden-outputs, e.g. " +
+                             example);
+    p = next + 1;
+  }
+  return sizes;
+}
+
 HeaderLines splitHeader(const std::string& file, const std::string& magic, const std::string& what,
                         const std::string& where) {
   const auto fail = [&](const std::string& message) { throw core::InputError(where + message); };

@@ -7,6 +7,7 @@
 // file order, in a struct's visit(v); HeaderWriter writes them, HeaderReader converts and
 // checks them (the first bad one throws an InputError naming the key and its text).
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <map>
@@ -111,6 +112,10 @@ std::vector<std::string> keysOf() {
   Fields().visit(list);
   return list.keys;
 }
+
+/// An `architecture` value "inputs-hidden-hidden-outputs" (four whole numbers >= 1) as its four
+/// sizes; InputError prefixed by `where` otherwise, showing `example`.
+std::array<int, 4> parseArchitecture(const std::string& text, const std::string& example, const std::string& where);
 
 /// A file's header lines as read.
 struct HeaderLines {

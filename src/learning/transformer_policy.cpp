@@ -101,9 +101,8 @@ void writeTransformerPolicyFile(const std::filesystem::path& path, const Transfo
 TransformerPolicy::TransformerPolicy(TransformerPolicyInfo info, TransformerWeights weights)
     : info_(std::move(info)), network_(info_.shape, std::move(weights)) {}
 
+// Read as Policy::load reads (core::readTextFile: regular files only, at their own size).
 TransformerPolicy TransformerPolicy::load(const std::filesystem::path& path) {
-  // readTextFile refuses folders, devices and fifos, and reads a regular file at its own size,
-  // so a header cannot make this allocate more than the file holds.
   return parse(core::readTextFile(path), path.string());
 }
 
