@@ -119,6 +119,11 @@ TEST_F(PolicyLoadErrors, WrongShape) {
   EXPECT_THAT(errorOf(replaced("architecture: 722-8-8-2", "architecture: 722-16-16-2")),
               HasSubstr("wrong shape: payload_bytes 23496 does not match architecture 722-16-16-2"));
   EXPECT_THAT(errorOf(replaced("architecture: 722-8-8-2", "architecture: 722x8")), HasSubstr("expected inputs-hidden-hidden-outputs"));
+  // Four sizes, each >= 1, nothing after the fourth.
+  for (const char* bad : {"722-8-8", "722-8-8-2-2", "722-0-0-2", "722-8-8-2-", "-722-8-8-2"})
+    EXPECT_THAT(errorOf(replaced("architecture: 722-8-8-2", std::string("architecture: ") + bad)),
+                HasSubstr(std::string("architecture '") + bad + "': expected inputs-hidden-hidden-outputs, e.g. 722-256-256-2"))
+        << bad;
 }
 
 TEST_F(PolicyLoadErrors, HeaderContractFields) {
