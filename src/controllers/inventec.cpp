@@ -55,7 +55,7 @@ std::string_view toString(InventecState state) {
 void validate(const InventecConfig& c, core::Errors& errors, const std::string& prefix) {
   core::validateFields(c, errors, prefix);
   core::validateFields(c.safety, errors, prefix + ".safety");
-  errors.check(!c.policy.empty(), prefix + ".policy", "must name a policy file");
+  validate(c.drive, errors, prefix);
   errors.check(c.heading_tolerance_deg > 0.0 && c.heading_tolerance_deg <= c.heading_limit_deg,
                prefix + ".heading_tolerance_deg", "must be in (0, heading_limit_deg]");
   const InventecSafetyConfig& s = c.safety;
@@ -147,7 +147,7 @@ void InventecController::reset(const EpisodeInfo& info) {
 }
 
 core::Twist InventecController::turnToward(double error) const {
-  double w = std::clamp(config_.heading_gain * error, -config_.max_turn_rate, config_.max_turn_rate);
+  double w = std::clamp(config_.heading_gain * error, -config_.drive.max_turn_rate, config_.drive.max_turn_rate);
   if (std::abs(w) < config_.min_turn_rate) w = std::copysign(config_.min_turn_rate, error);
   return {0.0, w};
 }
@@ -158,9 +158,9 @@ core::Twist InventecController::shape(const core::Twist& raw, const core::LaserS
       frontClear(scan, degrees(config_.safety.front_angle_deg), config_.boost_clearance)) {
     out.linear = config_.boost_speed;
   } else {
-    out.linear = std::clamp(raw.linear, -config_.max_speed, config_.max_speed);
+    out.linear = std::clamp(raw.linear, -config_.drive.max_speed, config_.drive.max_speed);
   }
-  out.angular = std::clamp(raw.angular, -config_.max_turn_rate, config_.max_turn_rate);
+  out.angular = std::clamp(raw.angular, -config_.drive.max_turn_rate, config_.drive.max_turn_rate);
   return out;
 }
 
@@ -200,14 +200,14 @@ PathCues InventecController::pathCues(const core::Pose2& pose) const {
   const nav::Path& path = nav_.path();
   if (!rules_.code_path_cues) {
     cues.path_direction = nav::headingError(path, pose, config_.path_direction_distance);
-    cues.goal_direction = localGoalDirection(path, pose, config_.local_goal_distance);
+    cues.goal_direction = localGoalDirection(path, pose, config_.drive.local_goal_distance);
     return cues;
   }
   // The code planned at 20 Hz from the robot's pose, so its path began at the robot; ours is
   // replanned less often, so the part already driven is cut off at the closest point.
   const nav::Path ahead(path.begin() + static_cast<std::ptrdiff_t>(nav::closestIndex(path, pose.position())),
                         path.end());
-  return codePathCues(nav::pathInRobotFrame(ahead, pose), config_.local_goal_distance, config_.path_direction_distance);
+  return codePathCues(nav::pathInRobotFrame(ahead, pose), config_.drive.local_goal_distance, config_.path_direction_distance);
 }
 
 core::Twist InventecController::lflhCommand(const SafetyScene& scene, const Eigen::Vector2d& goal_direction,
@@ -218,8 +218,8 @@ core::Twist InventecController::lflhCommand(const SafetyScene& scene, const Eige
     in.command_unsafe = safety_->commandUnsafe(scene, raw);
     return shape(raw, scene.scan);
   }
-  const core::Twist command{std::clamp(raw.linear, -config_.max_speed, config_.max_speed),
-                            std::clamp(raw.angular, -config_.max_turn_rate, config_.max_turn_rate)};
+  const core::Twist command{std::clamp(raw.linear, -config_.drive.max_speed, config_.drive.max_speed),
+                            std::clamp(raw.angular, -config_.drive.max_turn_rate, config_.drive.max_turn_rate)};
   in.command_unsafe = safety_->commandUnsafe(scene, command);
   return command;
 }

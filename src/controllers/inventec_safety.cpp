@@ -51,10 +51,7 @@ class FrontSafety : public RolloutSafety {
     rotate_.rear_weight = config.rear_weight;
     // The code's final-pose rollout (`_bch_safety_check`), as it computed it: beams against the
     // L1 length of 40 points on the costmap footprint's rectangle (safety_checks.hpp).
-    final_pose_.rectangle = config.nav.footprint();
-    final_pose_.tolerance = s.rollout_tolerance;
-    final_pose_.dt = s.rollout_dt;
-    final_pose_.steps = s.rollout_steps;
+    final_pose_ = s.rollout.check(config.nav.footprint());
   }
   bool commandUnsafe(const SafetyScene& scene, const core::Twist& command) const override {
     return beamRolloutHit(scene.scan, command, final_pose_) || forwardUnsafe(scene, command);
@@ -124,7 +121,7 @@ class FiSafety : public RolloutSafety {
   FiSafety(const InventecSafetyConfig& s, bool code_turns, const EpisodeInfo& info)
       : RolloutSafety(s, code_turns && s.ring),
         footprint_(core::Rect::centred(info.robot.footprint_length, info.robot.footprint_width)),
-        inflated_(footprint_.grownBy(s.fi_offset)), dt_(s.rollout_dt), steps_(s.rollout_steps) {}
+        inflated_(footprint_.grownBy(s.fi_offset)), dt_(s.rollout.dt), steps_(s.rollout.steps) {}
   bool commandUnsafe(const SafetyScene& scene, const core::Twist&) const override {
     return footprintInflationHit(scene.points, inflated_);
   }

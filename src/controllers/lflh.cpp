@@ -26,9 +26,13 @@ nav::NavStackConfig LflhConfig::lflhNav() {
   return c;
 }
 
+void validate(const PolicyDriveConfig& drive, core::Errors& errors, const std::string& prefix) {
+  errors.check(!drive.policy.empty(), prefix + ".policy", "must name a policy file");
+}
+
 void validate(const LflhConfig& c, core::Errors& errors, const std::string& prefix) {
   core::validateFields(c, errors, prefix);
-  errors.check(!c.policy.empty(), prefix + ".policy", "must name a policy file");
+  validate(c.drive, errors, prefix);
   errors.check(c.hard_turn_exit_deg >= 0.0 && c.hard_turn_exit_deg <= c.hard_turn_enter_deg,
                prefix + ".hard_turn_exit_deg", "must be in [0, hard_turn_enter_deg]");
   nav::validate(c.nav, errors, prefix + ".nav");
@@ -71,11 +75,7 @@ bool nextHardTurn(bool turning, double heading_error, const LflhConfig& config) 
 
 core::Twist deployedCommand(const core::Twist& policy_command, double heading_error, const core::LaserScan& scan,
                             const LflhConfig& config, LflhAction* action) {
-  BeamRollout check;
-  check.rectangle = config.nav.footprint();
-  check.tolerance = config.safety_tolerance;
-  check.dt = config.safety_dt;
-  check.steps = config.safety_steps;
+  const BeamRollout check = config.safety.check(config.nav.footprint());
   const auto unsafe = [&](const core::Twist& command) { return beamRolloutHit(scan, command, check); };
   LflhAction chosen = LflhAction::Policy;
   core::Twist command = policy_command;
@@ -105,7 +105,7 @@ core::Twist LflhController::act(const Observation& obs) {
   nav_.update(obs.time, *obs.scan, info_.lidar.sensorPose(obs.scan_odom_pose), obs.odom_pose);
   // Until the first plan (and if planning never succeeds) the goal itself is the target.
   const nav::Path path = nav_.hasPath() ? nav_.path() : nav::Path{obs.odom_pose.position(), obs.goal};
-  const Eigen::Vector2d goal = localGoalDirection(path, obs.odom_pose, config_.local_goal_distance);
+  const Eigen::Vector2d goal = localGoalDirection(path, obs.odom_pose, config_.drive.local_goal_distance);
   core::Twist command;
   if (!config_.deployed) {
     command = policy_->act(*obs.scan, goal, config_.range_clip);
@@ -122,8 +122,8 @@ core::Twist LflhController::act(const Observation& obs) {
       command = deployedCommand(policy_->act(*obs.scan, goal, config_.range_clip), heading_error, *obs.scan, config_, &action_);
     }
   }
-  return {std::clamp(command.linear, -config_.max_speed, config_.max_speed),
-          std::clamp(command.angular, -config_.max_turn_rate, config_.max_turn_rate)};
+  return {std::clamp(command.linear, -config_.drive.max_speed, config_.drive.max_speed),
+          std::clamp(command.angular, -config_.drive.max_turn_rate, config_.drive.max_turn_rate)};
 }
 
 }  // namespace barn::controllers

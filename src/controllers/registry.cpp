@@ -62,6 +62,8 @@ constexpr auto kNoPaths = [](auto&, const std::string&) {};
 constexpr auto kPolicyPath = [](auto& config, const std::string& source) {
   config.policy = resolvePolicyPath(config.policy, source);
 };
+// The same for a config whose policy file is its PolicyDriveConfig's.
+constexpr auto kDrivePolicyPath = [](auto& config, const std::string& source) { kPolicyPath(config.drive, source); };
 
 // A controller made from its config alone.
 template <class Config, class ControllerType>
@@ -100,10 +102,10 @@ const std::vector<Entry>& entries() {
       entry<DwaConfig, DwaController>("dwa"),
       entry<EbandConfig, EbandController>("eband"),
       entry<UtAmrlConfig, UtAmrlController>("ut_amrl"),
-      sharedEntry<LflhConfig, LflhController>("lflh", kPolicyPath,
-                                              [](const LflhConfig& c) { return loadLflhPolicy(c.policy); }),
-      sharedEntry<InventecConfig, InventecController>("inventec", kPolicyPath,
-                                                      [](const InventecConfig& c) { return loadLflhPolicy(c.policy); }),
+      sharedEntry<LflhConfig, LflhController>("lflh", kDrivePolicyPath,
+                                              [](const LflhConfig& c) { return loadLflhPolicy(c.drive.policy); }),
+      sharedEntry<InventecConfig, InventecController>("inventec", kDrivePolicyPath,
+                                                      [](const InventecConfig& c) { return loadLflhPolicy(c.drive.policy); }),
       entry<RrslVfhConfig, RrslVfhController>("rrsl_vfh"),
       entry<In2botConfig, In2botController>("in2bot"),
       entry<KulfmConfig, KulfmController>("kulfm"),

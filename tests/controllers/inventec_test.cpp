@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "barn/core/config.hpp"
 #include "policy_fixtures.hpp"
 #include "scan_fixtures.hpp"
 
@@ -158,6 +159,24 @@ Eigen::Vector2d pointOf(const core::LaserScan& scan) {
   core::BeamDirections beams;
   const auto points = scanPoints(scan, lidar, beams);
   return points.at(0);
+}
+
+TEST(InventecConfig, SharedGroupsKeepTheirKeysAndInventecsDefaults) {
+  // The drive's keys at the top of the block, the rollout's under safety as rollout_*; the
+  // defaults Inventec sets (0.7 m/s, 2 rad/s, tolerance 0.02) where the file says nothing.
+  const InventecConfig c = core::readConfig<InventecConfig>(
+      core::ConfigNode::parseString("rate: 20\nsafety: {rollout_steps: 10}\n", "inventec.yaml"));
+  EXPECT_EQ(c.drive.rate, 20.0);
+  EXPECT_EQ(c.drive.max_speed, 0.7);
+  EXPECT_EQ(c.drive.max_turn_rate, 2.0);
+  EXPECT_EQ(c.drive.local_goal_distance, 1.5);
+  EXPECT_EQ(c.safety.rollout.steps, 10);
+  EXPECT_EQ(c.safety.rollout.tolerance, 0.02);
+  const std::string text = core::writeConfig(c);
+  EXPECT_NE(text.find("\nrate: 20\nlocal_goal_distance: 1.5\nmax_speed: 0.7\nmax_turn_rate: 2\n"), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("\n  rollout_tolerance: 0.02\n  rollout_steps: 10\n  rollout_dt: 0.01\n"), std::string::npos)
+      << text;
 }
 
 TEST(InventecConfig, TheTeamsCostmapsDeriveTheirInscribedRadiiFromTheFootprint) {

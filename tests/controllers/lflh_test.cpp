@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include "barn/core/config.hpp"
 #include "policy_fixtures.hpp"
 #include "scan_fixtures.hpp"
 
@@ -17,6 +18,36 @@ namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// ---- The config: the shared groups' keys stay the block's own ----
+
+TEST(LflhConfig, DriveAndSafetyKeysStayAtTheTopOfTheBlock) {
+  // The drive (PolicyDriveConfig) and the rollout (BeamRolloutConfig) are read from, and
+  // written to, the lflh block itself: no nested map.
+  const LflhConfig c = core::readConfig<LflhConfig>(core::ConfigNode::parseString(
+      "max_speed: 0.5\nlocal_goal_distance: 2.0\nsafety_tolerance: 0.03\nsafety_steps: 10\n", "lflh.yaml"));
+  EXPECT_EQ(c.drive.max_speed, 0.5);
+  EXPECT_EQ(c.drive.local_goal_distance, 2.0);
+  EXPECT_EQ(c.drive.max_turn_rate, 4.0);  // LfLH's default kept
+  EXPECT_EQ(c.safety.tolerance, 0.03);
+  EXPECT_EQ(c.safety.steps, 10);
+  const std::string text = core::writeConfig(c);
+  EXPECT_EQ(text.find("policy: "), 0u);
+  EXPECT_NE(text.find("\nmax_speed: 0.5\n"), std::string::npos);
+  EXPECT_NE(text.find("\nsafety_tolerance: 0.03\nsafety_steps: 10\nsafety_dt: 0.01\n"), std::string::npos);
+  // Their errors name the block's keys.
+  LflhConfig bad;
+  bad.drive.policy.clear();
+  bad.drive.rate = 0.0;
+  bad.safety.steps = 0;
+  core::Errors errors;
+  validate(bad, errors, "lflh");
+  std::string all;
+  for (const std::string& m : errors.messages()) all += m + "\n";
+  EXPECT_NE(all.find("lflh.policy: "), std::string::npos) << all;
+  EXPECT_NE(all.find("lflh.rate: "), std::string::npos) << all;
+  EXPECT_NE(all.find("lflh.safety_steps: "), std::string::npos) << all;
+}
 
 // ---- The hard turn's hysteresis: in above 60 degrees, out below 10 ----
 
@@ -104,7 +135,7 @@ TEST(LflhSafety, TheToleranceWidensTheCheck) {
   LflhConfig c;
   const core::LaserScan wall = wallScan(centredLidar(), 0.43);
   EXPECT_EQ(deployedCommand({0.5, 0.0}, 0.0, wall, c).linear, 0.5);
-  c.safety_tolerance = 0.02;
+  c.safety.tolerance = 0.02;
   EXPECT_EQ(deployedCommand({0.5, 0.0}, 0.0, wall, c).linear, 0.0);
 }
 

@@ -68,10 +68,9 @@ struct InventecSafetyConfig {
   double front_speed_gain = 0.25;
   double front_rotate_gain = 0.2;
   // The final-pose rollout tests the stack's unpadded footprint, nav.footprint() (code: the
-  // same 0.42 x 0.33 rectangle).
-  double rollout_tolerance = 0.02;
-  int rollout_steps = 20;
-  double rollout_dt = 0.01;
+  // same 0.42 x 0.33 rectangle): code: safety.dist_tolerance 0.02, safety.step 20 of
+  // safety.dt 0.01 s. fi rolls turns out with the same steps.
+  BeamRolloutConfig rollout = {.tolerance = 0.02};
   // mpc (code, real-world branch): the 0.43 x 0.508 footprint at every pose
   int mpc_steps = 20;
   double mpc_dt = 0.02;
@@ -101,10 +100,9 @@ struct InventecSafetyConfig {
     v("front_pad_y", front_pad_y, {.unit = "m", .doc = "code: front_pad_y_m, minimum reach past the front edge"});
     v("front_speed_gain", front_speed_gain, {.unit = "s", .range = core::kNonNegative, .doc = "code: linear_v_gain"});
     v("front_rotate_gain", front_rotate_gain, {.unit = "s", .doc = "code: rotate_w_gain"});
-    v("rollout_tolerance", rollout_tolerance,
-      {.unit = "m", .range = core::kNonNegative, .doc = "code: safety.dist_tolerance"});
-    v("rollout_steps", rollout_steps, {.range = core::atLeast(1), .doc = "code: safety.step"});
-    v("rollout_dt", rollout_dt, {.unit = "s", .range = core::kPositive, .doc = "code: safety.dt"});
+    rollout.visit(v, {.tolerance = {"rollout_tolerance", "code: safety.dist_tolerance"},
+                      .steps = {"rollout_steps", "code: safety.step"},
+                      .dt = {"rollout_dt", "code: safety.dt"}});
     v("mpc_steps", mpc_steps, {.range = core::atLeast(1), .doc = "code and paper: 20 steps"});
     v("mpc_dt", mpc_dt, {.unit = "s", .range = core::kPositive, .doc = "code (real-world): 0.4 s horizon"});
     v("mpc_offset", mpc_offset, {.unit = "m", .doc = "footprint growth in the rollout"});
@@ -124,10 +122,9 @@ struct InventecSafetyConfig {
 
 struct InventecConfig {
   InventecVariant variant = InventecVariant::Code;
-  std::string policy = "configs/policies/lflh_1ms.policy";
-  double rate = 25.0;
-  double max_speed = 0.7;
-  double max_turn_rate = 2.0;
+  // Paper and code: the 1 m/s LfLH model, clipped at 0.7 m/s; code: recovery loops step 0.04 s
+  // (its main loop runs at 30 Hz), local.goal_dist 1.5 m (paper: 0.5), max_w 2.0 rad/s.
+  PolicyDriveConfig drive = {.max_speed = 0.7, .max_turn_rate = 2.0};
   bool boost = true;
   // Barnbench's policy: the code's speed.acc_v is 1.0, on the published network's scale.
   // The team's Gazebo runs averaged 14.0 s: 9.8 m at the 0.7 m/s clip, with no time to turn,
@@ -138,7 +135,6 @@ struct InventecConfig {
   double boost_threshold = 0.8;
   double boost_speed = 2.0;
   double boost_clearance = 1.5;
-  double local_goal_distance = 1.5;
   double path_direction_distance = 0.5;
   double heading_tolerance_deg = 10.0;
   double heading_limit_deg = 60.0;
@@ -191,18 +187,16 @@ struct InventecConfig {
 
   template <class V> void visit(V& v) {
     v("variant", variant, {.doc = "code | paper (see the header comment)"});
-    v("policy", policy, {.doc = "paper and code: the 1 m/s LfLH model"});
-    v("rate", rate,
-      {.unit = "Hz", .range = core::kPositive, .doc = "code: recovery loops step 0.04 s (its main loop runs at 30 Hz)"});
-    v("max_speed", max_speed, {.unit = "m/s", .range = core::kPositive, .doc = "paper and code: clip 0.7 m/s"});
-    v("max_turn_rate", max_turn_rate, {.unit = "rad/s", .range = core::kPositive, .doc = "code: max_w"});
+    drive.visit(v, {.policy = "paper and code: the 1 m/s LfLH model",
+                    .rate = "code: recovery loops step 0.04 s (its main loop runs at 30 Hz)",
+                    .local_goal_distance = "code: local.goal_dist (paper: 0.5)",
+                    .max_speed = "paper and code: clip 0.7 m/s",
+                    .max_turn_rate = "code: max_w"});
     v("boost", boost, {.doc = "code: network v above the threshold with a clear front -> 2.0 m/s"});
     v("boost_threshold", boost_threshold, {.unit = "m/s"});
     v("boost_speed", boost_speed, {.unit = "m/s", .range = core::kPositive, .doc = "code: max_v"});
     v("boost_clearance", boost_clearance,
       {.unit = "m", .range = core::kNonNegative, .doc = "code: front_dist_clear_m (beams within front_angle_deg)"});
-    v("local_goal_distance", local_goal_distance,
-      {.unit = "m", .range = core::kPositive, .doc = "code: local.goal_dist (paper: 0.5)"});
     v("path_direction_distance", path_direction_distance,
       {.unit = "m", .range = core::kPositive, .doc = "code: local.dir_dist"});
     v("heading_tolerance_deg", heading_tolerance_deg,
@@ -292,7 +286,7 @@ class InventecController : public Controller {
   ~InventecController() override;
   void reset(const EpisodeInfo& info) override;
   core::Twist act(const Observation& observation) override;
-  double period() const override { return 1.0 / config_.rate; }
+  double period() const override { return 1.0 / config_.drive.rate; }
   void checkLidar(const core::LidarConfig& lidar) const override { learning::checkPolicyLidar(*policy_, lidar); }
   std::uint64_t trainedPlant() const override { return policy_->info().plant_hash; }
   std::string_view stateLabel() const override { return toString(state_); }

@@ -23,18 +23,55 @@
 #include <vector>
 
 #include "barn/controllers/controller.hpp"
+#include "barn/controllers/safety_checks.hpp"
+#include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/learning/policy.hpp"
 #include "barn/nav/nav_stack.hpp"
 
 namespace barn::controllers {
 
-struct LflhConfig {
+/// The drive the controllers on the LfLH policy share (LflhConfig, InventecConfig): the policy
+/// file, the control rate, the local goal the policy steers to and the clip of what is sent.
+/// Its keys are its owner's own: the owner's visit() calls visit() with the same visitor, so
+/// they stay at the top level of the owner's block. The defaults are LfLH's (LflhConfig says
+/// where each comes from); an owner whose values differ sets them where it declares its member,
+/// and passes the docs `barn config` shows for its defaults' sources.
+struct PolicyDriveConfig {
   std::string policy = "configs/policies/lflh_1ms.policy";
-  double rate = 25.0;
-  double local_goal_distance = 1.5;
-  double max_speed = 1.0;
-  double max_turn_rate = 4.0;
+  double rate = 25.0;                // [Hz]
+  double local_goal_distance = 1.5;  // [m]
+  double max_speed = 1.0;            // [m/s]
+  double max_turn_rate = 4.0;        // [rad/s]
+
+  /// The owner's doc line of each field; an empty one shows the field's meaning instead.
+  struct Docs {
+    std::string_view policy, rate, local_goal_distance, max_speed, max_turn_rate;
+  };
+  template <class V> void visit(V& v, const Docs& docs = {}) {
+    v("policy", policy, {.doc = docOr(docs.policy, "the LfLH policy file, relative to the config file's folder")});
+    v("rate", rate, {.unit = "Hz", .range = core::kPositive, .doc = docOr(docs.rate, "control rate")});
+    v("local_goal_distance", local_goal_distance,
+      {.unit = "m", .range = core::kPositive,
+       .doc = docOr(docs.local_goal_distance, "the policy's local goal: the point of the global path this far ahead")});
+    v("max_speed", max_speed,
+      {.unit = "m/s", .range = core::kPositive, .doc = docOr(docs.max_speed, "|v| clip of the command sent")});
+    v("max_turn_rate", max_turn_rate,
+      {.unit = "rad/s", .range = core::kPositive, .doc = docOr(docs.max_turn_rate, "|w| clip of the command sent")});
+  }
+
+ private:
+  static std::string_view docOr(std::string_view given, std::string_view meaning) { return given.empty() ? meaning : given; }
+};
+/// The drive's rule beyond its fields' ranges (which the owner's validateFields checks, the
+/// keys being the owner's): a policy file is named. Errors name `prefix.policy`.
+void validate(const PolicyDriveConfig& drive, core::Errors& errors, const std::string& prefix);
+
+struct LflhConfig {
+  // Published deployment (LfD_2D/run_policy.py): the 1 m/s model, a new command every 0.04 s,
+  // the local goal 1.5 m along the global path; the clips are the policy's own speed and the
+  // Jackal's turn-rate limit.
+  PolicyDriveConfig drive;
   double range_clip = 0.0;
   bool deployed = true;
   double hard_turn_enter_deg = 60.0;
@@ -42,20 +79,17 @@ struct LflhConfig {
   double turn_gain = 2.0;
   double backup_speed = 0.2;
   // The safety check tests the stack's unpadded footprint, nav.footprint() (published
-  // deployment: the same 0.42 x 0.33 rectangle).
-  double safety_tolerance = 0.0;
-  int safety_steps = 20;
-  double safety_dt = 0.01;
+  // deployment: the same 0.42 x 0.33 rectangle): tolerance 0.0, 20 Euler steps of 0.01 s, the
+  // final pose only.
+  BeamRolloutConfig safety;
   nav::NavStackConfig nav = lflhNav();
 
   template <class V> void visit(V& v) {
-    v("policy", policy, {.doc = "relative to the config file's folder"});
-    v("rate", rate, {.unit = "Hz", .range = core::kPositive, .doc = "(the original publishes every 0.04 s)"});
-    v("local_goal_distance", local_goal_distance,
-      {.unit = "m", .range = core::kPositive, .doc = "along the global path"});
-    v("max_speed", max_speed, {.unit = "m/s", .range = core::kPositive, .doc = "|v| clip (the policy's own speed)"});
-    v("max_turn_rate", max_turn_rate,
-      {.unit = "rad/s", .range = core::kPositive, .doc = "|w| clip (the Jackal's limit)"});
+    drive.visit(v, {.policy = "relative to the config file's folder",
+                    .rate = "(the original publishes every 0.04 s)",
+                    .local_goal_distance = "along the global path",
+                    .max_speed = "|v| clip (the policy's own speed)",
+                    .max_turn_rate = "|w| clip (the Jackal's limit)"});
     v("range_clip", range_clip,
       {.unit = "m", .range = core::kNonNegative, .doc = "scan clip for the policy; 0: the policy file's (published deployment: 2.0 for both models)"});
     v("deployed", deployed, {.doc = "published deployment: hard turn + safety check + fallbacks; false = bare policy"});
@@ -67,12 +101,9 @@ struct LflhConfig {
       {.unit = "1/s", .range = core::kPositive, .doc = "published deployment: w = 2 * heading error (hard turn and fallback turn)"});
     v("backup_speed", backup_speed,
       {.unit = "m/s", .range = core::kNonNegative, .doc = "published deployment: v = -0.2, w = 0 when the turn is unsafe too"});
-    v("safety_tolerance", safety_tolerance,
-      {.unit = "m", .range = core::kNonNegative, .doc = "published deployment: tolerance 0.0 (Inventec's code: 0.02)"});
-    v("safety_steps", safety_steps,
-      {.range = core::closed(1, 10000), .doc = "published deployment: 20 Euler steps ..."});
-    v("safety_dt", safety_dt,
-      {.unit = "s", .range = core::kPositive, .doc = "published deployment: ... of 0.01 s, final pose only"});
+    safety.visit(v, {.tolerance = {"safety_tolerance", "published deployment: tolerance 0.0 (Inventec's code: 0.02)"},
+                     .steps = {"safety_steps", "published deployment: 20 Euler steps ..."},
+                     .dt = {"safety_dt", "published deployment: ... of 0.01 s, final pose only"}});
     v("nav", nav);
   }
 
@@ -113,7 +144,7 @@ class LflhController : public Controller {
   LflhController(const LflhConfig& config, std::shared_ptr<const learning::Policy> policy);
   void reset(const EpisodeInfo& info) override;
   core::Twist act(const Observation& observation) override;
-  double period() const override { return 1.0 / config_.rate; }
+  double period() const override { return 1.0 / config_.drive.rate; }
   void checkLidar(const core::LidarConfig& lidar) const override { learning::checkPolicyLidar(*policy_, lidar); }
   std::uint64_t trainedPlant() const override { return policy_->info().plant_hash; }
   /// The deployed controller's action of the last tick; "" for the bare policy.

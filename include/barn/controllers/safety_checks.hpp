@@ -7,11 +7,13 @@
 
 #include <cstdint>
 #include <numbers>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "barn/core/beam_directions.hpp"
+#include "barn/core/config.hpp"
 #include "barn/core/lidar_config.hpp"
 #include "barn/core/rect.hpp"
 #include "barn/core/types.hpp"
@@ -52,6 +54,40 @@ struct BeamRollout {
   int steps = 20;            // code: safety.step (0.2 s)
 };
 bool beamRolloutHit(const core::LaserScan& scan, const core::Twist& command, const BeamRollout& check);
+
+/// The configurable part of a BeamRollout, shared by LflhConfig (keys safety_*) and Inventec's
+/// safety block (keys rollout_*). Each owner names the keys, and gives the doc lines of its
+/// defaults' sources: visit(v, keys) with the owner's visitor puts them in the owner's block.
+/// The defaults are LfLH's (tolerance 0.0, 20 steps of 0.01 s); Inventec sets its 0.02.
+struct BeamRolloutConfig {
+  double tolerance = 0.0;  // [m]
+  int steps = 20;          // [-]
+  double dt = 0.01;        // [s]
+
+  /// The owner's key and doc line of one field (tolerance: a beam hits below the point's
+  /// |x| + |y| plus it; steps: the rollout's length in Euler steps of dt).
+  struct Key {
+    const char* key;
+    std::string_view doc;
+  };
+  struct Keys {
+    Key tolerance, steps, dt;
+  };
+  template <class V> void visit(V& v, const Keys& keys) {
+    v(keys.tolerance.key, tolerance, {.unit = "m", .range = core::kNonNegative, .doc = keys.tolerance.doc});
+    v(keys.steps.key, steps, {.range = core::closed(1, 10000), .doc = keys.steps.doc});
+    v(keys.dt.key, dt, {.unit = "s", .range = core::kPositive, .doc = keys.dt.doc});
+  }
+  /// The check on `rectangle` (the stack's footprint, nav::NavStackConfig::footprint()).
+  BeamRollout check(const core::Rect& rectangle) const {
+    BeamRollout c;
+    c.rectangle = rectangle;
+    c.tolerance = tolerance;
+    c.dt = dt;
+    c.steps = steps;
+    return c;
+  }
+};
 
 /// The front check of the team's simulation code: a rectangle |y| <= half_width + pad_x
 /// (lateral), x from -half_length to half_length + max(pad_front, speed_gain * v) (forward),
