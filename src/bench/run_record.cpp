@@ -15,31 +15,15 @@
 #include "barn/core/config.hpp"
 #include "barn/core/text_io.hpp"
 #include "barn/core/world_file.hpp"
+#include "barn/controllers/registry.hpp"
 
 namespace barn::bench {
 
 namespace {
 
-// A YAML literal block, indented under its key (blockSafe text only).
-std::string block(const std::string& text) {
-  std::string out = "|\n";
-  std::size_t start = 0;
-  while (start < text.size()) {
-    const std::size_t end = text.find('\n', start);
-    out += "  " + text.substr(start, end == std::string::npos ? std::string::npos : end - start) + "\n";
-    if (end == std::string::npos) break;
-    start = end + 1;
-  }
-  return out;
-}
-
 // Paths in a manifest are written relative to the record's folder ("./x", "../../x"), so a
 // record holds no path of the machine that wrote it, and reads back wherever it is (a clone,
 // a copy, a cluster node) as long as what it names kept its place relative to it.
-bool plainPathText(std::string_view text) {
-  return !text.empty() && text.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_./+-") ==
-                              std::string_view::npos;
-}
 
 std::string withoutTrailingSeparator(std::string path) {
   while (path.size() > 1 && path.back() == '/') path.pop_back();
@@ -82,25 +66,6 @@ std::string absoluteFrom(const std::string& path, const std::filesystem::path& d
   return withoutTrailingSeparator((base / path).lexically_normal().string());
 }
 
-/// Applies `convert` to every plain path-like value ("key: value" lines) of a config's text.
-template <class Convert>
-std::string convertPathValues(const std::string& config_text, Convert convert) {
-  std::string out;
-  std::size_t start = 0;
-  while (start < config_text.size()) {
-    std::size_t end = config_text.find('\n', start);
-    if (end == std::string::npos) end = config_text.size();
-    std::string line = config_text.substr(start, end - start);
-    const std::size_t colon = line.find(": ");
-    if (colon != std::string::npos && plainPathText(std::string_view(line).substr(colon + 2)))
-      line = line.substr(0, colon + 2) + convert(line.substr(colon + 2));
-    out += line;
-    if (end < config_text.size()) out += '\n';
-    start = end + 1;
-  }
-  return out;
-}
-
 // A YAML double-quoted scalar that reads back as exactly `text`: quotes, backslashes, control
 // characters and the characters YAML takes for line breaks (NEL, LS, PS) escaped.
 std::string quoted(const std::string& text) {
@@ -131,20 +96,6 @@ std::string quoted(const std::string& text) {
     }
   }
   return out + "\"";
-}
-
-// True if `text` reads back unchanged from a literal block (block below): lines of printable
-// characters only, ending in a newline, the first line not indented (it sets the indentation).
-bool blockSafe(const std::string& text) {
-  if (text.empty() || text.back() != '\n' || text.front() == ' ' || text.front() == '\t' || text.front() == '\n')
-    return false;
-  if (text.ends_with("\n\n")) return false;  // a block drops trailing empty lines
-  for (std::size_t i = 0; i < text.size(); ++i) {
-    const auto byte = static_cast<unsigned char>(text[i]);
-    if ((byte < 0x20 && byte != '\n' && byte != '\t') || byte == 0x7f || byte == 0xc2 || byte == 0xe2 || byte == 0xef)
-      return false;  // (0xc2, 0xe2, 0xef lead the escaped characters of quoted)
-  }
-  return true;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -188,7 +139,10 @@ class ManifestWriter {
       if (!std::isfinite(value)) return;  // unknown: left out, reads back as the default
     }
     if constexpr (std::is_same_v<T, std::string>) {
-      text_ += std::string(key) + ": " + stringText(value, flags);
+      if (flags & kConfigMap)
+        text_ += std::string(key) + ":\n" + nested(configText(value, key, flags));
+      else
+        text_ += std::string(key) + ": " + quoted((flags & kPath) ? relativeTo(value, record_dir_) : value) + "\n";
     } else if constexpr (std::is_same_v<T, std::vector<ConfigFile>>) {
       text_ += std::string(key) + ":" + (value.empty() ? " []" : "") + "\n";
       for (const ConfigFile& file : value)
@@ -201,18 +155,53 @@ class ManifestWriter {
   const std::string& text() const { return text_; }
 
  private:
-  std::string stringText(const std::string& value, unsigned flags) const {
+  // A config as the file holds it: its YAML re-emitted, a controller's path fields relative
+  // to the record.
+  std::string configText(const std::string& value, const char* key, unsigned flags) const {
+    const core::ConfigNode config = core::ConfigNode::parseString(value, key);
+    if (!(flags & kControllerPaths) || config.isNull()) return config.isNull() ? "{}\n" : config.toYaml();
     const auto relative = [&](const std::string& path) { return relativeTo(path, record_dir_); };
-    const std::string text = (flags & kPathValues) ? convertPathValues(value, relative)
-                             : (flags & kPath)     ? relative(value)
-                                                   : value;
-    return (flags & kYamlText) && blockSafe(text) ? block(text) : quoted(text) + "\n";
+    return core::ConfigNode::parseString(controllers::mapControllerPaths(config, relative), key).toYaml();
+  }
+
+  // YAML block text indented under its key.
+  static std::string nested(const std::string& yaml) {
+    std::string out;
+    std::size_t start = 0;
+    while (start < yaml.size()) {
+      std::size_t end = yaml.find('\n', start);
+      if (end == std::string::npos) end = yaml.size();
+      out += "  " + yaml.substr(start, end - start) + "\n";
+      start = end + 1;
+    }
+    return out;
   }
 
   std::filesystem::path record_dir_;
   bool imported_;
   std::string text_ = "# barnbench run record; `barn run --resume` and `barn merge` read it back.\n";
 };
+
+// A config field of the manifest as the config reader finds it (SelfReading, config.hpp): a map
+// (or null), or a string holding YAML text (older records), parsed.
+struct ConfigText {
+  core::ConfigNode node;
+};
+void readConfigValue(const core::ConfigNode& node, ConfigText& value, core::Errors& errors) {
+  std::string text;
+  if (node.isMap() || node.isNull()) {
+    value.node = node;
+  } else if (node.read(text)) {
+    try {
+      value.node = core::ConfigNode::parseString(text, node.where());
+    } catch (const core::InputError& e) {
+      errors.add(node.where(), e.what());
+    }
+    if (!value.node.isNull() && !value.node.isMap()) errors.add(node.where(), "expected a map");
+  } else {
+    errors.add(node.where(), "expected a map");
+  }
+}
 
 // Reads the fields through the strict config reader (unknown keys are errors, missing ones keep
 // their defaults) and makes relative paths absolute again.
@@ -223,6 +212,12 @@ class ManifestReader {
 
   template <class T>
   void operator()(const char* key, T& value, unsigned flags) {
+    if constexpr (std::is_same_v<T, std::string>) {
+      if (flags & kConfigMap) {
+        readConfig(key, value, flags);
+        return;
+      }
+    }
     if constexpr (std::is_same_v<T, std::vector<int>>) {
       readWorldIds(key, value);
     } else if constexpr (std::is_same_v<T, std::size_t>) {
@@ -234,7 +229,6 @@ class ManifestReader {
     }
     if constexpr (std::is_same_v<T, std::string>) {
       const auto absolute = [&](const std::string& text) { return absoluteFrom(text, record_dir_); };
-      if (flags & kPathValues) value = convertPathValues(value, absolute);
       if (flags & kPath) value = absolute(value);
     }
     if constexpr (std::is_same_v<T, std::vector<ConfigFile>>) {
@@ -245,6 +239,24 @@ class ManifestReader {
   void finish() { reader_.finish(); }
 
  private:
+  // A config: a nested map, or (records written before configs were maps) its YAML text as a
+  // string. Held as YAML text; a controller's path fields absolute again.
+  void readConfig(const char* key, std::string& value, unsigned flags) {
+    ConfigText config;
+    reader_(key, config);
+    if (config.node.isNull() || (config.node.isMap() && config.node.keys().empty())) return;
+    try {
+      if (flags & kControllerPaths) {
+        const auto absolute = [&](const std::string& path) { return absoluteFrom(path, record_dir_); };
+        value = controllers::mapControllerPaths(config.node, absolute);
+      } else {
+        value = config.node.toYaml();
+      }
+    } catch (const core::InputError& e) {
+      errors_.add(root_.where(key), e.what());
+    }
+  }
+
   // Read as numbers, so an id like 1e300 is caught here: converting it to int would be
   // undefined behaviour. A record without worlds is an error too (unless the list is already
   // reported as malformed).

@@ -24,12 +24,20 @@ namespace barn::controllers {
 
 namespace {
 
+// The keys of a config block whose values are paths (scalars), and of a command list whose
+// elements after the first (the program) are: what mapControllerPaths maps.
+struct PathKeys {
+  std::vector<std::string> paths;
+  std::string arguments;
+};
+
 // One entry per controller type: reads and validates its block, returns a factory and the
 // effective config text.
 struct Entry {
   const char* type;
   std::function<ControllerFactory(const core::ConfigNode&, std::string&)> make;
   std::vector<core::FieldRow> (*schema)(const core::ConfigNode&);  // the block's fields, read
+  PathKeys paths;  // the block's fields that are paths
 };
 
 // A block's fields as read (defaults for missing keys), with their schema.
@@ -58,12 +66,24 @@ Config readValidated(const core::ConfigNode& block, const Resolve& resolve) {
   return config;
 }
 
+// Reading a config file: a type's paths made absolute against the file's folder.
 constexpr auto kNoPaths = [](auto&, const std::string&) {};
 constexpr auto kPolicyPath = [](auto& config, const std::string& source) {
   config.policy = resolvePolicyPath(config.policy, source);
 };
 // The same for a config whose policy file is its PolicyDriveConfig's.
 constexpr auto kDrivePolicyPath = [](auto& config, const std::string& source) { kPolicyPath(config.drive, source); };
+// The same fields by key, for mapControllerPaths (functions, not globals: entries() may be
+// first called during another file's static initialisation).
+PathKeys noPathKeys() { return {}; }
+PathKeys policyPathKeys() { return {{"policy"}, ""}; }
+// An external program's folder and its arguments (the files resolveExternalPaths finds beside
+// the config file). The program itself (command[0]) is left as it is: usually one of the
+// system's (python3), not a file that travels with the record.
+PathKeys externalPathKeys() { return {{"working_dir"}, "command"}; }
+// A Python class's config (type python, which the Python front end writes and reads): its
+// source file.
+PathKeys pythonPathKeys() { return {{"source"}, ""}; }
 
 // A controller made from its config alone.
 template <class Config, class ControllerType>
@@ -73,21 +93,21 @@ Entry entry(const char* type) {
             effective = std::string("type: ") + type + "\n" + blockText(type, config);
             return [config] { return std::make_unique<ControllerType>(config); };
           },
-          &blockSchema<Config>};
+          &blockSchema<Config>, noPathKeys()};
 }
 
 // A controller with something every episode's controller shares, read-only, made once here
 // from the validated config by `share` (a loaded network, a precomputed table); `resolve`
-// makes its paths absolute first.
+// makes its paths (`paths`, by key) absolute first.
 template <class Config, class ControllerType, class Resolve, class Share>
-Entry sharedEntry(const char* type, Resolve resolve, Share share) {
+Entry sharedEntry(const char* type, Resolve resolve, const PathKeys& paths, Share share) {
   return {type, [type, resolve, share](const core::ConfigNode& block, std::string& effective) -> ControllerFactory {
             Config config = readValidated<Config>(block, resolve);
             auto shared = share(config);
             effective = std::string("type: ") + type + "\n" + blockText(type, config);
             return [config, shared] { return std::make_unique<ControllerType>(config, shared); };
           },
-          &blockSchema<Config>};
+          &blockSchema<Config>, paths};
 }
 
 // The LfLH policy file at `path`, shared read-only.
@@ -102,31 +122,32 @@ const std::vector<Entry>& entries() {
       entry<DwaConfig, DwaController>("dwa"),
       entry<EbandConfig, EbandController>("eband"),
       entry<UtAmrlConfig, UtAmrlController>("ut_amrl"),
-      sharedEntry<LflhConfig, LflhController>("lflh", kDrivePolicyPath,
+      sharedEntry<LflhConfig, LflhController>("lflh", kDrivePolicyPath, policyPathKeys(),
                                               [](const LflhConfig& c) { return loadLflhPolicy(c.drive.policy); }),
-      sharedEntry<InventecConfig, InventecController>("inventec", kDrivePolicyPath,
+      sharedEntry<InventecConfig, InventecController>("inventec", kDrivePolicyPath, policyPathKeys(),
                                                       [](const InventecConfig& c) { return loadLflhPolicy(c.drive.policy); }),
       entry<RrslVfhConfig, RrslVfhController>("rrsl_vfh"),
       entry<In2botConfig, In2botController>("in2bot"),
       entry<KulfmConfig, KulfmController>("kulfm"),
       sharedEntry<E2eConfig, E2eController>(
-          "e2e", kPolicyPath,
+          "e2e", kPolicyPath, policyPathKeys(),
           [](const E2eConfig& c) { return std::make_shared<const learning::MlpPolicy>(learning::MlpPolicy::load(c.policy)); }),
       entry<MecoConfig, MecoController>("meco"),
       // The PTG's collision grid, built once.
       sharedEntry<AlmeriaTpsConfig, AlmeriaTpsController>(
-          "almeria_tps", kNoPaths, [](const AlmeriaTpsConfig& c) { return std::make_shared<const ArcPtg>(c.ptg); }),
-      sharedEntry<ApplrDwaConfig, ApplrDwaController>("applr_dwa", kPolicyPath, [](const ApplrDwaConfig& c) {
+          "almeria_tps", kNoPaths, noPathKeys(), [](const AlmeriaTpsConfig& c) { return std::make_shared<const ArcPtg>(c.ptg); }),
+      sharedEntry<ApplrDwaConfig, ApplrDwaController>("applr_dwa", kPolicyPath, policyPathKeys(), [](const ApplrDwaConfig& c) {
         auto policy = loadApplrPolicy(c.policy, "");
         ApplrDwaController check(c, policy);  // an actor whose actions the DWA cannot take fails here, once
         return policy;
       }),
-      sharedEntry<LicsConfig, LicsController>("lics", kPolicyPath,
+      sharedEntry<LicsConfig, LicsController>("lics", kPolicyPath, policyPathKeys(),
                                               [](const LicsConfig& c) { return loadLicsPolicy(c.policy); }),
       // The program's processes, one pool shared by the factory's controllers (each worker
       // thread reuses its process); paths resolved against the config file's folder.
       sharedEntry<external::ExternalConfig, external::ExternalController>(
           "external", [](external::ExternalConfig& c, const std::string& source) { c = resolveExternalPaths(c, source); },
+          externalPathKeys(),
           [](const external::ExternalConfig& c) {
             return std::make_shared<external::ChildProcessPool>(external::ChildCommand{c.command, c.working_dir});
           }),
@@ -136,6 +157,9 @@ const std::vector<Entry>& entries() {
 
 // The optional block that runs move_base's stack beside any controller (global_plan_feed.hpp).
 constexpr const char* kGlobalPlanKey = "global_plan";
+// The type of a Python class's config (the Python front end writes and reads it; the registry
+// only maps its paths).
+constexpr const char* kPythonType = "python";
 
 const Entry& findEntry(const core::ConfigNode& config, std::string& type) {
   if (!config.isMap() || !config.has("type")) throw core::InputError(config.where("type") + ": missing (the controller type)");
@@ -206,5 +230,25 @@ std::string controllerKeyUnit(const std::string& type, const std::string& key) {
 ControllerFactory makeControllerFactory(const core::ConfigNode& config) { return prepareController(config).factory; }
 
 std::string effectiveControllerConfig(const core::ConfigNode& config) { return prepareController(config).effective_config; }
+
+std::string mapControllerPaths(const core::ConfigNode& config, const PathMap& map) {
+  std::string type;
+  const PathKeys keys = config.isMap() && config.child("type").read(type) && type == kPythonType
+                             ? pythonPathKeys()
+                             : findEntry(config, type).paths;  // (global_plan has no paths)
+  // A copy, every other field as it is (older records keep the fields they had).
+  core::ConfigNode mapped = core::ConfigNode::parseString(config.toYaml(), config.source());
+  const core::ConfigNode block = config.child(type);
+  for (const std::string& key : keys.paths) {
+    std::string path;
+    if (block.child(key).read(path)) mapped.setString(type + "." + key, map(path));
+  }
+  std::vector<std::string> command;
+  if (!keys.arguments.empty() && block.child(keys.arguments).read(command)) {
+    for (std::size_t i = 1; i < command.size(); ++i) command[i] = map(command[i]);
+    mapped.setStrings(type + "." + keys.arguments, command);
+  }
+  return mapped.toYaml();
+}
 
 }  // namespace barn::controllers

@@ -265,24 +265,18 @@ bool ConfigNode::read(std::vector<std::string>& value) const {
   return true;
 }
 
-void ConfigNode::set(const std::string& dotted_key, const std::string& value_text) {
-  if (!impl_->node || !impl_->node.IsMap()) impl_->node = YAML::Node(YAML::NodeType::Map);
-  YAML::Node current = impl_->node;
+namespace {
+
+// The node at `dotted_key` under `root` ("safety.fi.offset"), maps created as needed.
+YAML::Node settableNode(YAML::Node& root, const std::string& dotted_key) {
+  if (!root || !root.IsMap()) root = YAML::Node(YAML::NodeType::Map);
+  YAML::Node current = root;
   std::size_t start = 0;
   while (true) {
     const std::size_t dot = dotted_key.find('.', start);
     const std::string key = dotted_key.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
     if (key.empty()) throw InputError("override '" + dotted_key + "': empty key");
-    if (dot == std::string::npos) {
-      YAML::Node parsed;
-      try {
-        parsed = YAML::Load(value_text);
-      } catch (const YAML::Exception&) {
-        parsed = YAML::Node(value_text);
-      }
-      current[key] = parsed;
-      return;
-    }
+    if (dot == std::string::npos) return current[key];
     YAML::Node next = current[key];
     if (!next || !next.IsMap()) {
       current[key] = YAML::Node(YAML::NodeType::Map);
@@ -291,6 +285,28 @@ void ConfigNode::set(const std::string& dotted_key, const std::string& value_tex
     current.reset(next);
     start = dot + 1;
   }
+}
+
+}  // namespace
+
+void ConfigNode::set(const std::string& dotted_key, const std::string& value_text) {
+  YAML::Node parsed;
+  try {
+    parsed = YAML::Load(value_text);
+  } catch (const YAML::Exception&) {
+    parsed = YAML::Node(value_text);
+  }
+  settableNode(impl_->node, dotted_key) = parsed;
+}
+
+void ConfigNode::setString(const std::string& dotted_key, const std::string& value) {
+  settableNode(impl_->node, dotted_key) = YAML::Node(value);
+}
+
+void ConfigNode::setStrings(const std::string& dotted_key, const std::vector<std::string>& values) {
+  YAML::Node list(YAML::NodeType::Sequence);
+  for (const std::string& value : values) list.push_back(value);
+  settableNode(impl_->node, dotted_key) = list;
 }
 
 std::string ConfigNode::toYaml() const {

@@ -15,6 +15,8 @@
 #include <vector>
 
 #include "barn/bench/results_io.hpp"
+#include "barn/controllers/registry.hpp"
+#include "barn/core/config.hpp"
 #include "barn/core/errors.hpp"
 #include "barn/core/world_file.hpp"
 #include "tests/scratch_dir.hpp"
@@ -40,18 +42,11 @@ void writeFile(const fs::path& path, const std::string& content) {
 }
 
 
-// Multi-line blocks as barn run writes them: nested maps, a list, a comment-looking string,
-// a blank line inside the block and trailing spaces on a line.
-constexpr char kControllerConfig[] = R"(type: pure_pursuit
-pure_pursuit:
-  speed: 0.5
-  lookahead: 0.5
-  rate: 20
-  label: "a # not a comment: | > -"
-
-  waypoints: [1, 2.5, -3]
-  note: trailing spaces   
-)";
+// An effective controller config as barn run records it (nested maps; a run's only kind).
+std::string effectiveConfig(const std::string& yaml) {
+  return controllers::effectiveControllerConfig(core::ConfigNode::parseString(yaml, "test"));
+}
+const std::string kControllerConfig = effectiveConfig("type: pure_pursuit\n");
 
 constexpr char kEpisodeConfig[] = R"(protocol: barn2024
 physics:
@@ -139,30 +134,52 @@ TEST(Manifest, RoundTripsACompleteWholeRun) {
   expectSameManifest(roundTrip(m), m);
 }
 
-TEST(Manifest, PreservesMultiLineConfigBlocksExactly) {
-  const RunManifest back = roundTrip(fullManifest());
+TEST(Manifest, ConfigsAreNestedMapsInTheFileAndReadBackAsTheRunsText) {
+  const test::ScratchDir dir("barn_run_record_test");
+  const std::string text = formatManifest(fullManifest(), dir.path());
+  const core::ConfigNode file = core::ConfigNode::parseString(text, "manifest");
+  EXPECT_TRUE(file.child("controller_config").isMap()) << text;
+  EXPECT_TRUE(file.child("episode_config").child("physics").isMap()) << text;
+  EXPECT_THAT(text, HasSubstr("controller_config:\n  type: pure_pursuit\n  pure_pursuit:\n"));
   // Byte for byte, so a resumed run rebuilds the same controller and merge compares equal text.
-  EXPECT_EQ(back.controller_config, std::string(kControllerConfig));
+  const RunManifest back = roundTrip(fullManifest());
+  EXPECT_EQ(back.controller_config, kControllerConfig);
   EXPECT_EQ(back.episode_config, std::string(kEpisodeConfig));
+}
+
+TEST(Manifest, ConfigsWrittenAsTextByEarlierVersionsReadTheSame) {
+  // Records written before configs were maps hold them as YAML text (a literal block, or a
+  // quoted string where a block could not hold the text), paths relative to the record.
+  const test::ScratchDir dir("barn_run_record_test");
+  const std::string map_form = formatManifest(fullManifest(), dir.path());
+  std::string text_form = map_form;
+  const auto block = [](const std::string& yaml) {
+    std::string out = "|\n";
+    std::istringstream lines(yaml);
+    for (std::string line; std::getline(lines, line);) out += "  " + line + "\n";
+    return out;
+  };
+  const std::size_t at = text_form.find("controller_config:\n");
+  const std::size_t end = text_form.find("episode_config:\n");
+  const std::size_t after = text_form.find("worlds_spec:");
+  ASSERT_TRUE(at != std::string::npos && end != std::string::npos && after != std::string::npos);
+  text_form = text_form.substr(0, at) + "controller_config: " + block(kControllerConfig) + "episode_config: \"" +
+              "protocol: barn2024\\nphysics:\\n  rate: 200\\nrobot:\\n  max_linear_speed: 2\\nlidar:\\n  beams: 720\\n" +
+              "  angle_min: -2.35619\\n\"\n" + text_form.substr(after);
+  const RunManifest back = parseManifest(text_form, dir.path(), "old/manifest.yaml");
+  expectSameManifest(back, fullManifest());
+  EXPECT_EQ(formatManifest(back, dir.path()), map_form);  // written back in the map form
 }
 
 TEST(Manifest, AnyStringReadsBackExactly) {
   // Characters YAML takes for line breaks or cannot hold raw: a newline, a tab, a control
-  // character, NEL, LS (U+2028), PS, a BOM, in a quoted field; texts that a literal block would
-  // change (an indented first line, no final newline, trailing empty lines, a carriage return).
+  // character, NEL, LS (U+2028), PS, a BOM, in a quoted field.
   RunManifest m = fullManifest();
   m.worlds_spec = std::string("a\nb\tc\x01 d\xc2\x85") + "e\xe2\x80\xa8" + "f\xe2\x80\xa9g\xef\xbb\xbfh\x7f\"\\";
   m.host = "\xc3\xa9t\xc3\xa9";  // UTF-8 is kept as it is
-  const std::vector<std::string> texts = {"  type: x\n", "type: x", "type: x\n\n\n", "type: x\r\n", "type: \xe2\x80\xa8x\n"};
-  for (const std::string& text : texts) {
-    m.controller_config = text;
-    m.episode_config = text;
-    const RunManifest back = roundTrip(m);
-    EXPECT_EQ(back.controller_config, text);
-    EXPECT_EQ(back.episode_config, text);
-    EXPECT_EQ(back.worlds_spec, m.worlds_spec);
-    EXPECT_EQ(back.host, m.host);
-  }
+  const RunManifest back = roundTrip(m);
+  EXPECT_EQ(back.worlds_spec, m.worlds_spec);
+  EXPECT_EQ(back.host, m.host);
 }
 
 TEST(Manifest, FormatIsStableAcrossARoundTrip) {
@@ -179,8 +196,10 @@ TEST(Manifest, PathsAreWrittenRelativeToTheRecordAndReadBackWhereverItIs) {
   fs::create_directories(record);
   RunManifest m = fullManifest();
   m.worlds_folder = (tree.path() / "worlds").string();
-  m.controller_config = "type: lflh\nlflh:\n  policy: " + (tree.path() / "configs" / "a.policy").string() +
-                        "\n  note: front\n  rate: 25\n";
+  fs::create_directories(tree.path() / "configs");
+  fs::copy_file(fs::path(BARN_SOURCE_DIR) / "configs" / "policies" / "lflh_1ms.policy", tree.path() / "configs" / "a.policy");
+  m.controller_config = effectiveConfig("type: lflh\nlflh:\n  policy: " + (tree.path() / "configs" / "a.policy").string() +
+                                        "\n  rate: 25\n");
   writeFile(record / kManifestFile, formatManifest(m, record));
   const std::string text = readFile(record / kManifestFile);
   EXPECT_EQ(text.find(tree.path().string()), std::string::npos) << text;
@@ -193,28 +212,46 @@ TEST(Manifest, PathsAreWrittenRelativeToTheRecordAndReadBackWhereverItIs) {
   const RunManifest moved = readManifest(elsewhere.path() / "results" / "run" / kManifestFile);
   EXPECT_EQ(moved.worlds_folder, (elsewhere.path() / "worlds").string());
   EXPECT_THAT(moved.controller_config, HasSubstr("policy: " + (elsewhere.path() / "configs" / "a.policy").string() + "\n"));
-  EXPECT_THAT(moved.controller_config, HasSubstr("note: front\n"));
+  EXPECT_THAT(moved.controller_config, HasSubstr("rate: 25\n"));
 }
 
 TEST(Manifest, RealEffectiveConfigsRoundTrip) {
-  // The texts a real run writes: the shipped configs, as files end with one newline.
+  // The texts a real run records: the shipped configs' effective configs.
   RunManifest m = fullManifest();
-  m.controller_config = readFile(fs::path(BARN_SOURCE_DIR) / "configs" / "controllers" / "pure_pursuit.yaml");
-  m.episode_config = readFile(fs::path(BARN_SOURCE_DIR) / "configs" / "sim" / "barn.yaml");
+  m.controller_config = controllers::effectiveControllerConfig(
+      core::ConfigNode::parseFile(fs::path(BARN_SOURCE_DIR) / "configs" / "controllers" / "inventec_fi.yaml"));
+  m.episode_config = core::writeConfig(
+      core::readConfig<EpisodeConfig>(core::ConfigNode::parseFile(fs::path(BARN_SOURCE_DIR) / "configs" / "sim" / "barn.yaml")));
   ASSERT_FALSE(m.controller_config.empty());
   ASSERT_FALSE(m.episode_config.empty());
   expectSameManifest(roundTrip(m), m);
 }
 
-TEST(Manifest, CommittedBaselineManifestsReadAndWriteBackByteForByte) {
-  // Written by earlier versions: they must still read, and writing what was read must give the
-  // same bytes (the relative worlds folder comes back absolute, then relative again).
+TEST(Manifest, CommittedBaselineManifestsReadAndWriteBackTheSame) {
+  // Written by earlier versions, configs as YAML text: they must still read, to the configs'
+  // text as it was, and write back (as maps) to a manifest that reads the same and writes the
+  // same bytes again (the relative worlds folder comes back absolute, then relative again).
   const fs::path baseline = fs::path(BARN_SOURCE_DIR) / "results" / "baseline";
   int checked = 0;
   for (const auto& entry : fs::directory_iterator(baseline)) {
     const fs::path file = entry.path() / kManifestFile;
     if (!fs::exists(file)) continue;
-    EXPECT_EQ(formatManifest(readManifest(file), entry.path()), readFile(file)) << file;
+    const RunManifest old = readManifest(file);
+    const core::ConfigNode old_file = core::ConfigNode::parseFile(file);
+    std::string old_text;
+    ASSERT_TRUE(old_file.child("controller_config").read(old_text)) << file;
+    // results/baseline/NAME/../../../configs is the source tree's configs folder.
+    const std::string relative_configs = "../../../configs/";
+    for (std::size_t at = old_text.find(relative_configs); at != std::string::npos; at = old_text.find(relative_configs))
+      old_text.replace(at, relative_configs.size(), (fs::path(BARN_SOURCE_DIR) / "configs").string() + "/");
+    EXPECT_EQ(old.controller_config, old_text) << file;
+    ASSERT_TRUE(old_file.child("episode_config").read(old_text)) << file;
+    EXPECT_EQ(old.episode_config, old_text) << file;
+    const std::string written = formatManifest(old, entry.path());
+    const RunManifest back = parseManifest(written, entry.path(), file.string());
+    expectSameManifest(back, old);
+    EXPECT_EQ(experimentDifference(back, old), "");
+    EXPECT_EQ(formatManifest(back, entry.path()), written) << file;
     ++checked;
   }
   EXPECT_GT(checked, 0);
@@ -246,7 +283,7 @@ started: "2026-11-22T00:27:30Z"
 wall_time_s: 0
 )";
 
-TEST(Manifest, ImportedRecordHasNoSeedOrControllerConfigAndWritesBackByteForByte) {
+TEST(Manifest, ImportedRecordHasNoSeedOrControllerConfigAndWritesBackTheSameButForTheConfigMap) {
   const test::ScratchDir dir("barn_run_record_test");
   const fs::path file = dir.path() / kManifestFile;
   writeFile(file, kImportedManifest);
@@ -258,7 +295,10 @@ TEST(Manifest, ImportedRecordHasNoSeedOrControllerConfigAndWritesBackByteForByte
   EXPECT_EQ(m.sim_time_s, 0.0);
   RunManifest unknown_sim_time = m;
   unknown_sim_time.sim_time_s = std::numeric_limits<double>::quiet_NaN();  // left out
-  EXPECT_EQ(formatManifest(unknown_sim_time, dir.path()), std::string(kImportedManifest));
+  std::string expected = kImportedManifest;
+  const std::string old_config = "episode_config: |\n";
+  expected.replace(expected.find(old_config), old_config.size(), "episode_config:\n");
+  EXPECT_EQ(formatManifest(unknown_sim_time, dir.path()), expected);
 }
 
 TEST(Manifest, ARunRecordHasNoSourceLines) {

@@ -34,9 +34,9 @@ inline constexpr std::size_t kMaxEpisodesPerRecord = 1'000'000;
 /// What the manifest does with a field besides writing and reading it (flags, or-ed).
 namespace manifest_field {
 inline constexpr unsigned kExperiment = 1u << 0;  // what was run: experimentDifference compares it
-inline constexpr unsigned kYamlText = 1u << 1;    // multi-line YAML, written as a literal block
+inline constexpr unsigned kConfigMap = 1u << 1;   // a config: YAML text here, a nested map in the file
 inline constexpr unsigned kPath = 1u << 2;        // an absolute path, written relative to the record
-inline constexpr unsigned kPathValues = 1u << 3;  // YAML text whose path values are written relative to the record
+inline constexpr unsigned kControllerPaths = 1u << 3;  // a controller config whose path fields (controllers::mapControllerPaths) are written relative to the record
 inline constexpr unsigned kRunOnly = 1u << 4;     // left out of an imported record (nothing was run)
 inline constexpr unsigned kImportOnly = 1u << 5;  // written for an imported record only
 inline constexpr unsigned kOmitDefault = 1u << 6;  // left out at its default (empty, false): older manifests read back the same
@@ -55,9 +55,9 @@ struct ConfigFile {
 struct RunManifest {
   // What was run: two records with equal fields here hold parts of the same experiment.
   std::string controller;         // name given to --controller
-  std::string controller_config;  // effective controller config (YAML text)
+  std::string controller_config;  // effective controller config (YAML text; a map in the file)
   std::vector<ConfigFile> config_files;  // the files controller_config names, with digests
-  std::string episode_config;     // effective robot, LiDAR, physics and protocol config (YAML text)
+  std::string episode_config;     // effective robot, LiDAR, physics and protocol config (YAML text; a map in the file)
   std::string worlds_spec;        // --worlds as given
   std::string worlds_folder;      // absolute folder of the world files (the file: relative to the record)
   std::vector<int> world_ids;     // in run order
@@ -90,9 +90,9 @@ struct RunManifest {
   void visit(V& v) {
     using namespace manifest_field;
     v("controller", controller, kExperiment);
-    v("controller_config", controller_config, kExperiment | kYamlText | kPathValues | kRunOnly);
+    v("controller_config", controller_config, kExperiment | kConfigMap | kControllerPaths | kRunOnly);
     v("config_files", config_files, kExperiment | kRunOnly | kOmitDefault);
-    v("episode_config", episode_config, kExperiment | kYamlText);
+    v("episode_config", episode_config, kExperiment | kConfigMap);
     v("worlds_spec", worlds_spec, 0u);
     v("worlds_folder", worlds_folder, kPath);
     v("world_ids", world_ids, kExperiment);
@@ -123,14 +123,17 @@ struct RunManifest {
 RunManifest newManifest(const std::string& controller, const std::string& controller_config, const EpisodeConfig& episode,
                         const LoadedWorlds& worlds, const std::string& worlds_spec, int trials, std::uint64_t seed);
 
-/// The manifest's text for a record in `record_dir`. An imported record (source set) has no
-/// seed or controller_config lines; a non-finite sim_time_s (unknown) is left out. Missing
-/// fields read back as defaults. Absolute paths (worlds_folder, path values of the controller
-/// config such as a policy file) are written relative to `record_dir` ("./x", "../x"), so a
-/// record holds no path of the machine that wrote it; readManifest makes them absolute again.
+/// The manifest's text for a record in `record_dir`. The two configs are nested maps. An
+/// imported record (source set) has no seed or controller_config lines; a non-finite
+/// sim_time_s (unknown) is left out. Missing fields read back as defaults. Absolute paths
+/// (worlds_folder, config_files, the controller config's path fields as
+/// controllers::mapControllerPaths knows them, such as a policy file) are written relative to
+/// `record_dir` ("./x", "../x"), so a record holds no path of the machine that wrote it;
+/// readManifest makes them absolute again.
 std::string formatManifest(const RunManifest& manifest, const std::filesystem::path& record_dir);
 /// Reads and checks a manifest; InputError naming the file and field on any problem. Paths
-/// written relative to the record (see formatManifest) come back absolute.
+/// written relative to the record (see formatManifest) come back absolute. A config may be a
+/// map or (records of earlier versions) YAML text in a string; either comes back as YAML text.
 RunManifest readManifest(const std::filesystem::path& path);
 /// readManifest of a manifest's text, as if it were the manifest of `record_dir` (`source`
 /// names it in messages).

@@ -42,4 +42,13 @@ ControllerFactory makeControllerFactory(const core::ConfigNode& config);
 /// prepareController's effective config alone.
 std::string effectiveControllerConfig(const core::ConfigNode& config);
 
+/// A path mapped to another form of it (absolute to relative to a record, and back).
+using PathMap = std::function<std::string(const std::string&)>;
+/// A controller config (effectiveControllerConfig's, or a record's) as YAML text with every
+/// field that is a path passed through `map`: a policy file (lflh, inventec, e2e, applr_dwa,
+/// lics), an external program's working_dir and arguments, a Python class's python.source;
+/// the other fields as they are (not read: a record of an older version, or whose policy file
+/// is gone, still maps). InputError as prepareController for an unknown type or key.
+std::string mapControllerPaths(const core::ConfigNode& config, const PathMap& map);
+
 }  // namespace barn::controllers

@@ -163,6 +163,10 @@ class ConfigNode {
   /// Sets `dotted_key` ("safety.fi.offset") to the YAML scalar `value_text`, creating maps as
   /// needed: command-line overrides for runs and sweeps.
   void set(const std::string& dotted_key, const std::string& value_text);
+  /// Sets `dotted_key` to the string `value` as it is (not read as YAML).
+  void setString(const std::string& dotted_key, const std::string& value);
+  /// Sets `dotted_key` to a list of the strings `values`.
+  void setStrings(const std::string& dotted_key, const std::vector<std::string>& values);
 
   /// The node as YAML text (block style).
   std::string toYaml() const;

@@ -169,7 +169,8 @@ def test_a_record_keeps_the_classs_parameters_source_digest_and_trajectories(tmp
                   global_plan={}, trajectories=True)
     manifest = (out / "manifest.yaml").read_text()
     assert "class: test_local_planner.Tunable" in manifest
-    assert '{"inflation": 0.55, "lookahead": 1.5}' in manifest
+    recorded = barnbench._core.recorded_python_config(barnbench._core.Record.open(str(out)).controller_config)
+    assert recorded["params"] == '{"inflation": 0.55, "lookahead": 1.5}'
     assert "source_digest: " in manifest and "global_plan:" in manifest
     # Progress lines as barn run prints them, on stderr.
     assert "progress 2/2 episodes" in capfd.readouterr().err
